@@ -1,0 +1,18 @@
+# Every dependency is a Debian package; scripts/install-deps.sh installs them.
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs)
+find_package(OpenMP REQUIRED)
+find_package(yaml-cpp REQUIRED)
+find_package(Threads REQUIRED)
+find_package(Ceres QUIET)
+find_package(CLI11 QUIET)
+find_package(GTest QUIET)
+find_package(nlohmann_json QUIET)
+
+# Header-only packages without CMake config files.
+find_path(TINYGLTF_INCLUDE_DIR tiny_gltf.h)
+find_path(NANOFLANN_INCLUDE_DIR nanoflann.hpp)
+find_path(MESHOPTIMIZER_INCLUDE_DIR meshoptimizer.h)
+find_library(MESHOPTIMIZER_LIBRARY meshoptimizer)
+find_path(MAXFLOW_INCLUDE_DIR maxflow.h PATH_SUFFIXES maxflow-3.0)
+find_library(MAXFLOW_LIBRARY maxflow)

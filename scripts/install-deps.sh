@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs the Debian packages hos needs, only those that are missing.
+# Idempotent; run as root (or with sudo available) on Debian 12.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config git
+  colmap
+  libopencv-dev libeigen3-dev libceres-dev libtinygltf-dev libyaml-cpp-dev
+  libgtest-dev libgmock-dev libcli11-dev nlohmann-json3-dev libstb-dev
+  libnanoflann-dev libmaxflow-dev libmeshoptimizer-dev
+  nodejs npm
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" > /dev/null
+echo "install-deps: done"

@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds, and runs the whole test suite with ctest.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+"$root/scripts/install-deps.sh"
+"$root/scripts/build.sh"
+build="${HOS_BUILD_DIR:-$root/build}"
+cd "$build"
+ctest --output-on-failure -j "${HOS_TEST_JOBS:-2}" "$@"

@@ -1,0 +1,62 @@
+#include "tests/support/test_support.h"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <random>
+#include <stdexcept>
+
+namespace hos::testing {
+namespace fs = std::filesystem;
+
+TempDir::TempDir(const std::string& prefix) {
+  std::random_device device;
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    fs::path candidate = fs::temp_directory_path() /
+                         (prefix + "-" + std::to_string(getpid()) + "-" + std::to_string(device() % 1000000u));
+    if (fs::create_directories(candidate)) {
+      path_ = candidate;
+      return;
+    }
+  }
+  throw std::runtime_error("cannot create a temporary folder");
+}
+
+TempDir::~TempDir() {
+  if (std::getenv("HOS_KEEP_TEST_DIRS")) return;
+  std::error_code ignored;
+  fs::remove_all(path_, ignored);
+}
+
+fs::path bin_dir() {
+  const char* dir = std::getenv("HOS_BIN_DIR");
+  return dir ? fs::path(dir) : fs::current_path() / "bin";
+}
+
+fs::path source_dir() {
+  const char* dir = std::getenv("HOS_SOURCE_DIR");
+  return dir ? fs::path(dir) : fs::current_path();
+}
+
+std::string shell_quote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) {
+    if (c == '\'') {
+      out += "'\\''";
+    } else {
+      out += c;
+    }
+  }
+  return out + "'";
+}
+
+int run_command(const std::string& command, const fs::path& log_path) {
+  std::string full = command;
+  if (!log_path.empty()) full += " > " + shell_quote(log_path.string()) + " 2>&1";
+  const int status = std::system(full.c_str());
+  if (status == -1) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+}  // namespace hos::testing
