@@ -8,9 +8,11 @@ find_package(Ceres QUIET)
 find_package(CLI11 QUIET)
 find_package(GTest QUIET)
 find_package(nlohmann_json QUIET)
+# Debian's libtinygltf-dev ships the compiled library: never define
+# TINYGLTF_IMPLEMENTATION in project code, link TinyGLTF::TinyGLTF.
+find_package(TinyGLTF QUIET)
 
 # Header-only packages without CMake config files.
-find_path(TINYGLTF_INCLUDE_DIR tiny_gltf.h)
 find_path(NANOFLANN_INCLUDE_DIR nanoflann.hpp)
 find_path(MESHOPTIMIZER_INCLUDE_DIR meshoptimizer.h)
 find_library(MESHOPTIMIZER_LIBRARY meshoptimizer)
