@@ -1,0 +1,54 @@
+// hos-sfm: photos -> registered cameras and undistorted images (COLMAP).
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <iostream>
+
+#include "core/error.h"
+#include "core/exit_codes.h"
+#include "pipeline/sfm/sfm.h"
+#include "pipeline/stage_main.h"
+
+int main(int argc, char** argv) {
+  namespace fs = std::filesystem;
+  hos::SfmOptions options;
+  hos::OptionSet option_set("sfm");
+  hos::register_options(option_set, options);
+  hos::SfmInput input;
+  hos::CommonStageFlags flags;
+  bool print_config = false;
+
+  CLI::App app{"hos-sfm: cameras from photos with COLMAP; writes WS/sfm/undistorted (images + PINHOLE model)"};
+  app.add_option("--images", input.images, "folder of photos (or the images of --sparse)");
+  app.add_option("--workspace", input.workspace, "workspace folder; the stage writes WS/sfm/");
+  app.add_option("--sparse", input.existing_model, "existing COLMAP sparse model of --images: skip SfM");
+  app.add_option("--config", flags.config_file, "YAML config file (its sfm: section is used)");
+  app.add_option("--set", flags.assignments, "override an option: --set sfm.key=value (repeatable)");
+  app.add_option("--progress", flags.progress, "auto|bar|plain|json|none");
+  app.add_option("--log", flags.log_file, "log file (default WS/logs/sfm.log); COLMAP's output goes there");
+  app.add_flag("--verbose", flags.verbose, "show debug messages and COLMAP's output");
+  app.add_flag("--print-config", print_config, "print the sfm options with their documentation and exit");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? hos::kExitSuccess : hos::kExitUsage;
+  }
+  if (print_config) {
+    std::cout << option_set.documented_yaml();
+    return hos::kExitSuccess;
+  }
+  if (input.images.empty() || input.workspace.empty()) {
+    std::cerr << "hos-sfm: error: --images and --workspace are required (see --help)\n";
+    return hos::kExitUsage;
+  }
+  if (flags.log_file.empty()) {
+    std::error_code ec;
+    fs::create_directories(input.workspace / "logs", ec);
+    if (!ec) flags.log_file = (input.workspace / "logs" / "sfm.log").string();
+  }
+  return hos::run_stage_main("sfm", flags, [&](hos::Reporter& reporter) {
+    hos::apply_config_and_overrides(option_set, flags);
+    const hos::SfmResult result = hos::run_sfm(input, options, reporter);
+    hos::write_sfm_report(result, hos::sfm_paths(input.workspace).report);
+    for (const auto& line : hos::sfm_summary_lines(result)) reporter.info(line);
+  });
+}

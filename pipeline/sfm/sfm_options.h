@@ -1,0 +1,39 @@
+// Options of the sfm stage (YAML section "sfm").
+#pragma once
+
+#include <string>
+
+#include "core/option_set.h"
+
+namespace hos {
+
+struct SfmOptions {
+  // COLMAP executable; empty = $HOS_COLMAP, else "colmap" on PATH.
+  std::string colmap;
+  // COLMAP camera model for feature extraction (undistortion makes it PINHOLE).
+  std::string camera_model = "SIMPLE_RADIAL";
+  // "auto": one shared camera when all photos have the same size and EXIF
+  // focal length; "single": always one; "per_image": one camera per photo.
+  std::string camera_mode = "auto";
+  // "auto": exhaustive up to exhaustive_max_images photos, else sequential.
+  std::string matcher = "auto";
+  int exhaustive_max_images = 200;
+  int sequential_overlap = 10;  // neighbours matched per frame by the sequential matcher
+  // Photos larger than this (longest side, pixels) are downscaled into the
+  // workspace before COLMAP sees them; 0 keeps the original size.
+  int max_image_size = 0;
+  int min_image_size = 64;      // photos with a shorter side are skipped
+  int max_num_features = 8192;  // SIFT features per photo
+  int num_threads = -1;         // COLMAP threads; -1 = all cores
+  // "auto" uses the GPU only if the COLMAP binary reports CUDA support.
+  std::string use_gpu = "auto";
+  int min_registered_images = 3;  // fewer registered photos is a failure
+  int random_seed = 0;            // COLMAP's random seed, for repeatable runs
+
+  // Throws ConfigError naming the key and the allowed values.
+  void validate() const;
+};
+
+void register_options(OptionSet& set, SfmOptions& options);
+
+}  // namespace hos
