@@ -27,9 +27,17 @@ function(hos_test name)
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} hos_test_support GTest::gmock GTest::gtest_main)
   target_compile_options(${name} PRIVATE -Wall -Wextra -Wno-unused-parameter)
   include(GoogleTest)
+  # gtest_discover_tests splits every ';' of PROPERTIES again (even escaped
+  # ones), so ENVIRONMENT holds a single variable: HOS_BIN_DIR is not needed
+  # because the tests run in the build folder and bin_dir() falls back to
+  # ./bin. LABELS is only passed when given: an empty value would make the
+  # next keyword its value.
+  set(test_properties TIMEOUT ${ARG_TIMEOUT} ENVIRONMENT "HOS_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+  if(ARG_LABELS)
+    list(APPEND test_properties LABELS "${ARG_LABELS}")
+  endif()
   gtest_discover_tests(${name}
     WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
-    PROPERTIES TIMEOUT ${ARG_TIMEOUT} LABELS "${ARG_LABELS}"
-      ENVIRONMENT "HOS_BIN_DIR=${PROJECT_BINARY_DIR}/bin;HOS_SOURCE_DIR=${PROJECT_SOURCE_DIR}"
+    PROPERTIES ${test_properties}
     DISCOVERY_TIMEOUT 60)
 endfunction()

@@ -14,13 +14,13 @@ constexpr const char* kInstallHint =
     "install COLMAP (Debian/Ubuntu: sudo apt-get install colmap) or set sfm.colmap / "
     "$HOS_COLMAP to the colmap executable";
 constexpr std::size_t kTailLines = 12;
+constexpr const char* kDefaultColmap = "colmap";
 
 }  // namespace
 
 ColmapInfo parse_colmap_banner(std::string_view banner) {
   ColmapInfo info;
   static const std::regex kVersion(R"(COLMAP\s+([0-9][0-9A-Za-z.\-]*))");
-  std::cmatch m;
   const std::string text(banner);
   std::smatch sm;
   if (std::regex_search(text, sm, kVersion)) info.version = sm[1];
@@ -29,23 +29,20 @@ ColmapInfo parse_colmap_banner(std::string_view banner) {
 }
 
 ColmapInfo locate_colmap(const std::string& configured) {
-  std::string wanted = configured;
+  std::string wanted = configured.empty() ? std::string(kDefaultColmap) : configured;
   std::string origin = "sfm.colmap";
-  if (wanted.empty()) {
+  if (wanted == kDefaultColmap) {
     if (const char* env = std::getenv("HOS_COLMAP"); env && *env) {
       wanted = env;
       origin = "$HOS_COLMAP";
     }
   }
-  std::string path;
-  if (wanted.empty()) {
-    path = find_executable("colmap");
-    if (path.empty()) throw StageError("sfm", std::string("COLMAP was not found on PATH; ") + kInstallHint);
-  } else {
-    path = find_executable(wanted);
-    if (path.empty()) {
-      throw ConfigError(origin, "= " + wanted + ": no such executable; " + kInstallHint);
+  const std::string path = find_executable(wanted);
+  if (path.empty()) {
+    if (wanted == kDefaultColmap) {
+      throw StageError("sfm", std::string("COLMAP was not found on PATH; ") + kInstallHint);
     }
+    throw ConfigError(origin, "value '" + wanted + "' is not an executable; " + kInstallHint);
   }
   std::string banner;
   ProcessOptions process;

@@ -19,8 +19,8 @@ struct ColmapInfo {
   bool cuda = false;       // the binary says it was built with CUDA
 };
 
-// Finds COLMAP: configured (sfm.colmap) if not empty, else $HOS_COLMAP, else
-// "colmap" on PATH, and runs `colmap help` once to check it works. A missing
+// Finds COLMAP: sfm.colmap (default "colmap", looked up on PATH; $HOS_COLMAP
+// replaces that default), and runs `colmap help` once to check it works. A missing
 // or broken COLMAP throws StageError saying how to install it (a configured
 // path that does not exist throws ConfigError).
 ColmapInfo locate_colmap(const std::string& configured);

@@ -9,14 +9,14 @@ void SfmOptions::validate() const {
     throw ConfigError("sfm.min_registered_images", "must be at least 3");
   }
   if (max_image_size != 0 && max_image_size < min_image_size) {
-    throw ConfigError("sfm.max_image_size", "= " + std::to_string(max_image_size) +
-                                                ": must be 0 (off) or at least sfm.min_image_size (" +
+    throw ConfigError("sfm.max_image_size", "value " + std::to_string(max_image_size) +
+                                                " must be 0 (off) or at least sfm.min_image_size (" +
                                                 std::to_string(min_image_size) + ")");
   }
 }
 
 void register_options(OptionSet& set, SfmOptions& o) {
-  set.add("colmap", o.colmap, "COLMAP executable; empty = $HOS_COLMAP, else colmap on PATH");
+  set.add("colmap", o.colmap, "COLMAP executable (name on PATH or path); $HOS_COLMAP replaces the default");
   set.add_choice("camera_model", o.camera_model,
                  {"SIMPLE_PINHOLE", "PINHOLE", "SIMPLE_RADIAL", "RADIAL", "OPENCV"},
                  "COLMAP camera model estimated by the mapper");

@@ -8,8 +8,9 @@
 namespace hos {
 
 struct SfmOptions {
-  // COLMAP executable; empty = $HOS_COLMAP, else "colmap" on PATH.
-  std::string colmap;
+  // COLMAP executable (a name looked up on PATH, or a path). $HOS_COLMAP
+  // replaces the default "colmap".
+  std::string colmap = "colmap";
   // COLMAP camera model for feature extraction (undistortion makes it PINHOLE).
   std::string camera_model = "SIMPLE_RADIAL";
   // "auto": one shared camera when all photos have the same size and EXIF
