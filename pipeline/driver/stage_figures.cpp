@@ -116,20 +116,26 @@ nlohmann::ordered_json stage_figures(const std::string& stage, const fs::path& w
 }
 
 std::string figures_text(const std::string& stage, const nlohmann::ordered_json& f) {
-  auto num = [&](const char* key) { return f.contains(key) ? f[key].dump() : std::string("?"); };
   if (f.empty()) return "";
-  if (stage == "sfm") return num("images_registered") + "/" + num("images_given") + " images registered, " + num("points") + " points";
-  if (stage == "mvs") return num("points") + " dense points";
-  if (stage == "recon") return num("vertices") + " vertices, " + num("faces") + " faces";
-  if (stage == "texture") {
-    std::string text = num("triangles") + " triangles";
-    if (f.contains("textures")) {
-      text += ", texture";
-      for (const auto& s : f["textures"]) text += " " + s.get<std::string>();
+  auto num = [&](const char* key) { return f.contains(key) ? f[key].dump() : std::string("?"); };
+  std::ostringstream text;
+  if (stage == "sfm") {
+    text << num("images_registered") << "/" << num("images_given") << " images registered, " << num("points")
+         << " points";
+  } else if (stage == "mvs") {
+    text << num("points") << " dense points";
+  } else if (stage == "recon") {
+    text << num("vertices") << " vertices, " << num("faces") << " faces";
+  } else if (stage == "texture") {
+    text << num("triangles") << " triangles";
+    if (f.contains("textures") && !f["textures"].empty()) {
+      text << ", texture";
+      for (const auto& s : f["textures"]) text << " " << s.get<std::string>();
     }
-    return text;
+  } else {
+    text << f.dump();
   }
-  return f.dump();
+  return text.str();
 }
 
 }  // namespace hos
