@@ -1,0 +1,111 @@
+#include "texture/gltf_writer.h"
+
+#include <gtest/gtest.h>
+#include <tiny_gltf.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+#include "tests/support/test_support.h"
+#include "tests/texture/scene_fixtures.h"
+#include "texture/texture_mesh.h"
+
+namespace hos {
+namespace {
+
+std::string view_name(int i) {
+  std::string name = "v";
+  name += std::to_string(i);
+  return name;
+}
+
+namespace fs = std::filesystem;
+
+TexturedMesh textured_sphere() {
+  const TriangleMesh mesh = testing::make_icosphere(3, 1.0);
+  std::vector<TextureView> views;
+  for (int i = 0; i < 6; ++i) {
+    views.push_back(testing::make_view(view_name(i), 60.0 * i, 10.0, 3.5));
+    testing::render_sphere(views.back(), 1.0);
+  }
+  return texture_mesh(mesh, views, TextureOptions{}, null_reporter()).mesh;
+}
+
+// The validator's node_modules folder: installed once per build folder.
+fs::path validator_modules() {
+  const fs::path prefix = testing::bin_dir().parent_path() / "node_tools";
+  const fs::path modules = prefix / "node_modules";
+  if (!fs::exists(modules / "gltf-validator" / "package.json")) {
+    const int status = testing::run_command(
+        "npm install --no-audit --no-fund --prefix " + testing::shell_quote(prefix.string()) +
+            " gltf-validator",
+        prefix.parent_path() / "node_tools_install.log");
+    if (status != 0) return {};
+  }
+  return modules;
+}
+
+TEST(GltfWriter, GlbPassesKhronosValidator) {
+  testing::TempDir dir("hos-texture-gltf");
+  const fs::path glb = dir / "model.glb";
+  for (const std::string format : {"png", "jpeg"}) {
+    GltfWriteOptions options;
+    options.image_format = format;
+    write_glb(glb, textured_sphere(), options);
+    const fs::path modules = validator_modules();
+    ASSERT_FALSE(modules.empty()) << "npm install gltf-validator failed";
+    const fs::path script = testing::source_dir() / "tests" / "texture" / "validate_gltf.js";
+    const fs::path report = dir / ("report_" + format + ".json");
+    const int status = testing::run_command("node " + testing::shell_quote(script.string()) + " " +
+                                                testing::shell_quote(modules.string()) + " " +
+                                                testing::shell_quote(glb.string()),
+                                            report);
+    std::ifstream in(report);
+    std::stringstream text;
+    text << in.rdbuf();
+    EXPECT_EQ(status, 0) << format << ": " << text.str();
+    EXPECT_NE(text.str().find("\"numErrors\": 0"), std::string::npos) << text.str();
+  }
+}
+
+TEST(GltfWriter, ReadsBackWithTinyGltf) {
+  testing::TempDir dir("hos-texture-gltf");
+  TexturedMesh mesh = textured_sphere();
+  mesh.root_matrix(1, 3) = 2.5;  // a translation, to check the matrix layout
+  const fs::path glb = dir / "model.glb";
+  write_glb(glb, mesh);
+  tinygltf::Model model;
+  tinygltf::TinyGLTF loader;
+  std::string error, warning;
+  ASSERT_TRUE(loader.LoadBinaryFromFile(&model, &error, &warning, glb.string())) << error;
+  EXPECT_EQ(model.asset.generator, "hos");
+  ASSERT_EQ(model.nodes.size(), 1u);
+  ASSERT_EQ(model.nodes[0].matrix.size(), 16u);
+  EXPECT_DOUBLE_EQ(model.nodes[0].matrix[13], 2.5);  // column-major: column 3, row 1
+  ASSERT_EQ(model.meshes.size(), 1u);
+  std::size_t triangles = 0;
+  for (const auto& primitive : model.meshes[0].primitives) {
+    EXPECT_EQ(primitive.attributes.count("TEXCOORD_0"), 1u);
+    EXPECT_EQ(primitive.attributes.count("NORMAL"), 1u);
+    triangles += model.accessors[primitive.indices].count / 3;
+    const auto& material = model.materials[primitive.material];
+    EXPECT_EQ(material.pbrMetallicRoughness.metallicFactor, 0.0);
+    EXPECT_EQ(material.pbrMetallicRoughness.roughnessFactor, 1.0);
+    const int image = model.textures[material.pbrMetallicRoughness.baseColorTexture.index].source;
+    EXPECT_EQ(model.images[image].mimeType, "image/png");
+    EXPECT_EQ(model.images[image].width, mesh.atlases[0].cols);
+  }
+  std::size_t expected = 0;
+  for (const auto& idx : mesh.indices) expected += idx.size() / 3;
+  EXPECT_EQ(triangles, expected);
+  EXPECT_EQ(model.accessors[model.meshes[0].primitives[0].attributes["POSITION"]].count,
+            mesh.positions.size());
+}
+
+TEST(GltfWriter, UnwritableTargetThrowsOutputError) {
+  EXPECT_THROW(write_glb("/nonexistent-folder/x/model.glb", textured_sphere()), Error);
+}
+
+}  // namespace
+}  // namespace hos

@@ -1,0 +1,150 @@
+#include "tests/texture/scene_fixtures.h"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <map>
+
+namespace hos::testing {
+
+TriangleMesh make_icosphere(int levels, double radius) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<Eigen::Vector3d> v = {{-1, t, 0}, {1, t, 0},  {-1, -t, 0}, {1, -t, 0},
+                                    {0, -1, t}, {0, 1, t},  {0, -1, -t}, {0, 1, -t},
+                                    {t, 0, -1}, {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<Eigen::Vector3i> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                    {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                    {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                    {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (auto& p : v) p.normalize();
+  for (int level = 0; level < levels; ++level) {
+    std::map<std::pair<int, int>, int> midpoint;
+    auto mid = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      auto it = midpoint.find(key);
+      if (it != midpoint.end()) return it->second;
+      v.push_back((v[a] + v[b]).normalized());
+      midpoint[key] = static_cast<int>(v.size()) - 1;
+      return static_cast<int>(v.size()) - 1;
+    };
+    std::vector<Eigen::Vector3i> next;
+    for (const auto& face : f) {
+      const int ab = mid(face[0], face[1]), bc = mid(face[1], face[2]), ca = mid(face[2], face[0]);
+      next.push_back({face[0], ab, ca});
+      next.push_back({face[1], bc, ab});
+      next.push_back({face[2], ca, bc});
+      next.push_back({ab, bc, ca});
+    }
+    f = std::move(next);
+  }
+  TriangleMesh mesh;
+  for (const auto& p : v) mesh.vertices.push_back((radius * p).cast<float>());
+  mesh.faces = f;
+  return mesh;
+}
+
+Eigen::Vector3f sphere_albedo(const Eigen::Vector3f& x) {
+  const float a = std::sin(6.0f * x.z() + 2.0f * x.x());
+  const float b = std::cos(5.0f * x.x() - 3.0f * x.y());
+  return {0.35f + 0.15f * a, 0.45f + 0.25f * b, 0.5f + 0.2f * a * b};
+}
+
+TextureView make_view(const std::string& name, double azimuth_deg, double elevation_deg,
+                      double distance, int width, int height, double focal) {
+  const double az = azimuth_deg * M_PI / 180.0, el = elevation_deg * M_PI / 180.0;
+  const Eigen::Vector3d center =
+      distance * Eigen::Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+  const Eigen::Vector3d forward = (-center).normalized();
+  Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ());
+  if (right.norm() < 1e-6) right = Eigen::Vector3d::UnitX();
+  right.normalize();
+  const Eigen::Vector3d down = forward.cross(right);
+  Eigen::Matrix3d r;  // rows: camera axes in world coordinates
+  r.row(0) = right;
+  r.row(1) = down;
+  r.row(2) = forward;
+  TextureView view;
+  view.name = name;
+  view.camera = Camera::pinhole(1, width, height, focal, focal, width / 2.0, height / 2.0);
+  view.pose.name = name;
+  view.pose.cam_from_world_rotation = Eigen::Quaterniond(r);
+  view.pose.cam_from_world_translation = -r * center;
+  view.image = cv::Mat(height, width, CV_8UC3, cv::Scalar(0, 0, 0));
+  return view;
+}
+
+namespace {
+
+std::optional<double> hit_sphere(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
+                                 const Eigen::Vector3d& center, double radius) {
+  const Eigen::Vector3d oc = origin - center;
+  const double b = oc.dot(dir);
+  const double c = oc.squaredNorm() - radius * radius;
+  const double disc = b * b - c;
+  if (disc < 0.0) return std::nullopt;
+  const double t = -b - std::sqrt(disc);
+  if (t <= 0.0) return std::nullopt;
+  return t;
+}
+
+}  // namespace
+
+void render_sphere(TextureView& view, double radius, float gain,
+                   const std::optional<Occluder>& occluder) {
+  const Eigen::Vector3d origin = view.pose.center();
+  const int ss = 2;  // supersampling per axis
+  for (int y = 0; y < view.image.rows; ++y) {
+    for (int x = 0; x < view.image.cols; ++x) {
+      Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+      for (int sy = 0; sy < ss; ++sy) {
+        for (int sx = 0; sx < ss; ++sx) {
+          const Eigen::Vector2d pixel(x + (sx + 0.5) / ss, y + (sy + 0.5) / ss);
+          const Eigen::Vector3d ray_cam((pixel.x() - view.camera.principal_x()) / view.camera.focal_x(),
+                                        (pixel.y() - view.camera.principal_y()) / view.camera.focal_y(),
+                                        1.0);
+          const Eigen::Vector3d dir = (view.pose.rotation().transpose() * ray_cam).normalized();
+          const auto t = hit_sphere(origin, dir, Eigen::Vector3d::Zero(), radius);
+          std::optional<double> t_occ;
+          if (occluder) t_occ = hit_sphere(origin, dir, occluder->center, occluder->radius);
+          if (t_occ && (!t || *t_occ < *t)) {
+            sum += 255.0f * occluder->rgb;
+          } else if (t) {
+            sum += 255.0f * gain * sphere_albedo((origin + *t * dir).cast<float>());
+          }
+        }
+      }
+      sum /= static_cast<float>(ss * ss);
+      auto c8 = [](float v) { return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L)); };
+      view.image.at<cv::Vec3b>(y, x) = cv::Vec3b(c8(sum.z()), c8(sum.y()), c8(sum.x()));
+    }
+  }
+}
+
+Eigen::Vector3f sample_atlas(const cv::Mat& atlas, const Eigen::Vector2f& uv) {
+  return sample_rgb(atlas, uv.x() * atlas.cols, uv.y() * atlas.rows);
+}
+
+std::vector<TexturePoint> texture_points(const TexturedMesh& mesh) {
+  std::vector<TexturePoint> points;
+  const Eigen::Vector3f weights[4] = {{1 / 3.f, 1 / 3.f, 1 / 3.f},
+                                      {0.6f, 0.2f, 0.2f},
+                                      {0.2f, 0.6f, 0.2f},
+                                      {0.2f, 0.2f, 0.6f}};
+  for (std::size_t page = 0; page < mesh.indices.size(); ++page) {
+    const auto& idx = mesh.indices[page];
+    for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
+      const std::uint32_t a = idx[i], b = idx[i + 1], c = idx[i + 2];
+      const bool flat = mesh.uvs[a] == mesh.uvs[b] && mesh.uvs[b] == mesh.uvs[c];
+      for (const auto& w : weights) {
+        TexturePoint p;
+        p.page = static_cast<int>(page);
+        p.uv = w[0] * mesh.uvs[a] + w[1] * mesh.uvs[b] + w[2] * mesh.uvs[c];
+        p.position = w[0] * mesh.positions[a] + w[1] * mesh.positions[b] + w[2] * mesh.positions[c];
+        p.flat = flat;
+        points.push_back(p);
+      }
+    }
+  }
+  return points;
+}
+
+}  // namespace hos::testing

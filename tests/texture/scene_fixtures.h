@@ -1,0 +1,52 @@
+// Analytic test scenes for the texture tests: a sphere with a smooth
+// procedural albedo, photographed by ray casting the exact sphere (not the
+// mesh under test), unlit, so the true colour of every surface point is known.
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include "core/types.h"
+#include "texture/texture_view.h"
+#include "texture/textured_mesh.h"
+
+namespace hos::testing {
+
+// Icosahedron subdivided `levels` times, vertices on the sphere (20 * 4^levels faces).
+TriangleMesh make_icosphere(int levels, double radius);
+
+// Albedo in [0, 1] RGB: smooth stripes, never strongly red.
+Eigen::Vector3f sphere_albedo(const Eigen::Vector3f& x);
+
+// A camera at distance from the origin, looking at it, at the given azimuth
+// and elevation (degrees); world up is +z.
+TextureView make_view(const std::string& name, double azimuth_deg, double elevation_deg,
+                      double distance, int width = 320, int height = 240, double focal = 300.0);
+
+struct Occluder {
+  Eigen::Vector3d center;
+  double radius = 0.1;
+  Eigen::Vector3f rgb = Eigen::Vector3f(1.0f, 0.0f, 0.0f);
+};
+
+// Ray-casts the sphere (radius at the origin) into view.image; colour =
+// albedo * gain (8 bit), black background; an optional occluder in front.
+void render_sphere(TextureView& view, double radius, float gain = 1.0f,
+                   const std::optional<Occluder>& occluder = std::nullopt);
+
+// Bilinear sample of an atlas (BGR) at glTF UV; returns RGB in [0, 255].
+Eigen::Vector3f sample_atlas(const cv::Mat& atlas, const Eigen::Vector2f& uv);
+
+// A sample point of the textured result: page, UV, and 3D position.
+struct TexturePoint {
+  int page = 0;
+  Eigen::Vector2f uv;
+  Eigen::Vector3f position;
+  bool flat = false;  // the triangle's UVs are all equal (unseen-face patch)
+};
+// Points at the centroid and three inner points of every triangle.
+std::vector<TexturePoint> texture_points(const TexturedMesh& mesh);
+
+}  // namespace hos::testing

@@ -1,0 +1,250 @@
+#include "texture/atlas.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+namespace hos {
+
+std::vector<int> pack_shelves(std::vector<Rect>& rects, int page_width, int page_height,
+                              int* num_pages) {
+  std::vector<int> order(rects.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return rects[a].height != rects[b].height ? rects[a].height > rects[b].height
+                                              : rects[a].width > rects[b].width;
+  });
+  std::vector<int> page(rects.size(), 0);
+  int current = 0, shelf_y = 0, shelf_height = 0, cursor_x = 0;
+  for (int i : order) {
+    Rect& r = rects[i];
+    if (r.width > page_width || r.height > page_height) {
+      throw std::invalid_argument("a chart is larger than the atlas page");
+    }
+    if (cursor_x + r.width > page_width) {  // next shelf
+      shelf_y += shelf_height;
+      cursor_x = 0;
+      shelf_height = 0;
+    }
+    if (shelf_y + r.height > page_height) {  // next page
+      ++current;
+      shelf_y = 0;
+      cursor_x = 0;
+      shelf_height = 0;
+    }
+    r.x = cursor_x;
+    r.y = shelf_y;
+    cursor_x += r.width;
+    shelf_height = std::max(shelf_height, r.height);
+    page[i] = current;
+  }
+  *num_pages = rects.empty() ? 0 : current + 1;
+  return page;
+}
+
+namespace {
+
+constexpr int kFlatCell = 4;  // texels per side of a flat face's patch
+
+struct ChartFrame {
+  Eigen::Vector2d min;   // bounding box of the projection, photo pixels
+  double scale = 1.0;    // texels per photo pixel
+  std::vector<Eigen::Vector2d> pixels;  // projected chart vertices
+};
+
+// Marks texels whose centre lies in the triangle (texel coordinates) and
+// calls fill(x, y, barycentric) for each.
+template <typename Fill>
+void raster_triangle(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
+                     int width, int height, Fill&& fill) {
+  const double area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+  if (std::abs(area) < 1e-12) return;
+  const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}) - 0.5)));
+  const int x1 = std::min(width - 1, static_cast<int>(std::ceil(std::max({a.x(), b.x(), c.x()}))));
+  const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}) - 0.5)));
+  const int y1 = std::min(height - 1, static_cast<int>(std::ceil(std::max({a.y(), b.y(), c.y()}))));
+  const double eps = -1e-6;
+  for (int y = y0; y <= y1; ++y) {
+    const double py = y + 0.5;
+    for (int x = x0; x <= x1; ++x) {
+      const double px = x + 0.5;
+      const double wa = ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) / area;
+      const double wb = ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) / area;
+      const double wc = 1.0 - wa - wb;
+      if (wa < eps || wb < eps || wc < eps) continue;
+      fill(x, y, Eigen::Vector3d(wa, wb, wc));
+    }
+  }
+}
+
+// Fills empty texels from filled 8-neighbours, ring by ring.
+void dilate(cv::Mat& page, cv::Mat& filled, int rings) {
+  for (int ring = 0; ring < rings; ++ring) {
+    cv::Mat next_filled = filled.clone();
+    for (int y = 0; y < page.rows; ++y) {
+      for (int x = 0; x < page.cols; ++x) {
+        if (filled.at<std::uint8_t>(y, x)) continue;
+        Eigen::Vector3i sum = Eigen::Vector3i::Zero();
+        int count = 0;
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int xx = x + dx, yy = y + dy;
+            if (xx < 0 || yy < 0 || xx >= page.cols || yy >= page.rows) continue;
+            if (!filled.at<std::uint8_t>(yy, xx)) continue;
+            const cv::Vec3b& p = page.at<cv::Vec3b>(yy, xx);
+            sum += Eigen::Vector3i(p[0], p[1], p[2]);
+            ++count;
+          }
+        }
+        if (count == 0) continue;
+        page.at<cv::Vec3b>(y, x) = cv::Vec3b(sum[0] / count, sum[1] / count, sum[2] / count);
+        next_filled.at<std::uint8_t>(y, x) = 255;
+      }
+    }
+    filled = next_filled;
+  }
+}
+
+cv::Vec3b to_bgr(const Eigen::Vector3f& rgb) {
+  auto clamp8 = [](float v) {
+    return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+  };
+  return cv::Vec3b(clamp8(rgb.z()), clamp8(rgb.y()), clamp8(rgb.x()));
+}
+
+}  // namespace
+
+Atlas build_atlas(const TriangleMesh& mesh, const std::vector<Chart>& charts,
+                  const std::vector<TextureView>& views, const std::vector<float>& gains,
+                  const SeamLeveling& leveling, const std::vector<FlatFace>& flat_faces,
+                  const TextureOptions& options, Reporter& reporter) {
+  const int num_charts = static_cast<int>(charts.size());
+  const int pad = options.padding;
+  const int page_size = options.atlas_size;
+  std::vector<ChartFrame> frames(num_charts);
+  for (int c = 0; c < num_charts; ++c) {
+    ChartFrame& frame = frames[c];
+    const TextureView& view = views[charts[c].view];
+    frame.pixels.resize(charts[c].vertices.size());
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(1e300), hi = Eigen::Vector2d::Constant(-1e300);
+    for (std::size_t i = 0; i < charts[c].vertices.size(); ++i) {
+      const Eigen::Vector3d p = view.project(mesh.vertices[charts[c].vertices[i]].cast<double>());
+      frame.pixels[i] = p.head<2>();
+      lo = lo.cwiseMin(p.head<2>());
+      hi = hi.cwiseMax(p.head<2>());
+    }
+    frame.min = lo;
+  }
+
+  // Pack; shrink the texel scale until the pages suffice.
+  double scale = options.texel_scale;
+  std::vector<Rect> rects;
+  std::vector<int> page_of;
+  int num_pages = 0;
+  int page_width = page_size;
+  const int num_flat = static_cast<int>(flat_faces.size());
+  for (int attempt = 0;; ++attempt) {
+    rects.assign(num_charts + num_flat, Rect{});
+    for (int c = 0; c < num_charts; ++c) {
+      Eigen::Vector2d extent = Eigen::Vector2d::Zero();
+      for (const auto& p : frames[c].pixels) extent = extent.cwiseMax(p - frames[c].min);
+      // A chart wider than a page is scaled down on its own.
+      const double limit = page_size - 2 * pad - 2;
+      double s = scale;
+      if (extent.maxCoeff() * s > limit) s = limit / extent.maxCoeff();
+      frames[c].scale = s;
+      rects[c].width = static_cast<int>(std::ceil(extent.x() * s)) + 1 + 2 * pad;
+      rects[c].height = static_cast<int>(std::ceil(extent.y() * s)) + 1 + 2 * pad;
+    }
+    for (int k = 0; k < num_flat; ++k) rects[num_charts + k] = Rect{0, 0, kFlatCell, kFlatCell};
+    // Page width: the smallest power of two that holds the charts in a
+    // roughly square page, so small models do not get a long thin strip.
+    double area = 0.0;
+    int widest = 1;
+    for (const Rect& r : rects) {
+      area += static_cast<double>(r.width) * r.height;
+      widest = std::max(widest, r.width);
+    }
+    page_width = 64;
+    while (page_width < page_size && (page_width < widest || page_width < 1.15 * std::sqrt(area))) {
+      page_width *= 2;
+    }
+    page_width = std::min(page_width, page_size);
+    page_of = pack_shelves(rects, page_width, page_size, &num_pages);
+    if (num_pages <= options.max_atlases || attempt > 30) break;
+    scale *= 0.8;
+  }
+
+  Atlas atlas;
+  atlas.texel_scale = scale;
+  // Crop the height of every page to what is used.
+  std::vector<int> used_height(num_pages, 1);
+  for (std::size_t i = 0; i < rects.size(); ++i) {
+    used_height[page_of[i]] = std::max(used_height[page_of[i]], rects[i].y + rects[i].height);
+  }
+  std::vector<cv::Mat> filled(num_pages);
+  for (int p = 0; p < num_pages; ++p) {
+    // Heights rounded up to a multiple of 4 keep block-compressing tools happy.
+    const int h = std::min(page_size, (used_height[p] + 3) / 4 * 4);
+    atlas.pages.emplace_back(h, page_width, CV_8UC3, cv::Scalar(0, 0, 0));
+    filled[p] = cv::Mat(h, page_width, CV_8U, cv::Scalar(0));
+  }
+
+  atlas.chart_page.resize(num_charts);
+  atlas.chart_uvs.resize(num_charts);
+  reporter.begin("atlas", num_charts);
+#pragma omp parallel for schedule(dynamic)
+  for (int c = 0; c < num_charts; ++c) {
+    const ChartFrame& frame = frames[c];
+    const Rect& r = rects[c];
+    const int page = page_of[c];
+    const TextureView& view = views[charts[c].view];
+    const float gain = gains[charts[c].view];
+    cv::Mat& image = atlas.pages[page];
+    cv::Mat& mask = filled[page];
+    const Eigen::Vector2d origin(r.x + pad + 0.5, r.y + pad + 0.5);
+    std::vector<Eigen::Vector2d> texel(frame.pixels.size());
+    atlas.chart_page[c] = page;
+    atlas.chart_uvs[c].resize(frame.pixels.size());
+    for (std::size_t i = 0; i < frame.pixels.size(); ++i) {
+      texel[i] = origin + (frame.pixels[i] - frame.min) * frame.scale;
+      atlas.chart_uvs[c][i] = Eigen::Vector2f(static_cast<float>(texel[i].x() / image.cols),
+                                              static_cast<float>(texel[i].y() / image.rows));
+    }
+    const auto& offsets = leveling.offsets[c];
+    for (const auto& face : charts[c].local_faces) {
+      raster_triangle(texel[face[0]], texel[face[1]], texel[face[2]], image.cols, image.rows,
+                      [&](int x, int y, const Eigen::Vector3d& w) {
+                        // Texel centre back to photo pixels (the map is affine).
+                        const Eigen::Vector2d q =
+                            frame.min + (Eigen::Vector2d(x + 0.5, y + 0.5) - origin) / frame.scale;
+                        const Eigen::Vector3f offset = static_cast<float>(w[0]) * offsets[face[0]] +
+                                                       static_cast<float>(w[1]) * offsets[face[1]] +
+                                                       static_cast<float>(w[2]) * offsets[face[2]];
+                        image.at<cv::Vec3b>(y, x) =
+                            to_bgr(gain * sample_rgb(view.image, q.x(), q.y()) + offset);
+                        mask.at<std::uint8_t>(y, x) = 255;
+                      });
+    }
+    reporter.advance();
+  }
+  reporter.end();
+
+  atlas.flat_page.resize(num_flat);
+  atlas.flat_uvs.resize(num_flat);
+  for (int k = 0; k < num_flat; ++k) {
+    const Rect& r = rects[num_charts + k];
+    const int page = page_of[num_charts + k];
+    cv::Mat& image = atlas.pages[page];
+    image(cv::Rect(r.x, r.y, r.width, r.height)).setTo(to_bgr(flat_faces[k].rgb));
+    filled[page](cv::Rect(r.x, r.y, r.width, r.height)).setTo(255);
+    atlas.flat_page[k] = page;
+    atlas.flat_uvs[k] = Eigen::Vector2f(static_cast<float>((r.x + 0.5 * r.width) / image.cols),
+                                        static_cast<float>((r.y + 0.5 * r.height) / image.rows));
+  }
+  for (int p = 0; p < num_pages; ++p) dilate(atlas.pages[p], filled[p], pad + 1);
+  return atlas;
+}
+
+}  // namespace hos

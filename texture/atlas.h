@@ -1,0 +1,54 @@
+// Texture atlas: every chart is projected with its view's camera (an affine
+// map of the photo's pixels, so texels are resampled once), charts are packed
+// with a shelf packer into pages of at most options.atlas_size, and texels
+// are filled from the photo (times the exposure gain, plus the seam-leveling
+// offset interpolated over each face). Texels around the charts are dilated
+// into the padding so mipmaps do not mix neighbouring charts.
+#pragma once
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "core/reporter.h"
+#include "core/types.h"
+#include "texture/charts.h"
+#include "texture/seam_leveling.h"
+#include "texture/texture_options.h"
+#include "texture/texture_view.h"
+
+namespace hos {
+
+struct Rect {
+  int x = 0, y = 0, width = 0, height = 0;
+};
+
+// Shelf packing of rectangles (sorted by height) into pages of the given
+// size. Returns the page of every rectangle (positions written to rects);
+// throws std::invalid_argument if one rectangle is larger than a page.
+std::vector<int> pack_shelves(std::vector<Rect>& rects, int page_width, int page_height,
+                              int* num_pages);
+
+// A flat-coloured patch for a face that no view sees.
+struct FlatFace {
+  int face = -1;
+  Eigen::Vector3f rgb = Eigen::Vector3f::Zero();
+};
+
+struct Atlas {
+  std::vector<cv::Mat> pages;  // CV_8UC3, BGR
+  // Per chart: its page and the UV (glTF: u right, v down) of each chart vertex.
+  std::vector<int> chart_page;
+  std::vector<std::vector<Eigen::Vector2f>> chart_uvs;
+  // Per flat face: its page and the UV of its patch centre.
+  std::vector<int> flat_page;
+  std::vector<Eigen::Vector2f> flat_uvs;
+  double texel_scale = 1.0;  // texels per photo pixel finally used
+};
+
+Atlas build_atlas(const TriangleMesh& mesh, const std::vector<Chart>& charts,
+                  const std::vector<TextureView>& views, const std::vector<float>& gains,
+                  const SeamLeveling& leveling, const std::vector<FlatFace>& flat_faces,
+                  const TextureOptions& options, Reporter& reporter);
+
+}  // namespace hos

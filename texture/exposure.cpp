@@ -1,0 +1,96 @@
+#include "texture/exposure.h"
+
+#include <ceres/ceres.h>
+
+#include <cmath>
+
+namespace hos {
+
+namespace {
+
+struct LogRatioResidual {
+  double log_ratio;  // log(L_fu) - log(L_fv)
+  template <typename T>
+  bool operator()(const T* const a_u, const T* const a_v, T* residual) const {
+    residual[0] = T(log_ratio) + a_u[0] - a_v[0];
+    return true;
+  }
+};
+
+struct PriorResidual {
+  double weight;
+  template <typename T>
+  bool operator()(const T* const a, T* residual) const {
+    residual[0] = T(weight) * a[0];
+    return true;
+  }
+};
+
+float luminance(const Eigen::Vector3f& rgb) {
+  return 0.2126f * rgb.x() + 0.7152f * rgb.y() + 0.0722f * rgb.z();
+}
+
+}  // namespace
+
+std::vector<float> estimate_exposure_gains(const FaceViewCandidates& candidates, int num_views,
+                                           Reporter& reporter) {
+  std::vector<double> log_gain(num_views, 0.0);
+  if (num_views < 2) return std::vector<float>(num_views, 1.0f);
+  reporter.begin("exposure gains", 0);
+  ceres::Problem problem;
+  // Subsample faces so the problem stays small on big meshes.
+  const int num_faces = candidates.num_faces();
+  const int stride = std::max(1, num_faces / 50000);
+  std::vector<int> pairs_per_view(num_views, 0);
+  for (int f = 0; f < num_faces; f += stride) {
+    const int b = candidates.begin(f), e = candidates.end(f);
+    // Each view against the next one of the face: a chain per face.
+    for (int i = b; i + 1 < e; ++i) {
+      const FaceViewSample& s = candidates.samples[i];
+      const FaceViewSample& t = candidates.samples[i + 1];
+      const float lu = luminance(s.mean_rgb), lv = luminance(t.mean_rgb);
+      // Dark or saturated faces say little about the gain.
+      if (lu < 8.0f || lv < 8.0f || lu > 250.0f || lv > 250.0f) continue;
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<LogRatioResidual, 1, 1, 1>(
+              new LogRatioResidual{std::log(lu) - std::log(lv)}),
+          new ceres::CauchyLoss(0.05), &log_gain[s.view], &log_gain[t.view]);
+      ++pairs_per_view[s.view];
+      ++pairs_per_view[t.view];
+    }
+  }
+  // A weak prior pins the free overall scale (and views without overlap).
+  for (int v = 0; v < num_views; ++v) {
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<PriorResidual, 1, 1>(new PriorResidual{1e-2}), nullptr,
+        &log_gain[v]);
+  }
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  solver_options.max_num_iterations = 50;
+  solver_options.num_threads = 2;
+  solver_options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+  double mean = 0.0;
+  int counted = 0;
+  for (int v = 0; v < num_views; ++v) {
+    if (pairs_per_view[v] > 0) {
+      mean += log_gain[v];
+      ++counted;
+    }
+  }
+  if (counted > 0) mean /= counted;
+  std::vector<float> gains(num_views, 1.0f);
+  for (int v = 0; v < num_views; ++v) {
+    gains[v] = pairs_per_view[v] > 0 ? static_cast<float>(std::exp(log_gain[v] - mean)) : 1.0f;
+  }
+  reporter.end();
+  return gains;
+}
+
+void apply_exposure_gains(const std::vector<float>& gains, FaceViewCandidates& candidates) {
+  for (auto& s : candidates.samples) s.mean_rgb *= gains[s.view];
+}
+
+}  // namespace hos

@@ -1,0 +1,235 @@
+#include "texture/texture_mesh.h"
+
+#include <Eigen/Geometry>
+#include <chrono>
+
+#include "core/error.h"
+#include "texture/atlas.h"
+#include "texture/charts.h"
+#include "texture/decimate.h"
+#include "texture/exposure.h"
+#include "texture/mesh_topology.h"
+#include "texture/seam_leveling.h"
+#include "texture/view_selection.h"
+#include "texture/visibility.h"
+
+namespace hos {
+
+namespace {
+
+class StepTimer {
+ public:
+  explicit StepTimer(TextureStats& stats) : stats_(stats), start_(Clock::now()) {}
+  void lap(const std::string& step) {
+    const auto now = Clock::now();
+    stats_.step_seconds.emplace_back(step, std::chrono::duration<double>(now - start_).count());
+    start_ = now;
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  TextureStats& stats_;
+  Clock::time_point start_;
+};
+
+// Colours of unseen faces: vertex colours of textured charts, diffused over
+// mesh edges into the unseen region ring by ring.
+std::vector<FlatFace> colour_unseen_faces(const TriangleMesh& mesh, const MeshTopology& topology,
+                                          const std::vector<int>& labels,
+                                          const std::vector<Chart>& charts,
+                                          const SeamLeveling& leveling) {
+  const int num_vertices = static_cast<int>(mesh.vertices.size());
+  std::vector<Eigen::Vector3f> colour(num_vertices, Eigen::Vector3f::Zero());
+  std::vector<int> count(num_vertices, 0);
+  for (std::size_t c = 0; c < charts.size(); ++c) {
+    for (std::size_t i = 0; i < charts[c].vertices.size(); ++i) {
+      colour[charts[c].vertices[i]] += leveling.vertex_colors[c][i];
+      ++count[charts[c].vertices[i]];
+    }
+  }
+  std::vector<char> known(num_vertices, 0);
+  for (int v = 0; v < num_vertices; ++v) {
+    if (count[v] > 0) {
+      colour[v] /= static_cast<float>(count[v]);
+      known[v] = 1;
+    }
+  }
+  std::vector<FlatFace> flat;
+  std::vector<int> unseen;
+  for (int f = 0; f < static_cast<int>(labels.size()); ++f) {
+    if (labels[f] < 0) unseen.push_back(f);
+  }
+  if (unseen.empty()) return flat;
+  // Ring-by-ring propagation through faces: an unknown vertex takes the mean
+  // of the known vertices of its faces.
+  bool progress = true;
+  while (progress) {
+    progress = false;
+    std::vector<std::pair<int, Eigen::Vector3f>> updates;
+    for (int f : unseen) {
+      for (int c = 0; c < 3; ++c) {
+        const int v = mesh.faces[f][c];
+        if (known[v]) continue;
+        Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+        int n = 0;
+        for (int k = topology.vertex_face_offsets[v]; k < topology.vertex_face_offsets[v + 1]; ++k) {
+          for (int cc = 0; cc < 3; ++cc) {
+            const int u = mesh.faces[topology.vertex_faces[k]][cc];
+            if (known[u]) {
+              sum += colour[u];
+              ++n;
+            }
+          }
+        }
+        if (n > 0) updates.emplace_back(v, sum / static_cast<float>(n));
+      }
+    }
+    for (const auto& [v, c] : updates) {
+      if (!known[v]) {
+        colour[v] = c;
+        known[v] = 1;
+        progress = true;
+      }
+    }
+  }
+  for (int f : unseen) {
+    FlatFace face;
+    face.face = f;
+    int n = 0;
+    for (int c = 0; c < 3; ++c) {
+      if (known[mesh.faces[f][c]]) {
+        face.rgb += colour[mesh.faces[f][c]];
+        ++n;
+      }
+    }
+    // A component no view sees at all: neutral grey rather than black.
+    face.rgb = n > 0 ? Eigen::Vector3f(face.rgb / static_cast<float>(n))
+                     : Eigen::Vector3f::Constant(128.0f);
+    flat.push_back(face);
+  }
+  return flat;
+}
+
+}  // namespace
+
+Eigen::Vector3d estimate_up_direction(const std::vector<TextureView>& views) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const auto& view : views) sum += view.pose.rotation().transpose() * Eigen::Vector3d(0, -1, 0);
+  if (sum.norm() < 1e-9) return Eigen::Vector3d::UnitY();
+  return sum.normalized();
+}
+
+Eigen::Matrix4d root_matrix_for(const std::vector<TextureView>& views, const TextureOptions& options) {
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  if (options.up_axis == "cameras" && !views.empty()) {
+    const Eigen::Vector3d up = estimate_up_direction(views);
+    m.topLeftCorner<3, 3>() =
+        Eigen::Quaterniond::FromTwoVectors(up, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  }
+  return m;
+}
+
+TextureResult texture_mesh(const TriangleMesh& input_mesh, const std::vector<TextureView>& views,
+                           const TextureOptions& options, Reporter& reporter) {
+  options.validate();
+  TextureResult result;
+  TextureStats& stats = result.stats;
+  StepTimer timer(stats);
+  stats.input_faces = input_mesh.faces.size();
+  stats.num_views = static_cast<int>(views.size());
+  if (input_mesh.faces.empty()) throw StageError("texture", "the mesh has no faces");
+  if (views.empty()) throw StageError("texture", "no registered images to texture from");
+
+  TriangleMesh decimated;
+  if (options.max_faces > 0 && input_mesh.faces.size() > static_cast<std::size_t>(options.max_faces)) {
+    reporter.begin("decimate", 0);
+    DecimationStats ds;
+    decimated = decimate_mesh(input_mesh, options.max_faces, &ds);
+    reporter.end();
+    reporter.info(format_message("decimated ", ds.faces_before, " -> ", ds.faces_after, " faces"));
+    timer.lap("decimate");
+  }
+  const TriangleMesh& mesh = decimated.faces.empty() ? input_mesh : decimated;
+  stats.faces = mesh.faces.size();
+
+  const MeshTopology topology = build_topology(mesh);
+  timer.lap("topology");
+  FaceViewCandidates candidates = compute_visibility(mesh, topology, views, options, reporter);
+  stats.num_candidates = static_cast<std::int64_t>(candidates.samples.size());
+  timer.lap("visibility");
+
+  std::vector<float> gains(views.size(), 1.0f);
+  if (options.exposure_compensation) {
+    gains = estimate_exposure_gains(candidates, static_cast<int>(views.size()), reporter);
+    apply_exposure_gains(gains, candidates);
+    timer.lap("exposure");
+  }
+  stats.exposure_gains = gains;
+  if (options.outlier_rejection) {
+    stats.num_outlier_rejections = reject_outlier_views(candidates, options);
+    timer.lap("outliers");
+  }
+  const ViewSelection selection = select_views(topology, candidates, options, reporter);
+  stats.num_unseen_faces = selection.num_unseen;
+  timer.lap("view selection");
+
+  const std::vector<Chart> charts = build_charts(mesh, topology, selection.labels);
+  stats.num_charts = static_cast<int>(charts.size());
+  const SeamLeveling leveling = level_seams(mesh, charts, views, gains, options, reporter);
+  stats.num_seam_vertices = leveling.num_seam_vertices;
+  stats.mean_seam_jump_before = leveling.mean_seam_jump_before;
+  stats.mean_seam_jump_after = leveling.mean_seam_jump_after;
+  timer.lap("seam leveling");
+
+  const std::vector<FlatFace> flat =
+      colour_unseen_faces(mesh, topology, selection.labels, charts, leveling);
+  if (!flat.empty()) {
+    reporter.warn(format_message(flat.size(), " of ", mesh.faces.size(),
+                                 " faces are seen by no photo; they take their neighbours' colour"));
+  }
+  Atlas atlas = build_atlas(mesh, charts, views, gains, leveling, flat, options, reporter);
+  stats.texel_scale = atlas.texel_scale;
+  timer.lap("atlas");
+
+  // Output vertices: one per chart vertex, three per flat face.
+  TexturedMesh& out = result.mesh;
+  out.indices.resize(atlas.pages.size());
+  for (std::size_t c = 0; c < charts.size(); ++c) {
+    const auto base = static_cast<std::uint32_t>(out.positions.size());
+    for (std::size_t i = 0; i < charts[c].vertices.size(); ++i) {
+      out.positions.push_back(mesh.vertices[charts[c].vertices[i]]);
+      out.normals.push_back(topology.vertex_normals[charts[c].vertices[i]]);
+      out.uvs.push_back(atlas.chart_uvs[c][i]);
+    }
+    auto& indices = out.indices[atlas.chart_page[c]];
+    for (const auto& face : charts[c].local_faces) {
+      for (int k = 0; k < 3; ++k) indices.push_back(base + static_cast<std::uint32_t>(face[k]));
+    }
+  }
+  for (std::size_t k = 0; k < flat.size(); ++k) {
+    auto& indices = out.indices[atlas.flat_page[k]];
+    for (int c = 0; c < 3; ++c) {
+      const int v = mesh.faces[flat[k].face][c];
+      indices.push_back(static_cast<std::uint32_t>(out.positions.size()));
+      out.positions.push_back(mesh.vertices[v]);
+      out.normals.push_back(topology.vertex_normals[v]);
+      out.uvs.push_back(atlas.flat_uvs[k]);
+    }
+  }
+  out.atlases = std::move(atlas.pages);
+  stats.num_atlases = static_cast<int>(out.atlases.size());
+  for (const auto& page : out.atlases) stats.atlas_sizes.emplace_back(page.cols, page.rows);
+  out.root_matrix = root_matrix_for(views, options);
+  stats.estimated_up = estimate_up_direction(views);
+  timer.lap("assemble");
+  return result;
+}
+
+TextureResult texture_mesh(const TriangleMesh& mesh, const UndistortedWorkspace& workspace,
+                           const TextureOptions& options, Reporter& reporter) {
+  options.validate();
+  const std::vector<TextureView> views = load_texture_views(workspace, reporter);
+  return texture_mesh(mesh, views, options, reporter);
+}
+
+}  // namespace hos

@@ -1,0 +1,61 @@
+// The texture stage's library entry point: mesh + posed photos -> textured
+// mesh (geometry with UVs, atlases, root transform) and figures.
+//
+// Steps: decimate (optional) -> visibility (depth buffers) -> exposure gains
+// (optional) -> photo-consistency outlier rejection -> view selection (graph
+// cuts) -> charts -> seam leveling -> atlas packing and filling; faces no
+// view sees get the colour of their neighbours (reported).
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/reporter.h"
+#include "core/types.h"
+#include "core/undistorted_workspace.h"
+#include "texture/texture_options.h"
+#include "texture/texture_view.h"
+#include "texture/textured_mesh.h"
+
+namespace hos {
+
+struct TextureStats {
+  std::size_t input_faces = 0;
+  std::size_t faces = 0;  // after decimation
+  int num_views = 0;
+  std::int64_t num_candidates = 0;         // (face, view) pairs that pass visibility
+  std::int64_t num_outlier_rejections = 0; // pairs removed by the photo-consistency check
+  int num_unseen_faces = 0;                // coloured from neighbours
+  int num_charts = 0;
+  int num_atlases = 0;
+  std::vector<std::pair<int, int>> atlas_sizes;  // width, height
+  double texel_scale = 1.0;
+  int num_seam_vertices = 0;
+  double mean_seam_jump_before = 0.0;  // 8-bit RGB distance at seam vertices
+  double mean_seam_jump_after = 0.0;
+  std::vector<float> exposure_gains;   // per view, in workspace image order
+  Eigen::Vector3d estimated_up = Eigen::Vector3d::UnitY();  // model frame
+  // Wall time of each step in seconds, in order.
+  std::vector<std::pair<std::string, double>> step_seconds;
+};
+
+struct TextureResult {
+  TexturedMesh mesh;
+  TextureStats stats;
+};
+
+// The mean "up" (-y of the image) of the photos in the model frame.
+Eigen::Vector3d estimate_up_direction(const std::vector<TextureView>& views);
+// The root matrix for options.up_axis ("cameras": rotates up onto +Y).
+Eigen::Matrix4d root_matrix_for(const std::vector<TextureView>& views, const TextureOptions& options);
+
+TextureResult texture_mesh(const TriangleMesh& mesh, const std::vector<TextureView>& views,
+                           const TextureOptions& options, Reporter& reporter);
+
+// Loads the workspace's photos and textures the mesh.
+TextureResult texture_mesh(const TriangleMesh& mesh, const UndistortedWorkspace& workspace,
+                           const TextureOptions& options, Reporter& reporter);
+
+}  // namespace hos

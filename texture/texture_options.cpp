@@ -1,0 +1,69 @@
+#include "texture/texture_options.h"
+
+#include "core/error.h"
+
+namespace hos {
+
+void TextureOptions::validate() const {
+  if (max_faces != 0 && max_faces < 4) {
+    throw ConfigError("texture.max_faces", "must be 0 (no decimation) or at least 4");
+  }
+  if (!(max_view_angle_deg > 0.0 && max_view_angle_deg < 90.0)) {
+    throw ConfigError("texture.max_view_angle_deg", "must be in (0, 90)");
+  }
+  if (atlas_size < 64 || atlas_size > 16384) {
+    throw ConfigError("texture.atlas_size", "must be in [64, 16384]");
+  }
+  if (2 * padding + 1 >= atlas_size) {
+    throw ConfigError("texture.padding", "must be smaller than half of texture.atlas_size");
+  }
+  if (image_format != "png" && image_format != "jpeg") {
+    throw ConfigError("texture.image_format", "must be png or jpeg");
+  }
+  if (up_axis != "cameras" && up_axis != "none") {
+    throw ConfigError("texture.up_axis", "must be cameras or none");
+  }
+  if (!(texel_scale > 0.0)) throw ConfigError("texture.texel_scale", "must be > 0");
+}
+
+void register_options(OptionSet& set, TextureOptions& o) {
+  set.add("max_faces", o.max_faces, "decimate to at most this many faces first; 0 = keep", 0,
+          2000000000);
+  set.add("max_view_angle_deg", o.max_view_angle_deg,
+          "largest angle between face normal and viewing ray for a view to count", 1.0, 89.9);
+  set.add("depth_tolerance", o.depth_tolerance, "relative depth tolerance of the occlusion test",
+          0.0, 1.0);
+  set.add("min_projected_area_px", o.min_projected_area_px,
+          "ignore views where a face covers fewer pixels (unless no other sees it)", 0.0, 1e6);
+  set.add("smoothness", o.smoothness, "Potts weight of the view-selection smoothness term", 0.0,
+          1000.0);
+  set.add("gradient_floor", o.gradient_floor,
+          "added per pixel to the gradient magnitude so flat regions prefer close views", 0.0,
+          1000.0);
+  set.add("expansion_sweeps", o.expansion_sweeps, "alpha-expansion sweeps over all views", 0, 100);
+  set.add("outlier_rejection", o.outlier_rejection,
+          "drop views whose face colour disagrees with the others (moving objects)");
+  set.add("outlier_threshold", o.outlier_threshold,
+          "colour distance (8-bit RGB) from the robust mode beyond which a view is dropped", 1.0,
+          500.0);
+  set.add("outlier_min_views", o.outlier_min_views, "faces seen by fewer views are not checked", 2,
+          1000);
+  set.add("exposure_compensation", o.exposure_compensation,
+          "estimate and undo per-image brightness gains (robust, Ceres)");
+  set.add("global_leveling", o.global_leveling,
+          "global seam leveling: per-vertex additive colour offsets (Waechter 2014)");
+  set.add("leveling_regularization", o.leveling_regularization,
+          "weight of offset smoothness inside patches relative to seam agreement", 1e-4, 1e4);
+  set.add("atlas_size", o.atlas_size, "maximum atlas width and height (pixels)", 64, 16384);
+  set.add("padding", o.padding, "texels around each chart (dilated, against mipmap bleeding)", 0,
+          64);
+  set.add("texel_scale", o.texel_scale, "atlas texels per source image pixel", 0.01, 4.0);
+  set.add("max_atlases", o.max_atlases, "largest number of atlas images; beyond, texels shrink", 1,
+          1024);
+  set.add_choice("image_format", o.image_format, {"png", "jpeg"}, "atlas image encoding");
+  set.add("jpeg_quality", o.jpeg_quality, "JPEG quality of the atlases", 1, 100);
+  set.add_choice("up_axis", o.up_axis, {"cameras", "none"},
+                 "root node rotation: cameras = mean photo up onto +Y; none = identity");
+}
+
+}  // namespace hos

@@ -1,0 +1,66 @@
+// Options of the texture stage (YAML section "texture").
+#pragma once
+
+#include <string>
+
+#include "core/option_set.h"
+
+namespace hos {
+
+struct TextureOptions {
+  // Decimate the mesh to at most this many faces before texturing (quadric
+  // error metrics, meshoptimizer); 0 keeps the mesh as it is.
+  int max_faces = 0;
+
+  // Visibility: a face is seen by a view if it faces the camera within
+  // max_view_angle_deg and its centroid and three inner points pass the
+  // depth test with this relative tolerance.
+  double max_view_angle_deg = 80.0;
+  double depth_tolerance = 0.01;
+  // Faces whose projection is smaller than this (pixels) are not textured
+  // from that view unless no other view sees them.
+  double min_projected_area_px = 0.0;
+
+  // View selection (Waechter et al. 2014, Sec. 4): data term = integral of the
+  // gradient magnitude over the visible projected face (+ gradient_floor per
+  // pixel so flat regions prefer close views) times the cosine of the viewing
+  // angle; Potts smoothness with this weight; alpha-expansion sweeps.
+  double smoothness = 0.5;
+  double gradient_floor = 2.0;
+  int expansion_sweeps = 3;
+
+  // Photo-consistency (Waechter Sec. 4, "outlier removal"): a view whose mean
+  // face colour (after exposure compensation) is farther than this (8-bit RGB
+  // Euclidean distance) from the robust mode of the face's views is dropped.
+  bool outlier_rejection = true;
+  double outlier_threshold = 25.0;
+  int outlier_min_views = 3;  // faces seen by fewer views are not checked
+
+  // Per-image exposure gains (robust, Ceres), applied before everything else.
+  bool exposure_compensation = true;
+  // Global seam leveling (Waechter Sec. 5.1): per-vertex per-view additive
+  // offsets; larger leveling_regularization keeps offsets smoother.
+  bool global_leveling = true;
+  double leveling_regularization = 0.1;
+
+  // Atlas: maximum size (pixels, square), padding around every chart, texels
+  // per source pixel.
+  int atlas_size = 4096;
+  int padding = 3;
+  double texel_scale = 1.0;
+  int max_atlases = 16;  // if more would be needed, texel_scale shrinks
+
+  std::string image_format = "png";  // png | jpeg
+  int jpeg_quality = 90;
+
+  // Orientation of the glTF root node: "cameras" rotates the mean camera up
+  // direction (-y of the photos) onto +Y; "none" keeps the model frame.
+  std::string up_axis = "cameras";
+
+  // Throws ConfigError naming the key and the allowed values.
+  void validate() const;
+};
+
+void register_options(OptionSet& set, TextureOptions& options);
+
+}  // namespace hos

@@ -1,0 +1,37 @@
+// A posed photo as the texture stage uses it: PINHOLE camera, pose, pixels.
+#pragma once
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/reporter.h"
+#include "core/sparse_model.h"
+#include "core/undistorted_workspace.h"
+
+namespace hos {
+
+struct TextureView {
+  std::string name;
+  Camera camera;
+  ImageRecord pose;  // keypoints dropped
+  cv::Mat image;     // CV_8UC3, BGR
+
+  // Continuous pixel coordinates (COLMAP: centre of the top-left pixel is
+  // (0.5, 0.5)) and camera-frame depth of a world point.
+  Eigen::Vector3d project(const Eigen::Vector3d& x_in_world) const;
+};
+
+// Loads every registered image of the workspace. Throws InputError for an
+// unreadable image or one whose size differs from its camera's.
+std::vector<TextureView> load_texture_views(const UndistortedWorkspace& workspace,
+                                            Reporter& reporter);
+
+// Bilinear sample of a CV_8UC3 (BGR) or CV_32F image at continuous pixel
+// coordinates (COLMAP convention), clamped at the border. Returns RGB.
+Eigen::Vector3f sample_rgb(const cv::Mat& bgr, double x, double y);
+float sample_float(const cv::Mat& image, double x, double y);
+
+}  // namespace hos

@@ -1,0 +1,200 @@
+#include "texture/visibility.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+
+namespace hos {
+
+namespace {
+
+// Projected vertices of one view: continuous pixel x, y and camera depth z.
+std::vector<Eigen::Vector3f> project_vertices(const TriangleMesh& mesh, const TextureView& view) {
+  std::vector<Eigen::Vector3f> p(mesh.vertices.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p[i] = view.project(mesh.vertices[i].cast<double>()).cast<float>();
+  }
+  return p;
+}
+
+constexpr float kNearZ = 1e-6f;
+
+void rasterize(const TriangleMesh& mesh, const std::vector<Eigen::Vector3f>& projected,
+               DepthBuffer& buffer) {
+  const int width = buffer.depth.cols;
+  const int height = buffer.depth.rows;
+  for (int f = 0; f < static_cast<int>(mesh.faces.size()); ++f) {
+    const auto& face = mesh.faces[f];
+    const Eigen::Vector3f& a = projected[face[0]];
+    const Eigen::Vector3f& b = projected[face[1]];
+    const Eigen::Vector3f& c = projected[face[2]];
+    // Faces crossing the camera plane are skipped; they cannot be textured
+    // from this view and rarely hide anything the view can use.
+    if (a.z() <= kNearZ || b.z() <= kNearZ || c.z() <= kNearZ) continue;
+    const float area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+    if (area == 0.0f || !std::isfinite(area)) continue;
+    const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}) - 0.5f)));
+    const int x1 = std::min(width - 1, static_cast<int>(std::ceil(std::max({a.x(), b.x(), c.x()}) - 0.5f)));
+    const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}) - 0.5f)));
+    const int y1 = std::min(height - 1, static_cast<int>(std::ceil(std::max({a.y(), b.y(), c.y()}) - 0.5f)));
+    if (x0 > x1 || y0 > y1) continue;
+    const float inv_area = 1.0f / area;
+    const float iza = 1.0f / a.z(), izb = 1.0f / b.z(), izc = 1.0f / c.z();
+    for (int y = y0; y <= y1; ++y) {
+      const float py = y + 0.5f;
+      float* depth_row = buffer.depth.ptr<float>(y);
+      int* id_row = buffer.face_id.ptr<int>(y);
+      for (int x = x0; x <= x1; ++x) {
+        const float px = x + 0.5f;
+        // Barycentric weights of a, b, c (signed areas of the sub-triangles).
+        const float wa = ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) * inv_area;
+        const float wb = ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) * inv_area;
+        const float wc = 1.0f - wa - wb;
+        if (wa < 0.0f || wb < 0.0f || wc < 0.0f) continue;
+        // 1/z is affine in screen space.
+        const float z = 1.0f / (wa * iza + wb * izb + wc * izc);
+        if (z < depth_row[x]) {
+          depth_row[x] = z;
+          id_row[x] = f;
+        }
+      }
+    }
+  }
+}
+
+bool passes_depth_test(const DepthBuffer& buffer, const Eigen::Vector3f& p, int face,
+                       float tolerance) {
+  const int x = static_cast<int>(std::floor(p.x()));
+  const int y = static_cast<int>(std::floor(p.y()));
+  if (x < 0 || y < 0 || x >= buffer.depth.cols || y >= buffer.depth.rows) return false;
+  if (buffer.face_id.at<int>(y, x) == face) return true;
+  const float d = buffer.depth.at<float>(y, x);
+  return p.z() <= d * (1.0f + tolerance);
+}
+
+}  // namespace
+
+DepthBuffer rasterize_depth(const TriangleMesh& mesh, const TextureView& view) {
+  DepthBuffer buffer;
+  buffer.depth = cv::Mat(view.camera.height, view.camera.width, CV_32F,
+                         cv::Scalar(std::numeric_limits<float>::infinity()));
+  buffer.face_id = cv::Mat(view.camera.height, view.camera.width, CV_32S, cv::Scalar(-1));
+  rasterize(mesh, project_vertices(mesh, view), buffer);
+  return buffer;
+}
+
+FaceViewCandidates compute_visibility(const TriangleMesh& mesh, const MeshTopology& topology,
+                                      const std::vector<TextureView>& views,
+                                      const TextureOptions& options, Reporter& reporter) {
+  const int num_faces = static_cast<int>(mesh.faces.size());
+  const int num_views = static_cast<int>(views.size());
+  const float cos_max = static_cast<float>(std::cos(options.max_view_angle_deg * M_PI / 180.0));
+  const float tolerance = static_cast<float>(options.depth_tolerance);
+  std::vector<std::vector<std::pair<int, FaceViewSample>>> per_view(num_views);
+
+  reporter.begin("visibility", num_views);
+#pragma omp parallel for schedule(dynamic)
+  for (int v = 0; v < num_views; ++v) {
+    if (reporter.cancel_requested()) continue;
+    const TextureView& view = views[v];
+    const std::vector<Eigen::Vector3f> projected = project_vertices(mesh, view);
+    DepthBuffer buffer;
+    buffer.depth = cv::Mat(view.camera.height, view.camera.width, CV_32F,
+                           cv::Scalar(std::numeric_limits<float>::infinity()));
+    buffer.face_id = cv::Mat(view.camera.height, view.camera.width, CV_32S, cv::Scalar(-1));
+    rasterize(mesh, projected, buffer);
+
+    cv::Mat grey, gx, gy, gradient;
+    cv::cvtColor(view.image, grey, cv::COLOR_BGR2GRAY);
+    cv::Sobel(grey, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
+    cv::Sobel(grey, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
+    cv::magnitude(gx, gy, gradient);
+
+    // Per-face pixel sums over the visible pixels of this view.
+    struct Accumulator {
+      float gradient = 0.0f;
+      float count = 0.0f;
+      Eigen::Vector3f rgb = Eigen::Vector3f::Zero();
+    };
+    std::vector<Accumulator> acc(num_faces);
+    for (int y = 0; y < buffer.face_id.rows; ++y) {
+      const int* ids = buffer.face_id.ptr<int>(y);
+      const float* g = gradient.ptr<float>(y);
+      const cv::Vec3b* px = view.image.ptr<cv::Vec3b>(y);
+      for (int x = 0; x < buffer.face_id.cols; ++x) {
+        if (ids[x] < 0) continue;
+        Accumulator& a = acc[ids[x]];
+        a.gradient += g[x];
+        a.count += 1.0f;
+        a.rgb += Eigen::Vector3f(px[x][2], px[x][1], px[x][0]);
+      }
+    }
+
+    const Eigen::Vector3f center = view.pose.center().cast<float>();
+    auto& out = per_view[v];
+    for (int f = 0; f < num_faces; ++f) {
+      const auto& face = mesh.faces[f];
+      if (topology.face_areas[f] <= 0.0f) continue;
+      const Eigen::Vector3f centroid =
+          (mesh.vertices[face[0]] + mesh.vertices[face[1]] + mesh.vertices[face[2]]) / 3.0f;
+      const Eigen::Vector3f to_camera = (center - centroid).normalized();
+      const float cos_angle = topology.face_normals[f].dot(to_camera);
+      if (cos_angle < cos_max) continue;
+      const Eigen::Vector3f& a = projected[face[0]];
+      const Eigen::Vector3f& b = projected[face[1]];
+      const Eigen::Vector3f& c = projected[face[2]];
+      bool inside = true;
+      for (const Eigen::Vector3f* p : {&a, &b, &c}) {
+        inside = inside && p->z() > kNearZ && p->x() >= 0.0f && p->y() >= 0.0f &&
+                 p->x() <= view.camera.width && p->y() <= view.camera.height;
+      }
+      if (!inside) continue;
+      const Eigen::Vector3f pc = (a + b + c) / 3.0f;
+      // Centroid and points halfway to the corners: a face half hidden by an
+      // occluder fails, so occluders are never sampled into the texture.
+      bool visible = passes_depth_test(buffer, pc, f, tolerance);
+      for (const Eigen::Vector3f* p : {&a, &b, &c}) {
+        visible = visible && passes_depth_test(buffer, 0.5f * (pc + *p), f, tolerance);
+      }
+      if (!visible) continue;
+      FaceViewSample s;
+      s.view = v;
+      s.cos_angle = cos_angle;
+      s.projected_area_px =
+          0.5f * std::abs((b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x()));
+      const Accumulator& sum = acc[f];
+      if (sum.count > 0.0f) {
+        s.visible_px = sum.count;
+        s.gradient_integral = sum.gradient;
+        s.mean_rgb = sum.rgb / sum.count;
+      } else {
+        // Sub-pixel face: one sample at the centroid stands for its area.
+        s.visible_px = s.projected_area_px;
+        s.gradient_integral = sample_float(gradient, pc.x(), pc.y()) * s.projected_area_px;
+        s.mean_rgb = sample_rgb(view.image, pc.x(), pc.y());
+      }
+      out.emplace_back(f, s);
+    }
+    reporter.advance();
+  }
+  reporter.end();
+  reporter.throw_if_cancelled();
+
+  FaceViewCandidates result;
+  result.offsets.assign(num_faces + 1, 0);
+  for (const auto& list : per_view) {
+    for (const auto& [f, s] : list) ++result.offsets[f + 1];
+  }
+  for (int f = 0; f < num_faces; ++f) result.offsets[f + 1] += result.offsets[f];
+  result.samples.resize(result.offsets.back());
+  std::vector<int> cursor(result.offsets.begin(), result.offsets.end() - 1);
+  for (auto& list : per_view) {
+    for (const auto& [f, s] : list) result.samples[cursor[f]++] = s;
+    list.clear();
+    list.shrink_to_fit();
+  }
+  return result;
+}
+
+}  // namespace hos
