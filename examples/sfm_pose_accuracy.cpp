@@ -1,0 +1,135 @@
+// Compares the cameras of a hos-sfm result with ground-truth cameras after a
+// similarity alignment of the camera centres (Umeyama 1991):
+//
+//   sfm_pose_accuracy WS/sfm/undistorted/sparse strecha  DATA/gt_dense_cameras
+//   sfm_pose_accuracy WS/sfm/undistorted/sparse middlebury DATA/templeSR_par.txt
+//
+// Ground truth formats: Strecha et al. (one "<image>.camera" file per image:
+// K, distortion, camera-to-world R, centre C, size; x ~ K R^T (X - C)) and
+// Middlebury multi-view ("name K(9) R(9) t(3)" lines, x ~ K [R | t]).
+// Prints per-image errors and the median / maximum centre error as a
+// percentage of the diagonal of the true camera centres' bounding box, and
+// rotation errors in degrees.
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "core/colmap_io.h"
+#include "core/error.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Pose {
+  Eigen::Matrix3d cam_from_world;
+  Eigen::Vector3d centre;
+};
+
+std::map<std::string, Pose> read_strecha(const fs::path& folder) {
+  std::map<std::string, Pose> poses;
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    const std::string file = entry.path().filename().string();
+    const std::string suffix = ".camera";
+    if (file.size() <= suffix.size() || file.substr(file.size() - suffix.size()) != suffix) continue;
+    std::ifstream in(entry.path());
+    double v[9 + 3 + 9 + 3];
+    for (double& x : v) in >> x;
+    if (!in) throw hos::InputError(entry.path().string(), "not a Strecha .camera file");
+    Eigen::Matrix3d world_from_cam;
+    for (int i = 0; i < 9; ++i) world_from_cam(i / 3, i % 3) = v[12 + i];
+    poses[file.substr(0, file.size() - suffix.size())] = {world_from_cam.transpose(),
+                                                           Eigen::Vector3d(v[21], v[22], v[23])};
+  }
+  return poses;
+}
+
+std::map<std::string, Pose> read_middlebury(const fs::path& file) {
+  std::ifstream in(file);
+  int count = 0;
+  if (!(in >> count)) throw hos::InputError(file.string(), "not a Middlebury _par.txt file");
+  std::map<std::string, Pose> poses;
+  for (int n = 0; n < count; ++n) {
+    std::string name;
+    double k[9], r[9], t[3];
+    in >> name;
+    for (double& x : k) in >> x;
+    for (double& x : r) in >> x;
+    for (double& x : t) in >> x;
+    if (!in) throw hos::InputError(file.string(), "truncated at camera " + std::to_string(n + 1));
+    Eigen::Matrix3d rotation;
+    for (int i = 0; i < 9; ++i) rotation(i / 3, i % 3) = r[i];
+    poses[name] = {rotation, -rotation.transpose() * Eigen::Vector3d(t[0], t[1], t[2])};
+  }
+  return poses;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 4) {
+    std::cerr << "usage: sfm_pose_accuracy MODEL_DIR strecha|middlebury GT_PATH\n";
+    return 2;
+  }
+  try {
+    const hos::SparseModel model = hos::read_colmap_model(argv[1]);
+    const std::string format = argv[2];
+    const auto truth = format == "strecha" ? read_strecha(argv[3]) : read_middlebury(argv[3]);
+    std::vector<std::string> names;
+    std::vector<Eigen::Vector3d> estimated, expected;
+    Eigen::AlignedBox3d box;
+    for (const auto& [name, pose] : truth) box.extend(pose.centre);
+    for (const auto& [id, image] : model.images) {
+      const auto it = truth.find(image.name);
+      if (it == truth.end()) continue;
+      names.push_back(image.name);
+      estimated.push_back(image.center());
+      expected.push_back(it->second.centre);
+    }
+    if (names.size() < 3) {
+      std::cerr << "fewer than 3 images in common with the ground truth\n";
+      return 4;
+    }
+    Eigen::Matrix3Xd a(3, names.size()), b(3, names.size());
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      a.col(i) = estimated[i];
+      b.col(i) = expected[i];
+    }
+    const Eigen::Matrix4d similarity = Eigen::umeyama(a, b, true);
+    const double scale = similarity.block<3, 3>(0, 0).col(0).norm();
+    const Eigen::Matrix3d rotation = similarity.block<3, 3>(0, 0) / scale;
+    const double diagonal = box.diagonal().norm();
+    std::vector<double> centre_errors, rotation_errors;
+    std::cout << std::fixed << std::setprecision(3);
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      const auto& image = *model.find_image(names[i]);
+      const Eigen::Vector3d aligned = (similarity * estimated[i].homogeneous()).head<3>();
+      const double centre_error = (aligned - expected[i]).norm() / diagonal * 100.0;
+      const Eigen::Matrix3d delta = truth.at(names[i]).cam_from_world.transpose() * image.rotation() * rotation.transpose();
+      const double angle = std::acos(std::clamp((delta.trace() - 1.0) / 2.0, -1.0, 1.0)) * 180.0 / M_PI;
+      centre_errors.push_back(centre_error);
+      rotation_errors.push_back(angle);
+      std::cout << names[i] << "  centre " << centre_error << " %  rotation " << angle << " deg\n";
+    }
+    std::cout << "images compared: " << names.size() << " of " << truth.size() << " with ground truth\n"
+              << "centre error (% of camera bbox diagonal): median " << median(centre_errors) << ", max "
+              << *std::max_element(centre_errors.begin(), centre_errors.end()) << "\n"
+              << "rotation error (deg): median " << median(rotation_errors) << ", max "
+              << *std::max_element(rotation_errors.begin(), rotation_errors.end()) << "\n";
+  } catch (const std::exception& e) {
+    std::cerr << "sfm_pose_accuracy: " << e.what() << "\n";
+    return 3;
+  }
+  return 0;
+}
