@@ -87,8 +87,8 @@ SeamLeveling level_seams(const TriangleMesh& mesh, const std::vector<Chart>& cha
     Eigen::SparseMatrix<double> A(n, n);
     A.setFromTriplets(triplets.begin(), triplets.end());
     Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> solver;
-    solver.setMaxIterations(2000);
-    solver.setTolerance(1e-6);
+    solver.setMaxIterations(1000);
+    solver.setTolerance(1e-3);
     solver.compute(A);
     for (int channel = 0; channel < 3; ++channel) {
       reporter.throw_if_cancelled();

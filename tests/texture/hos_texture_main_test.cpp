@@ -1,0 +1,83 @@
+// The hos-texture executable: a workspace on disk in, a valid .glb out; exit
+// codes for bad input and bad options.
+#include <gtest/gtest.h>
+#include <tiny_gltf.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/colmap_io.h"
+#include "core/exit_codes.h"
+#include "core/ply_io.h"
+#include "tests/support/test_support.h"
+#include "tests/texture/scene_fixtures.h"
+
+namespace hos {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Writes sphere photos, their PINHOLE model and the sphere mesh.
+void write_scene(const fs::path& root) {
+  fs::create_directories(root / "workspace" / "images");
+  SparseModel model;
+  model.cameras[1] = Camera::pinhole(1, 320, 240, 300.0, 300.0, 160.0, 120.0);
+  for (int i = 0; i < 6; ++i) {
+    std::string name = "view";
+    name += std::to_string(i) + ".png";
+    TextureView view = testing::make_view(name, 60.0 * i, i % 2 ? 30.0 : -30.0, 3.5);
+    testing::render_sphere(view, 1.0);
+    ASSERT_TRUE(cv::imwrite((root / "workspace" / "images" / name).string(), view.image));
+    ImageRecord record = view.pose;
+    record.id = i + 1;
+    record.camera_id = 1;
+    record.name = name;
+    model.images[record.id] = record;
+  }
+  write_colmap_model(model, root / "workspace" / "sparse", ColmapFormat::kText);
+  write_mesh_ply(root / "mesh.ply", testing::make_icosphere(3, 1.0));
+}
+
+std::string texture_command(const fs::path& root, const std::string& extra = "") {
+  return testing::shell_quote((testing::bin_dir() / "hos-texture").string()) + " --mesh " +
+         testing::shell_quote((root / "mesh.ply").string()) + " --workspace " +
+         testing::shell_quote((root / "workspace").string()) + " --output " +
+         testing::shell_quote((root / "model.glb").string()) + " --progress none " + extra;
+}
+
+TEST(HosTextureMain, WritesAGlbFromAWorkspace) {
+  testing::TempDir dir("hos-texture-main");
+  write_scene(dir.path());
+  ASSERT_EQ(testing::run_command(texture_command(dir.path(), "--image-format jpeg --atlas-size 1024"),
+                                 dir / "log.txt"),
+            kExitSuccess);
+  tinygltf::Model model;
+  tinygltf::TinyGLTF loader;
+  std::string error, warning;
+  ASSERT_TRUE(loader.LoadBinaryFromFile(&model, &error, &warning, (dir / "model.glb").string())) << error;
+  ASSERT_FALSE(model.images.empty());
+  EXPECT_EQ(model.images[0].mimeType, "image/jpeg");
+  EXPECT_LE(model.images[0].width, 1024);
+  EXPECT_EQ(model.asset.generator, "hos");
+}
+
+TEST(HosTextureMain, MissingMeshIsBadInput) {
+  testing::TempDir dir("hos-texture-main");
+  write_scene(dir.path());
+  fs::remove(dir / "mesh.ply");
+  EXPECT_EQ(testing::run_command(texture_command(dir.path()), dir / "log.txt"), kExitBadInput);
+  EXPECT_FALSE(fs::exists(dir / "model.glb"));
+}
+
+TEST(HosTextureMain, BadOptionIsUsageError) {
+  testing::TempDir dir("hos-texture-main");
+  write_scene(dir.path());
+  EXPECT_EQ(testing::run_command(texture_command(dir.path(), "--set texture.atlas_size=5"),
+                                 dir / "log.txt"),
+            kExitUsage);
+  EXPECT_EQ(testing::run_command(texture_command(dir.path(), "--set texture.no_such_key=1"),
+                                 dir / "log.txt"),
+            kExitUsage);
+}
+
+}  // namespace
+}  // namespace hos
