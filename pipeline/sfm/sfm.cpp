@@ -109,16 +109,27 @@ SfmResult import_existing_model(const SfmInput& input, const SfmOptions& options
                                 Reporter& reporter) {
   fs::path model_dir = input.existing_model;
   if (!fs::is_directory(model_dir)) throw InputError(model_dir.string(), "sparse model folder does not exist");
-  if (!has_model_files(model_dir)) {
+  if (!fs::is_directory(input.images)) throw InputError(input.images.string(), "image folder does not exist");
+  SparseModel model;
+  if (has_model_files(model_dir)) {
+    model = read_colmap_model(model_dir);
+  } else {
+    // A mapper output folder (0/, 1/, ...): the largest model, as after SfM.
     const auto models = numbered_models(model_dir);
     if (models.empty()) {
       throw InputError(model_dir.string(), "holds no COLMAP model (cameras/images/points3D .bin or .txt)");
     }
-    model_dir = models.front().second;
+    fs::path best_dir;
+    for (const auto& [index, dir] : models) {
+      SparseModel candidate = read_colmap_model(dir);
+      if (best_dir.empty() || candidate.images.size() > model.images.size()) {
+        model = std::move(candidate);
+        best_dir = dir;
+      }
+    }
+    model_dir = best_dir;
   }
-  if (!fs::is_directory(input.images)) throw InputError(input.images.string(), "image folder does not exist");
   reporter.info("using the existing sparse model " + model_dir.string());
-  const SparseModel model = read_colmap_model(model_dir);
   for (const auto& [id, image] : model.images) {
     const fs::path file = input.images / image.name;
     if (!fs::exists(file)) throw InputError(file.string(), "image of the sparse model is missing");
