@@ -115,7 +115,8 @@ cv::Vec3b to_bgr(const Eigen::Vector3f& rgb) {
 
 }  // namespace
 
-Atlas build_atlas(const TriangleMesh& mesh, const std::vector<Chart>& charts,
+Atlas build_atlas(const TriangleMesh& mesh, const MeshTopology& topology,
+                  const FaceViewCandidates& candidates, const std::vector<Chart>& charts,
                   const std::vector<TextureView>& views, const std::vector<float>& gains,
                   const SeamLeveling& leveling, const std::vector<FlatFace>& flat_faces,
                   const TextureOptions& options, Reporter& reporter) {
@@ -193,6 +194,14 @@ Atlas build_atlas(const TriangleMesh& mesh, const std::vector<Chart>& charts,
 
   atlas.chart_page.resize(num_charts);
   atlas.chart_uvs.resize(num_charts);
+  std::vector<int> chart_of_face(mesh.faces.size(), -1), local_of_face(mesh.faces.size(), -1);
+  for (int c = 0; c < num_charts; ++c) {
+    for (std::size_t i = 0; i < charts[c].faces.size(); ++i) {
+      chart_of_face[charts[c].faces[i]] = c;
+      local_of_face[charts[c].faces[i]] = static_cast<int>(i);
+    }
+  }
+  const double blend_width = options.local_blending ? options.seam_blend_texels : 0.0;
   reporter.begin("atlas", num_charts);
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < num_charts; ++c) {
@@ -213,17 +222,83 @@ Atlas build_atlas(const TriangleMesh& mesh, const std::vector<Chart>& charts,
                                               static_cast<float>(texel[i].y() / image.rows));
     }
     const auto& offsets = leveling.offsets[c];
-    for (const auto& face : charts[c].local_faces) {
+    for (std::size_t local_face = 0; local_face < charts[c].local_faces.size(); ++local_face) {
+      const Eigen::Vector3i& face = charts[c].local_faces[local_face];
+      const int mesh_face = charts[c].faces[local_face];
+      // Seam edges of this face: the neighbour across them lies in another
+      // chart. Texels near them are blended with the neighbour's view.
+      struct SeamEdge {
+        int corner;  // edge from corner to corner + 1
+        int chart;
+        Eigen::Vector3f offset_a, offset_b;  // the neighbour chart's offsets at the edge's ends
+      };
+      SeamEdge seams[3];
+      int num_seams = 0;
+      for (int k = 0; k < 3 && blend_width > 0.0; ++k) {
+        const int g = topology.face_neighbors[mesh_face][k];
+        if (g < 0 || chart_of_face[g] < 0 || chart_of_face[g] == c) continue;
+        const int other = chart_of_face[g];
+        // Only a view that passed visibility and the photo-consistency check
+        // for this face may colour it (else an occluder seen by the
+        // neighbour's view could bleed in).
+        bool allowed = false;
+        for (int i = candidates.begin(mesh_face); i < candidates.end(mesh_face); ++i) {
+          allowed = allowed || candidates.samples[i].view == charts[other].view;
+        }
+        if (!allowed) continue;
+        const Eigen::Vector3i& other_face = charts[other].local_faces[local_of_face[g]];
+        SeamEdge seam{k, other, Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
+        for (int cc = 0; cc < 3; ++cc) {
+          const int v = charts[other].vertices[other_face[cc]];
+          if (v == charts[c].vertices[face[k]]) seam.offset_a = leveling.offsets[other][other_face[cc]];
+          if (v == charts[c].vertices[face[(k + 1) % 3]]) {
+            seam.offset_b = leveling.offsets[other][other_face[cc]];
+          }
+        }
+        seams[num_seams++] = seam;
+      }
       raster_triangle(texel[face[0]], texel[face[1]], texel[face[2]], image.cols, image.rows,
                       [&](int x, int y, const Eigen::Vector3d& w) {
+                        const Eigen::Vector2d centre(x + 0.5, y + 0.5);
                         // Texel centre back to photo pixels (the map is affine).
-                        const Eigen::Vector2d q =
-                            frame.min + (Eigen::Vector2d(x + 0.5, y + 0.5) - origin) / frame.scale;
+                        const Eigen::Vector2d q = frame.min + (centre - origin) / frame.scale;
                         const Eigen::Vector3f offset = static_cast<float>(w[0]) * offsets[face[0]] +
                                                        static_cast<float>(w[1]) * offsets[face[1]] +
                                                        static_cast<float>(w[2]) * offsets[face[2]];
-                        image.at<cv::Vec3b>(y, x) =
-                            to_bgr(gain * sample_rgb(view.image, q.x(), q.y()) + offset);
+                        Eigen::Vector3f rgb = gain * sample_rgb(view.image, q.x(), q.y()) + offset;
+                        // Local blending: half-and-half on the seam, own view
+                        // only blend_width texels away from it.
+                        double best = blend_width;
+                        const SeamEdge* nearest = nullptr;
+                        double along = 0.0;
+                        for (int k = 0; k < num_seams; ++k) {
+                          const Eigen::Vector2d& a = texel[face[seams[k].corner]];
+                          const Eigen::Vector2d& b = texel[face[(seams[k].corner + 1) % 3]];
+                          const double t = std::clamp((centre - a).dot(b - a) / std::max(1e-12, (b - a).squaredNorm()), 0.0, 1.0);
+                          const double d = (centre - (a + t * (b - a))).norm();
+                          if (d < best) {
+                            best = d;
+                            nearest = &seams[k];
+                            along = t;
+                          }
+                        }
+                        if (nearest) {
+                          Eigen::Vector3d point = Eigen::Vector3d::Zero();
+                          for (int cc = 0; cc < 3; ++cc) {
+                            point += w[cc] * mesh.vertices[charts[c].vertices[face[cc]]].cast<double>();
+                          }
+                          const int other_view = charts[nearest->chart].view;
+                          const Eigen::Vector3d p = views[other_view].project(point);
+                          if (p.z() > 0.0) {
+                            const Eigen::Vector3f other =
+                                gains[other_view] * sample_rgb(views[other_view].image, p.x(), p.y()) +
+                                static_cast<float>(1.0 - along) * nearest->offset_a +
+                                static_cast<float>(along) * nearest->offset_b;
+                            const float t = static_cast<float>(0.5 * (1.0 - best / blend_width));
+                            rgb = (1.0f - t) * rgb + t * other;
+                          }
+                        }
+                        image.at<cv::Vec3b>(y, x) = to_bgr(rgb);
                         mask.at<std::uint8_t>(y, x) = 255;
                       });
     }

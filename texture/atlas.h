@@ -13,9 +13,11 @@
 #include "core/reporter.h"
 #include "core/types.h"
 #include "texture/charts.h"
+#include "texture/mesh_topology.h"
 #include "texture/seam_leveling.h"
 #include "texture/texture_options.h"
 #include "texture/texture_view.h"
+#include "texture/visibility.h"
 
 namespace hos {
 
@@ -46,7 +48,12 @@ struct Atlas {
   double texel_scale = 1.0;  // texels per photo pixel finally used
 };
 
-Atlas build_atlas(const TriangleMesh& mesh, const std::vector<Chart>& charts,
+// With options.local_blending, texels within options.seam_blend_texels of a
+// seam edge are mixed with the neighbouring chart's view (and offsets) at the
+// same surface point: half-and-half on the seam, fading out with distance;
+// only if that view is among the face's candidates (visible, consistent).
+Atlas build_atlas(const TriangleMesh& mesh, const MeshTopology& topology,
+                  const FaceViewCandidates& candidates, const std::vector<Chart>& charts,
                   const std::vector<TextureView>& views, const std::vector<float>& gains,
                   const SeamLeveling& leveling, const std::vector<FlatFace>& flat_faces,
                   const TextureOptions& options, Reporter& reporter);

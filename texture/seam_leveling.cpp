@@ -86,7 +86,9 @@ SeamLeveling level_seams(const TriangleMesh& mesh, const std::vector<Chart>& cha
   if (options.global_leveling && result.num_seam_vertices > 0) {
     Eigen::SparseMatrix<double> A(n, n);
     A.setFromTriplets(triplets.begin(), triplets.end());
-    Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> solver;
+    // Lower only: Eigen parallelizes the Lower|Upper product with OpenMP, whose
+    // per-iteration synchronization costs more than it gains on a busy machine.
+    Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
     solver.setMaxIterations(1000);
     solver.setTolerance(1e-3);
     solver.compute(A);

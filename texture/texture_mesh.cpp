@@ -187,7 +187,7 @@ TextureResult texture_mesh(const TriangleMesh& input_mesh, const std::vector<Tex
     reporter.warn(format_message(flat.size(), " of ", mesh.faces.size(),
                                  " faces are seen by no photo; they take their neighbours' colour"));
   }
-  Atlas atlas = build_atlas(mesh, charts, views, gains, leveling, flat, options, reporter);
+  Atlas atlas = build_atlas(mesh, topology, candidates, charts, views, gains, leveling, flat, options, reporter);
   stats.texel_scale = atlas.texel_scale;
   timer.lap("atlas");
 

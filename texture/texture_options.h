@@ -43,6 +43,11 @@ struct TextureOptions {
   bool global_leveling = true;
   double leveling_regularization = 0.1;
 
+  // Local blending along seams: texels within seam_blend_texels of a seam
+  // are mixed with the neighbouring view's colour (half-and-half on the seam).
+  bool local_blending = true;
+  double seam_blend_texels = 3.0;
+
   // Atlas: maximum size (pixels, square), padding around every chart, texels
   // per source pixel.
   int atlas_size = 4096;
