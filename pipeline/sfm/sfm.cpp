@@ -254,7 +254,7 @@ SfmResult run_sfm(const SfmInput& input, const SfmOptions& options, Reporter& re
                        {"--random_seed", seed, "--database_path", paths.database.string(), "--image_path",
                         paths.images.string(), "--output_path", paths.sparse.string(), "--Mapper.num_threads",
                         threads, "--Mapper.min_model_size", "3"},
-                       "registering images",
+                       "mapping",
                        num_images};
   const ColmapStepResult mapped = run_colmap_step(colmap, map, reporter);
   result.step_seconds.emplace_back("mapper", mapped.seconds);
