@@ -38,9 +38,10 @@ std::vector<float> estimate_exposure_gains(const FaceViewCandidates& candidates,
   if (num_views < 2) return std::vector<float>(num_views, 1.0f);
   reporter.begin("exposure gains", 0);
   ceres::Problem problem;
-  // Subsample faces so the problem stays small on big meshes.
+  // Subsample faces so the problem stays small (about 100k view pairs): the
+  // gains are a handful of unknowns, more pairs only cost time and memory.
   const int num_faces = candidates.num_faces();
-  const int stride = std::max(1, num_faces / 50000);
+  const int stride = std::max<int>(1, static_cast<int>(candidates.samples.size() / 100000));
   std::vector<int> pairs_per_view(num_views, 0);
   for (int f = 0; f < num_faces; f += stride) {
     const int b = candidates.begin(f), e = candidates.end(f);

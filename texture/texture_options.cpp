@@ -53,7 +53,7 @@ void register_options(OptionSet& set, TextureOptions& o) {
   set.add("global_leveling", o.global_leveling,
           "global seam leveling: per-vertex additive colour offsets (Waechter 2014)");
   set.add("leveling_regularization", o.leveling_regularization,
-          "weight of offset smoothness inside patches relative to seam agreement", 1e-4, 1e4);
+          "lambda: in-patch offset smoothness is weighted 1/lambda (smaller = smoother)", 1e-4, 1e4);
   set.add("local_blending", o.local_blending, "blend the two views' colours along seams");
   set.add("seam_blend_texels", o.seam_blend_texels, "width of the blending band on each side (texels)",
           0.0, 64.0);

@@ -39,7 +39,8 @@ struct TextureOptions {
   // Per-image exposure gains (robust, Ceres), applied before everything else.
   bool exposure_compensation = true;
   // Global seam leveling (Waechter Sec. 5.1): per-vertex per-view additive
-  // offsets; larger leveling_regularization keeps offsets smoother.
+  // offsets; leveling_regularization is Waechter's lambda: in-patch offset
+  // differences are weighted 1/lambda, so smaller values give smoother offsets.
   bool global_leveling = true;
   double leveling_regularization = 0.1;
 

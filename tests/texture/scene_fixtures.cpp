@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <limits>
 #include <map>
 
 namespace hos::testing {
@@ -145,6 +146,53 @@ std::vector<TexturePoint> texture_points(const TexturedMesh& mesh) {
     }
   }
   return points;
+}
+
+void render_textured(const TexturedMesh& mesh, const TextureView& view, cv::Mat& image,
+                     cv::Mat& mask) {
+  const int w = view.camera.width, h = view.camera.height;
+  image = cv::Mat(h, w, CV_8UC3, cv::Scalar(0, 0, 0));
+  mask = cv::Mat(h, w, CV_8U, cv::Scalar(0));
+  cv::Mat depth(h, w, CV_32F, cv::Scalar(std::numeric_limits<float>::infinity()));
+  std::vector<Eigen::Vector3d> p(mesh.positions.size());
+  for (std::size_t i = 0; i < p.size(); ++i) p[i] = view.project(mesh.positions[i].cast<double>());
+  for (std::size_t page = 0; page < mesh.indices.size(); ++page) {
+    const auto& idx = mesh.indices[page];
+    for (std::size_t t = 0; t + 2 < idx.size(); t += 3) {
+      const Eigen::Vector3d& a = p[idx[t]];
+      const Eigen::Vector3d& b = p[idx[t + 1]];
+      const Eigen::Vector3d& c = p[idx[t + 2]];
+      if (a.z() <= 0 || b.z() <= 0 || c.z() <= 0) continue;
+      const double area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+      if (std::abs(area) < 1e-12) continue;
+      const int x0 = std::max(0, static_cast<int>(std::min({a.x(), b.x(), c.x()})));
+      const int x1 = std::min(w - 1, static_cast<int>(std::max({a.x(), b.x(), c.x()})));
+      const int y0 = std::max(0, static_cast<int>(std::min({a.y(), b.y(), c.y()})));
+      const int y1 = std::min(h - 1, static_cast<int>(std::max({a.y(), b.y(), c.y()})));
+      for (int y = y0; y <= y1; ++y) {
+        for (int x = x0; x <= x1; ++x) {
+          const double px = x + 0.5, py = y + 0.5;
+          const double wa = ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) / area;
+          const double wb = ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) / area;
+          const double wc = 1.0 - wa - wb;
+          if (wa < 0 || wb < 0 || wc < 0) continue;
+          // Perspective-correct interpolation: weights / z, renormalized.
+          const double pa = wa / a.z(), pb = wb / b.z(), pc = wc / c.z();
+          const double z = 1.0 / (pa + pb + pc);
+          if (z >= depth.at<float>(y, x)) continue;
+          depth.at<float>(y, x) = static_cast<float>(z);
+          const Eigen::Vector2f uv = static_cast<float>(pa * z) * mesh.uvs[idx[t]] +
+                                     static_cast<float>(pb * z) * mesh.uvs[idx[t + 1]] +
+                                     static_cast<float>(pc * z) * mesh.uvs[idx[t + 2]];
+          const Eigen::Vector3f rgb = sample_atlas(mesh.atlases[page], uv);
+          image.at<cv::Vec3b>(y, x) = cv::Vec3b(cv::saturate_cast<uchar>(rgb.z()),
+                                                cv::saturate_cast<uchar>(rgb.y()),
+                                                cv::saturate_cast<uchar>(rgb.x()));
+          mask.at<std::uint8_t>(y, x) = 255;
+        }
+      }
+    }
+  }
 }
 
 }  // namespace hos::testing

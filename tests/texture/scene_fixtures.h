@@ -49,4 +49,10 @@ struct TexturePoint {
 // Points at the centroid and three inner points of every triangle.
 std::vector<TexturePoint> texture_points(const TexturedMesh& mesh);
 
+// Renders a textured mesh (perspective-correct UVs, bilinear atlas lookup,
+// z-buffer, unlit) into a BGR image of the view's size; mask is 255 where the
+// mesh covers the pixel centre. Test-only stand-in for a glTF viewer.
+void render_textured(const TexturedMesh& mesh, const TextureView& view, cv::Mat& image,
+                     cv::Mat& mask);
+
 }  // namespace hos::testing

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 #include <iostream>
 #include <map>
 
@@ -67,6 +69,42 @@ TEST(TextureMesh, TextureMatchesTrueAlbedo) {
   // Bound: the sphere is rendered exactly and the mesh is a 5120-face chord
   // approximation; resampling and JPEG-free 8-bit rounding cost a few dB.
   EXPECT_GT(psnr, 30.0) << "PSNR " << psnr;
+}
+
+// Held-out views: photos not used for texturing, compared with the textured
+// mesh rendered from the same cameras, over the pixels the mesh covers.
+TEST(TextureMesh, HeldOutViewsMatchRenderedTexture) {
+  const TriangleMesh mesh = make_icosphere(4, kRadius);
+  const TextureResult result = texture_mesh(mesh, ring_views(10), TextureOptions{}, null_reporter());
+  for (const auto& [azimuth, elevation] : {std::pair{25.0, 10.0}, {150.0, -15.0}, {260.0, 50.0}}) {
+    TextureView held_out = make_view("held_out", azimuth, elevation, 3.0);
+    render_sphere(held_out, kRadius);
+    cv::Mat image, mask;
+    testing::render_textured(result.mesh, held_out, image, mask);
+    // Compare away from the silhouette (the mesh is a chord approximation).
+    cv::Mat inner;
+    cv::erode(mask, inner, cv::Mat::ones(5, 5, CV_8U));
+    ASSERT_GT(cv::countNonZero(inner), 5000);
+    const double psnr = cv::PSNR(image, held_out.image, 255.0);  // whole image, for reference
+    cv::Mat diff;
+    cv::absdiff(image, held_out.image, diff);
+    diff.convertTo(diff, CV_32FC3);
+    diff = diff.mul(diff);
+    double sse = 0.0;
+    std::size_t n = 0;
+    for (int y = 0; y < inner.rows; ++y) {
+      for (int x = 0; x < inner.cols; ++x) {
+        if (!inner.at<std::uint8_t>(y, x)) continue;
+        const cv::Vec3f d = diff.at<cv::Vec3f>(y, x);
+        sse += d[0] + d[1] + d[2];
+        n += 3;
+      }
+    }
+    const double object_psnr = 10.0 * std::log10(255.0 * 255.0 / (sse / static_cast<double>(n)));
+    std::cout << "[ figures  ] held-out view az " << azimuth << " el " << elevation
+              << ": PSNR over the object " << object_psnr << " dB (whole image " << psnr << " dB)\n";
+    EXPECT_GT(object_psnr, 28.0);
+  }
 }
 
 // Mean colour jump across seams: for every mesh edge between two triangles
