@@ -1,0 +1,52 @@
+#include "recon/grid.h"
+
+#include <cmath>
+
+namespace hos::recon {
+
+GridGeometry GridGeometry::coarsened() const {
+  GridGeometry c;
+  c.dims = (dims.array() - 1) / 2;
+  c.spacing = 2.0 * spacing;
+  c.origin = origin + Eigen::Vector3d::Constant(spacing);
+  return c;
+}
+
+bool GridGeometry::can_coarsen(int min_nodes) const {
+  for (int a = 0; a < 3; ++a) {
+    if ((dims[a] + 1) % 2 != 0 || (dims[a] - 1) / 2 < min_nodes) return false;
+  }
+  return true;
+}
+
+int admissible_dims(int n, int levels) {
+  const int step = 1 << (levels - 1);
+  const int m = (n + 1 + step - 1) / step;
+  return m * step - 1;
+}
+
+TrilinearStencil trilinear_stencil(const GridGeometry& g, const Eigen::Vector3d& x) {
+  const Eigen::Vector3d u = g.to_grid(x);
+  TrilinearStencil s;
+  for (int a = 0; a < 3; ++a) {
+    const double fl = std::floor(u[a]);
+    s.corner[a] = static_cast<int>(fl);
+    s.frac[a] = u[a] - fl;
+  }
+  return s;
+}
+
+double ScalarGrid::sample(const Eigen::Vector3d& x) const {
+  const TrilinearStencil s = trilinear_stencil(geometry, x);
+  double v = 0.0;
+  for (int oz = 0; oz < 2; ++oz) {
+    for (int oy = 0; oy < 2; ++oy) {
+      for (int ox = 0; ox < 2; ++ox) {
+        v += s.weight(ox, oy, oz) * at(s.corner.x() + ox, s.corner.y() + oy, s.corner.z() + oz);
+      }
+    }
+  }
+  return v;
+}
+
+}  // namespace hos::recon

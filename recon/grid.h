@@ -1,0 +1,69 @@
+// The regular grid the implicit function lives on (paper sec. 4).
+//
+// Nodes are indexed (i, j, k), 0 <= i < dims.x() etc., x fastest. Node (i, j, k)
+// sits at origin + h * (i, j, k). The function is zero on a ring of "ghost"
+// nodes just outside (index -1 and dims): the Dirichlet condition that makes
+// the energies well posed (see docs/recon.md). A grid of dims n coarsens to
+// (n - 1) / 2 with coarse node I at fine node 2I + 1, so dims are 2^L m - 1.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+namespace hos::recon {
+
+struct GridGeometry {
+  Eigen::Vector3i dims = Eigen::Vector3i::Zero();
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  double spacing = 1.0;  // h, the same along every axis (cubic cells)
+
+  std::int64_t num_nodes() const {
+    return std::int64_t{dims.x()} * dims.y() * dims.z();
+  }
+  std::int64_t index(int i, int j, int k) const {
+    return (std::int64_t{k} * dims.y() + j) * dims.x() + i;
+  }
+  bool contains(int i, int j, int k) const {
+    return i >= 0 && j >= 0 && k >= 0 && i < dims.x() && j < dims.y() && k < dims.z();
+  }
+  Eigen::Vector3d position(int i, int j, int k) const {
+    return origin + spacing * Eigen::Vector3d(i, j, k);
+  }
+  // Continuous grid coordinates of a world point.
+  Eigen::Vector3d to_grid(const Eigen::Vector3d& x) const { return (x - origin) / spacing; }
+  // The next coarser grid (dims (n - 1) / 2, spacing 2h).
+  GridGeometry coarsened() const;
+  // True if every axis can be coarsened once more and stay >= min_nodes.
+  bool can_coarsen(int min_nodes) const;
+};
+
+// Smallest admissible node count >= n for a grid that coarsens levels - 1 times.
+int admissible_dims(int n, int levels);
+
+// A scalar field on the grid nodes.
+struct ScalarGrid {
+  GridGeometry geometry;
+  std::vector<double> values;
+
+  explicit ScalarGrid(const GridGeometry& g = {}) : geometry(g), values(g.num_nodes(), 0.0) {}
+  double at(int i, int j, int k) const {
+    return geometry.contains(i, j, k) ? values[geometry.index(i, j, k)] : 0.0;
+  }
+  // Trilinear interpolation at a world point (ghost nodes are zero).
+  double sample(const Eigen::Vector3d& x) const;
+};
+
+// Trilinear weights of a world point: the cell's lower corner and the
+// fractional position dx, dy, dz inside it (paper sec. 4.1).
+struct TrilinearStencil {
+  Eigen::Vector3i corner;
+  Eigen::Vector3d frac;
+  double weight(int ox, int oy, int oz) const {
+    return (ox ? frac.x() : 1.0 - frac.x()) * (oy ? frac.y() : 1.0 - frac.y()) *
+           (oz ? frac.z() : 1.0 - frac.z());
+  }
+};
+TrilinearStencil trilinear_stencil(const GridGeometry& g, const Eigen::Vector3d& x);
+
+}  // namespace hos::recon

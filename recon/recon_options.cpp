@@ -1,0 +1,59 @@
+#include "recon/recon_options.h"
+
+#include "core/error.h"
+#include "core/option_set.h"
+
+namespace hos::recon {
+
+void ReconOptions::validate() const {
+  if (!(lambda >= 0.0)) throw ConfigError("recon.lambda", "must be >= 0");
+  if (voxel_size <= 0.0 && (resolution < 8 || resolution > 2048)) {
+    throw ConfigError("recon.resolution", "must be in [8, 2048]");
+  }
+  if (!(margin >= 0.0 && margin <= 2.0)) throw ConfigError("recon.margin", "must be in [0, 2]");
+  if (filter_passes < 0 || filter_passes > 10) {
+    throw ConfigError("recon.filter_passes", "must be in [0, 10]");
+  }
+  if (!(solver.tolerance > 0.0 && solver.tolerance < 1.0)) {
+    throw ConfigError("recon.solver.tolerance", "must be in (0, 1)");
+  }
+  if (solver.max_iterations < 1) throw ConfigError("recon.solver.max_iterations", "must be >= 1");
+  if (trim.distance_voxels <= 0.0) throw ConfigError("recon.trim.distance_voxels", "must be > 0");
+}
+
+void register_options(OptionSet& set, ReconOptions& o) {
+  set.add_enum("energy", o.energy,
+               {{"1", SmoothnessEnergy::kMembrane},
+                {"2", SmoothnessEnergy::kTotalVariation},
+                {"3", SmoothnessEnergy::kPureSecond},
+                {"4", SmoothnessEnergy::kFullHessian}},
+               "smoothness energy of Pan & Skala: 1 membrane, 2 total variation, 3 pure second "
+               "derivatives, 4 full Hessian");
+  set.add("lambda", o.lambda, "smoothness weight (resolution independent; paper range 0.1-0.3)",
+          0.0, 1e6);
+  set.add("resolution", o.resolution, "grid cells along the longest side of the domain", 8, 2048);
+  set.add("voxel_size", o.voxel_size, "grid spacing in scene units; 0 = use resolution", 0.0,
+          1e12);
+  set.add("margin", o.margin, "domain margin around the points, fraction of their extent", 0.0,
+          2.0);
+  set.add("filter_passes", o.filter_passes, "box filter passes smoothing the orientation field",
+          0, 10);
+  set.add("use_confidence", o.use_confidence, "weight orientations by the points' confidence");
+  set.add("solver.tolerance", o.solver.tolerance, "relative residual the solver must reach", 1e-12,
+          0.5);
+  set.add("solver.max_iterations", o.solver.max_iterations, "CG iterations per linear solve", 1,
+          100000);
+  set.add("solver.max_levels", o.solver.max_levels, "multigrid levels (0 = automatic)", 0, 16);
+  set.add("solver.smoothing_steps", o.solver.smoothing_steps, "smoothing sweeps per level", 1, 20);
+  set.add("solver.tv_iterations", o.solver.tv_iterations, "reweighting rounds for energy 2", 1,
+          100);
+  set.add("solver.multigrid", o.solver.multigrid,
+          "multigrid-preconditioned CG (false: Jacobi-preconditioned CG)");
+  set.add("trim.enabled", o.trim.enabled, "remove surface far from every sample");
+  set.add("trim.distance_voxels", o.trim.distance_voxels, "trim distance in voxels", 0.1, 1000.0);
+  set.add("trim.min_component_fraction", o.trim.min_component_fraction,
+          "drop pieces smaller than this fraction of the largest", 0.0, 1.0);
+  set.add("threads", o.threads, "OpenMP threads (0 = all cores)", 0, 1024);
+}
+
+}  // namespace hos::recon

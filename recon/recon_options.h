@@ -1,0 +1,67 @@
+// Options of the surface reconstruction, one struct per concern, each mapped
+// 1:1 onto the "recon:" section of the YAML config by register_options.
+#pragma once
+
+#include <string>
+
+namespace hos {
+class OptionSet;
+}
+
+namespace hos::recon {
+
+// The smoothness energies of the paper, sec. 3.2.
+enum class SmoothnessEnergy {
+  kMembrane = 1,        // eq. (1): |grad f|^2
+  kTotalVariation = 2,  // eq. (2): |grad f|
+  kPureSecond = 3,      // eq. (3): fxx^2 + fyy^2 + fzz^2
+  kFullHessian = 4,     // eq. (4): eq. (3) + 2 (fxy^2 + fxz^2 + fyz^2)
+};
+
+struct SolverOptions {
+  double tolerance = 1e-6;    // relative residual ||b - Ax|| / ||b|| to reach
+  int max_iterations = 200;   // conjugate-gradient iterations per linear solve
+  int max_levels = 0;         // multigrid levels; 0 = as many as the grid allows
+  int smoothing_steps = 2;    // l1-Jacobi sweeps before and after each coarse correction
+  int tv_iterations = 8;      // reweighting rounds for energy (2)
+  bool multigrid = true;      // false: Jacobi-preconditioned CG (for comparisons)
+};
+
+struct TrimOptions {
+  bool enabled = true;
+  // Faces whose vertices all lie farther than this many voxels from every
+  // sample are removed: the closed isosurface bridges areas without data.
+  double distance_voxels = 3.0;
+  // Connected pieces with fewer faces than this fraction of the largest are dropped.
+  double min_component_fraction = 0.01;
+};
+
+struct ReconOptions {
+  SmoothnessEnergy energy = SmoothnessEnergy::kFullHessian;
+  // Smoothness weight. Resolution independent: the Hessian term is weighted by
+  // lambda * (D / 50)^2 (TV by lambda * D / 50) with D the domain's longest side,
+  // so lambda = 0.2 damps features below about 1% of the domain at any grid size.
+  double lambda = 0.2;
+  int resolution = 128;        // cells along the longest side of the domain
+  double voxel_size = 0.0;     // if > 0, overrides resolution
+  double margin = 0.1;         // domain margin as a fraction of the points' longest extent
+  int filter_passes = 3;       // box filter passes approximating a Gaussian (sec. 4.1)
+  bool use_confidence = true;  // weight each orientation by the point's confidence
+  SolverOptions solver;
+  TrimOptions trim;
+  int threads = 0;  // OpenMP threads; 0 = all cores
+
+  // Throws ConfigError naming the offending option.
+  void validate() const;
+};
+
+// Registers every option under the section "recon".
+void register_options(OptionSet& set, ReconOptions& options);
+
+}  // namespace hos::recon
+
+namespace hos {
+// The stage's options under the names every stage uses (hos::XOptions).
+using recon::ReconOptions;
+using recon::register_options;
+}  // namespace hos

@@ -1,0 +1,203 @@
+#include "recon/reconstruct.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "core/error.h"
+#include "recon/energy_operator.h"
+#include "recon/isosurface.h"
+#include "recon/multigrid.h"
+#include "recon/trim.h"
+#include "recon/vector_field.h"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace hos::recon {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// The reference length that makes lambda resolution independent (see ReconOptions).
+double reference_length(const GridGeometry& g) {
+  return g.spacing * static_cast<double>(g.dims.maxCoeff() + 1) / 50.0;
+}
+
+// Per-node IRLS weights 1 / sqrt(|grad f|^2 + eps^2) of the TV energy (2).
+std::vector<double> tv_weights(const ScalarGrid& f, double eps) {
+  const GridGeometry& g = f.geometry;
+  std::vector<double> w(g.num_nodes());
+  const double inv2h = 1.0 / (2.0 * g.spacing);
+#pragma omp parallel for collapse(2) schedule(static)
+  for (int k = 0; k < g.dims.z(); ++k) {
+    for (int j = 0; j < g.dims.y(); ++j) {
+      for (int i = 0; i < g.dims.x(); ++i) {
+        const double gx = (f.at(i + 1, j, k) - f.at(i - 1, j, k)) * inv2h;
+        const double gy = (f.at(i, j + 1, k) - f.at(i, j - 1, k)) * inv2h;
+        const double gz = (f.at(i, j, k + 1) - f.at(i, j, k - 1)) * inv2h;
+        w[g.index(i, j, k)] = 1.0 / std::sqrt(gx * gx + gy * gy + gz * gz + eps * eps);
+      }
+    }
+  }
+  return w;
+}
+
+}  // namespace
+
+void check_reconstructable(const PointCloud& points, const std::string& source) {
+  points.check_consistent();
+  if (points.size() < 4) {
+    throw InputError(source, "has " + std::to_string(points.size()) +
+                                 " points; a surface needs at least 4");
+  }
+  if (!points.has_normals()) {
+    throw InputError(source,
+                     "the points have no normals (nx ny nz); give --view-dir, --scanner-pos or "
+                     "--scans to orient them");
+  }
+  for (const auto& n : points.normals) {
+    if (n.allFinite() && n.squaredNorm() > 0.0f) return;
+  }
+  throw InputError(source, "every normal is zero or not finite: the points carry no orientation");
+}
+
+GridGeometry make_domain(const BoundingBox& box, const ReconOptions& options, int levels) {
+  const Eigen::Vector3d extent = box.extent().cast<double>();
+  const double longest = std::max(extent.maxCoeff(), 1e-12);
+  const Eigen::Vector3d side = extent.array() + 2.0 * options.margin * longest;
+  GridGeometry g;
+  g.spacing = options.voxel_size > 0.0 ? options.voxel_size : side.maxCoeff() / options.resolution;
+  for (int a = 0; a < 3; ++a) {
+    // At least a few nodes across every axis, also for flat point sets.
+    const int nodes = std::max(8, static_cast<int>(std::ceil(side[a] / g.spacing)) + 1);
+    g.dims[a] = admissible_dims(nodes, levels);
+  }
+  g.origin = box.center().cast<double>() - 0.5 * g.spacing * (g.dims.cast<double>().array() - 1.0).matrix();
+  return g;
+}
+
+ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& options,
+                                Reporter& reporter) {
+  options.validate();
+  check_reconstructable(input, "input points");
+#ifdef _OPENMP
+  if (options.threads > 0) omp_set_num_threads(options.threads);
+#endif
+  ReconResult result;
+  ReconStats& stats = result.stats;
+
+  // Unit orientations (weighted by confidence); points without one are dropped.
+  std::vector<Eigen::Vector3f> points, normals;
+  std::vector<float> weights;
+  for (std::size_t i = 0; i < input.size(); ++i) {
+    const Eigen::Vector3f& n = input.normals[i];
+    const float len = n.norm();
+    if (!input.positions[i].allFinite() || !std::isfinite(len) || len == 0.0f) {
+      ++stats.num_samples_dropped;
+      continue;
+    }
+    points.push_back(input.positions[i]);
+    normals.push_back(n / len);
+    if (options.use_confidence && input.has_confidence()) {
+      weights.push_back(std::max(0.0f, input.confidence[i]));
+    }
+  }
+  if (stats.num_samples_dropped > 0) {
+    reporter.warn(format_message("recon: ", stats.num_samples_dropped,
+                                 " points without a usable normal were ignored"));
+  }
+  stats.num_samples = points.size();
+
+  const auto t_field = Clock::now();
+  reporter.begin("orientation field", 0);
+  const GridGeometry grid = make_domain(bounding_box(points), options);
+  stats.grid_dims = grid.dims;
+  stats.voxel_size = grid.spacing;
+  reporter.info(format_message("recon: grid ", grid.dims.x(), "x", grid.dims.y(), "x",
+                               grid.dims.z(), ", voxel ", grid.spacing, ", ", points.size(),
+                               " samples"));
+  VectorGrid field = splat_normals(grid, points, normals, weights);
+  box_filter(field, options.filter_passes);
+  normalize_field(field, points, options.filter_passes);
+  ScalarGrid rhs = divergence(field);
+  field = VectorGrid{};
+  for (double& v : rhs.values) v = -v;  // A f = -div F
+  reporter.end();
+  stats.seconds_field = seconds_since(t_field);
+
+  // Energy minimisation.
+  const auto t_solve = Clock::now();
+  reporter.begin("solve", 0);
+  const double ell = reference_length(grid);
+  ScalarGrid& f = result.function;
+  f = ScalarGrid(grid);
+  const SolverOptions& solver = options.solver;
+  const auto run = [&](const EnergyOperator& op, const SolverOptions& so) {
+    const SolveReport report = solve_linear_system(op, rhs.values, f.values, so, reporter);
+    stats.solver_iterations += report.iterations;
+    stats.multigrid_levels = report.levels;
+    stats.relative_residual = report.relative_residual;
+    reporter.info(format_message("recon: ", report.iterations, " CG iterations, ", report.levels,
+                                 " multigrid levels, relative residual ",
+                                 report.relative_residual));
+    if (!report.converged) {
+      reporter.warn(format_message("recon: the solver stopped at relative residual ",
+                                   report.relative_residual, " above the tolerance ",
+                                   so.tolerance, "; raise recon.solver.max_iterations"));
+    }
+  };
+  if (options.energy == SmoothnessEnergy::kTotalVariation) {
+    // Iteratively reweighted least squares: each round minimises the quadratic
+    // majoriser |grad f|^2 / (2 |grad f_old|) of the TV term exactly.
+    run(EnergyOperator(grid, SmoothnessEnergy::kTotalVariation, 0.0), solver);
+    const double eps = 0.01 / ((1.0 + options.filter_passes) * grid.spacing);
+    for (int round = 0; round < solver.tv_iterations; ++round) {
+      reporter.throw_if_cancelled();
+      SolverOptions so = solver;
+      if (round + 1 < solver.tv_iterations) so.tolerance = std::max(solver.tolerance, 1e-3);
+      const EnergyOperator op(grid, SmoothnessEnergy::kTotalVariation, 0.0, tv_weights(f, eps),
+                              options.lambda * ell);
+      run(op, so);
+    }
+  } else {
+    const double weight =
+        options.energy == SmoothnessEnergy::kMembrane ? options.lambda : options.lambda * ell * ell;
+    run(EnergyOperator(grid, options.energy, weight), solver);
+  }
+  for (double v : f.values) {
+    if (!std::isfinite(v)) throw NumericalError("recon", "the implicit function is not finite");
+  }
+  reporter.end();
+  stats.seconds_solve = seconds_since(t_solve);
+
+  // Isovalue: mean of f at the samples (eq. 12), then the isosurface.
+  const auto t_mesh = Clock::now();
+  reporter.begin("isosurface", 0);
+  double sum = 0.0;
+  for (const auto& p : points) sum += f.sample(p.cast<double>());
+  stats.isovalue = sum / static_cast<double>(points.size());
+  result.mesh = extract_isosurface(f, stats.isovalue);
+  stats.faces_before_trim = result.mesh.faces.size();
+  if (options.trim.enabled) {
+    const TrimReport trim =
+        trim_far_from_samples(result.mesh, points, options.trim.distance_voxels * grid.spacing,
+                              options.trim.min_component_fraction);
+    stats.faces_trimmed = trim.faces_removed_far + trim.faces_removed_small;
+    compute_vertex_normals(result.mesh);
+  }
+  reporter.end();
+  stats.seconds_mesh = seconds_since(t_mesh);
+  if (result.mesh.faces.empty()) {
+    throw NumericalError("recon", "the isosurface is empty (the orientations may be inconsistent)");
+  }
+  reporter.info(format_message("recon: isovalue ", stats.isovalue, ", ", result.mesh.num_vertices(),
+                               " vertices, ", result.mesh.num_faces(), " faces (",
+                               stats.faces_trimmed, " trimmed)"));
+  return result;
+}
+
+}  // namespace hos::recon

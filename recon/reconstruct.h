@@ -1,0 +1,48 @@
+// The whole method of Pan & Skala on an oriented point set: domain and grid,
+// orientation field (sec. 4.1), energy minimisation (sec. 3.4, 4.2, 4.3),
+// isovalue (eq. 12), isosurface (sec. 4.4), then trimming.
+#pragma once
+
+#include <string>
+
+#include "core/reporter.h"
+#include "core/types.h"
+#include "recon/grid.h"
+#include "recon/recon_options.h"
+
+namespace hos::recon {
+
+struct ReconStats {
+  Eigen::Vector3i grid_dims = Eigen::Vector3i::Zero();
+  double voxel_size = 0.0;
+  std::size_t num_samples = 0;
+  std::size_t num_samples_dropped = 0;  // without a usable orientation
+  int multigrid_levels = 0;
+  int solver_iterations = 0;           // summed over all linear solves
+  double relative_residual = 0.0;      // of the final linear solve
+  double isovalue = 0.0;
+  std::size_t faces_before_trim = 0;
+  std::size_t faces_trimmed = 0;
+  double seconds_field = 0.0, seconds_solve = 0.0, seconds_mesh = 0.0;
+};
+
+struct ReconResult {
+  TriangleMesh mesh;
+  ScalarGrid function;  // the solved implicit function f
+  ReconStats stats;
+};
+
+// Throws InputError(source, reason) when the points cannot be reconstructed:
+// fewer than 4 points, no normals, all normals zero.
+void check_reconstructable(const PointCloud& points, const std::string& source);
+
+// Throws ConfigError for bad options, InputError for unusable points,
+// NumericalError if the solve fails, Cancelled on request.
+ReconResult reconstruct_surface(const PointCloud& points, const ReconOptions& options,
+                                Reporter& reporter);
+
+// The grid for the points' bounding box: margin, cubic cells, dims that
+// coarsen at least levels - 1 times.
+GridGeometry make_domain(const BoundingBox& box, const ReconOptions& options, int levels = 5);
+
+}  // namespace hos::recon

@@ -1,0 +1,128 @@
+#include "recon/trim.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+namespace hos::recon {
+namespace {
+
+// Samples bucketed in cubic cells of the query radius: a point is near the
+// data if some sample in its 27 surrounding cells is within the radius.
+class SampleHash {
+ public:
+  SampleHash(const std::vector<Eigen::Vector3f>& samples, double radius)
+      : samples_(samples), cell_(radius), radius2_(radius * radius) {
+    for (std::size_t i = 0; i < samples.size(); ++i) cells_[key(cell_of(samples[i]))].push_back(i);
+  }
+
+  bool near(const Eigen::Vector3f& x) const {
+    const Eigen::Vector3i c = cell_of(x);
+    for (int dz = -1; dz <= 1; ++dz) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const auto it = cells_.find(key(c + Eigen::Vector3i(dx, dy, dz)));
+          if (it == cells_.end()) continue;
+          for (std::size_t i : it->second) {
+            if ((samples_[i] - x).cast<double>().squaredNorm() <= radius2_) return true;
+          }
+        }
+      }
+    }
+    return false;
+  }
+
+ private:
+  Eigen::Vector3i cell_of(const Eigen::Vector3f& x) const {
+    return (x.cast<double>() / cell_).array().floor().cast<int>();
+  }
+  static std::int64_t key(const Eigen::Vector3i& c) {
+    return ((std::int64_t{c.x()} & 0x1FFFFF) << 42) | ((std::int64_t{c.y()} & 0x1FFFFF) << 21) |
+           (std::int64_t{c.z()} & 0x1FFFFF);
+  }
+
+  const std::vector<Eigen::Vector3f>& samples_;
+  double cell_;
+  double radius2_;
+  std::unordered_map<std::int64_t, std::vector<std::size_t>> cells_;
+};
+
+int find_root(std::vector<int>& parent, int x) {
+  while (parent[x] != x) {
+    parent[x] = parent[parent[x]];
+    x = parent[x];
+  }
+  return x;
+}
+
+}  // namespace
+
+void remove_unreferenced_vertices(TriangleMesh& mesh) {
+  std::vector<int> remap(mesh.vertices.size(), -1);
+  int next = 0;
+  for (const auto& f : mesh.faces) {
+    for (int c = 0; c < 3; ++c) {
+      if (remap[f[c]] < 0) remap[f[c]] = next++;
+    }
+  }
+  const auto compact = [&](auto& values) {
+    if (values.empty()) return;
+    std::remove_reference_t<decltype(values)> out(next);
+    for (std::size_t i = 0; i < remap.size(); ++i) {
+      if (remap[i] >= 0) out[remap[i]] = values[i];
+    }
+    values.swap(out);
+  };
+  compact(mesh.vertices);
+  compact(mesh.normals);
+  compact(mesh.colors);
+  for (auto& [name, values] : mesh.vertex_scalars) compact(values);
+  for (auto& f : mesh.faces) f = Eigen::Vector3i(remap[f[0]], remap[f[1]], remap[f[2]]);
+}
+
+TrimReport trim_far_from_samples(TriangleMesh& mesh, const std::vector<Eigen::Vector3f>& samples,
+                                 double max_distance, double min_component_fraction) {
+  TrimReport report;
+  const SampleHash hash(samples, max_distance);
+  std::vector<char> near(mesh.vertices.size());
+  const std::int64_t nv = static_cast<std::int64_t>(mesh.vertices.size());
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::int64_t v = 0; v < nv; ++v) near[v] = hash.near(mesh.vertices[v]);
+  std::vector<Eigen::Vector3i> kept;
+  kept.reserve(mesh.faces.size());
+  for (const auto& f : mesh.faces) {
+    if (near[f[0]] || near[f[1]] || near[f[2]]) kept.push_back(f);
+  }
+  report.faces_removed_far = mesh.faces.size() - kept.size();
+  mesh.faces.swap(kept);
+
+  // Connected components over shared vertices.
+  std::vector<int> parent(mesh.vertices.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  for (const auto& f : mesh.faces) {
+    const int r0 = find_root(parent, f[0]);
+    for (int c = 1; c < 3; ++c) {
+      const int r = find_root(parent, f[c]);
+      if (r != r0) parent[r] = r0;
+    }
+  }
+  std::unordered_map<int, std::size_t> sizes;
+  for (const auto& f : mesh.faces) ++sizes[find_root(parent, f[0])];
+  std::size_t largest = 0;
+  for (const auto& [root, size] : sizes) largest = std::max(largest, size);
+  const double min_size = min_component_fraction * static_cast<double>(largest);
+  kept.clear();
+  for (const auto& f : mesh.faces) {
+    if (static_cast<double>(sizes[find_root(parent, f[0])]) >= min_size) kept.push_back(f);
+  }
+  for (const auto& [root, size] : sizes) {
+    if (static_cast<double>(size) < min_size) ++report.components_removed;
+  }
+  report.faces_removed_small = mesh.faces.size() - kept.size();
+  mesh.faces.swap(kept);
+  remove_unreferenced_vertices(mesh);
+  return report;
+}
+
+}  // namespace hos::recon

@@ -1,0 +1,29 @@
+// Removing surface that the data does not support. The implicit function is
+// defined everywhere, so its isosurface closes over areas without samples
+// (the bottom of a scene, the far side of an open scan); photogrammetry users
+// expect those bridges to be cut away.
+#pragma once
+
+#include <vector>
+
+#include "core/types.h"
+#include "recon/recon_options.h"
+
+namespace hos::recon {
+
+struct TrimReport {
+  std::size_t faces_removed_far = 0;
+  std::size_t faces_removed_small = 0;
+  std::size_t components_removed = 0;
+};
+
+// Removes faces whose three vertices are all farther than max_distance from
+// every sample, then connected pieces smaller than min_component_fraction of
+// the largest, then unreferenced vertices.
+TrimReport trim_far_from_samples(TriangleMesh& mesh, const std::vector<Eigen::Vector3f>& samples,
+                                 double max_distance, double min_component_fraction);
+
+// Drops vertices no face uses, renumbering faces (keeps per-vertex attributes).
+void remove_unreferenced_vertices(TriangleMesh& mesh);
+
+}  // namespace hos::recon
