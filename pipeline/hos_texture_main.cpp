@@ -9,13 +9,14 @@
 #include "pipeline/stage_main.h"
 #include "texture/gltf_writer.h"
 #include "texture/texture_mesh.h"
+#include "texture/texture_report.h"
 
 int main(int argc, char** argv) {
   hos::TextureOptions options;
   hos::OptionSet option_set("texture");
   hos::register_options(option_set, options);
   hos::CommonStageFlags flags;
-  std::string mesh_path, workspace_path, output_path;
+  std::string mesh_path, workspace_path, output_path, report_path;
   int max_faces = -1, atlas_size = -1;
   std::string image_format;
   bool print_config = false;
@@ -24,6 +25,7 @@ int main(int argc, char** argv) {
   app.add_option("--mesh", mesh_path, "mesh PLY (model coordinates of the workspace)");
   app.add_option("--workspace", workspace_path, "undistorted workspace (images/ + sparse/ PINHOLE model)");
   app.add_option("--output", output_path, "output binary glTF (.glb)");
+  app.add_option("--report", report_path, "also write the stage's figures as JSON (incl. the root matrix)");
   app.add_option("--max-faces", max_faces, "decimate to at most N faces first (= texture.max_faces)");
   app.add_option("--atlas-size", atlas_size, "maximum atlas size in pixels (= texture.atlas_size)");
   app.add_option("--image-format", image_format, "png|jpeg (= texture.image_format)");
@@ -61,6 +63,7 @@ int main(int argc, char** argv) {
     write_options.image_format = options.image_format;
     write_options.jpeg_quality = options.jpeg_quality;
     hos::write_glb(output_path, result.mesh, write_options);
+    if (!report_path.empty()) hos::write_texture_report(report_path, result);
     const auto& s = result.stats;
     reporter.info(hos::format_message("textured ", s.faces, " faces from ", s.num_views,
                                       " photos: ", s.num_charts, " charts in ", s.num_atlases,

@@ -22,14 +22,16 @@ std::string view_name(int i) {
 
 namespace fs = std::filesystem;
 
-TexturedMesh textured_sphere() {
+TexturedMesh textured_sphere(int atlas_size = 4096) {
   const TriangleMesh mesh = testing::make_icosphere(3, 1.0);
   std::vector<TextureView> views;
   for (int i = 0; i < 6; ++i) {
     views.push_back(testing::make_view(view_name(i), 60.0 * i, 10.0, 3.5));
     testing::render_sphere(views.back(), 1.0);
   }
-  return texture_mesh(mesh, views, TextureOptions{}, null_reporter()).mesh;
+  TextureOptions options;
+  options.atlas_size = atlas_size;
+  return texture_mesh(mesh, views, options, null_reporter()).mesh;
 }
 
 // The validator's node_modules folder: installed once per build folder.
@@ -49,10 +51,15 @@ fs::path validator_modules() {
 TEST(GltfWriter, GlbPassesKhronosValidator) {
   testing::TempDir dir("hos-texture-gltf");
   const fs::path glb = dir / "model.glb";
-  for (const std::string format : {"png", "jpeg"}) {
+  // PNG, JPEG, and several atlas pages (primitives).
+  for (const std::string format : {"png", "jpeg", "pages"}) {
     GltfWriteOptions options;
-    options.image_format = format;
-    write_glb(glb, textured_sphere(), options);
+    options.image_format = format == "jpeg" ? "jpeg" : "png";
+    const TexturedMesh mesh = textured_sphere(format == "pages" ? 128 : 4096);
+    if (format == "pages") {
+      ASSERT_GT(mesh.atlases.size(), 1u);
+    }
+    write_glb(glb, mesh, options);
     const fs::path modules = validator_modules();
     ASSERT_FALSE(modules.empty()) << "npm install gltf-validator failed";
     const fs::path script = testing::source_dir() / "tests" / "texture" / "validate_gltf.js";

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/colmap_io.h"
@@ -47,7 +49,9 @@ std::string texture_command(const fs::path& root, const std::string& extra = "")
 TEST(HosTextureMain, WritesAGlbFromAWorkspace) {
   testing::TempDir dir("hos-texture-main");
   write_scene(dir.path());
-  ASSERT_EQ(testing::run_command(texture_command(dir.path(), "--image-format jpeg --atlas-size 1024"),
+  const std::string report = (dir / "report.json").string();
+  ASSERT_EQ(testing::run_command(texture_command(dir.path(), "--image-format jpeg --atlas-size 1024 --report " +
+                                                                 testing::shell_quote(report)),
                                  dir / "log.txt"),
             kExitSuccess);
   tinygltf::Model model;
@@ -58,6 +62,13 @@ TEST(HosTextureMain, WritesAGlbFromAWorkspace) {
   EXPECT_EQ(model.images[0].mimeType, "image/jpeg");
   EXPECT_LE(model.images[0].width, 1024);
   EXPECT_EQ(model.asset.generator, "hos");
+  // The report's root matrix is the node's matrix.
+  std::ifstream in(report);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["faces"].get<int>(), 1280);
+  EXPECT_EQ(j["views"].get<int>(), 6);
+  ASSERT_EQ(model.nodes[0].matrix.size(), 16u);
+  for (int i = 0; i < 16; ++i) EXPECT_NEAR(j["root_matrix"][i].get<double>(), model.nodes[0].matrix[i], 1e-12);
 }
 
 TEST(HosTextureMain, MissingMeshIsBadInput) {

@@ -71,6 +71,24 @@ TEST(TextureMesh, TextureMatchesTrueAlbedo) {
   EXPECT_GT(psnr, 30.0) << "PSNR " << psnr;
 }
 
+TEST(TextureMesh, SmallAtlasesSplitIntoPagesOrShrink) {
+  const TriangleMesh mesh = make_icosphere(4, kRadius);
+  const auto views = ring_views(10);
+  TextureOptions options;
+  options.atlas_size = 256;
+  const TextureResult paged = texture_mesh(mesh, views, options, null_reporter());
+  EXPECT_GT(paged.stats.num_atlases, 1);
+  for (const auto& page : paged.mesh.atlases) EXPECT_LE(std::max(page.cols, page.rows), 256);
+  EXPECT_DOUBLE_EQ(paged.stats.texel_scale, 1.0);
+  EXPECT_GT(texture_psnr(paged.mesh), 30.0);
+  options.max_atlases = 1;
+  const TextureResult shrunk = texture_mesh(mesh, views, options, null_reporter());
+  EXPECT_EQ(shrunk.stats.num_atlases, 1);
+  EXPECT_LT(shrunk.stats.texel_scale, 1.0);
+  // Fewer texels blur the texture but keep it right.
+  EXPECT_GT(texture_psnr(shrunk.mesh), 25.0);
+}
+
 // Held-out views: photos not used for texturing, compared with the textured
 // mesh rendered from the same cameras, over the pixels the mesh covers.
 TEST(TextureMesh, HeldOutViewsMatchRenderedTexture) {
