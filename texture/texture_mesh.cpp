@@ -139,6 +139,19 @@ TextureResult texture_mesh(const TriangleMesh& input_mesh, const std::vector<Tex
   stats.num_views = static_cast<int>(views.size());
   if (input_mesh.faces.empty()) throw StageError("texture", "the mesh has no faces");
   if (views.empty()) throw StageError("texture", "no registered images to texture from");
+  const int num_vertices = static_cast<int>(input_mesh.vertices.size());
+  for (std::size_t f = 0; f < input_mesh.faces.size(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int v = input_mesh.faces[f][c];
+      if (v < 0 || v >= num_vertices) {
+        throw StageError("texture", format_message("mesh face ", f, " refers to vertex ", v, " of ",
+                                                   num_vertices));
+      }
+    }
+  }
+  for (const auto& v : input_mesh.vertices) {
+    if (!v.allFinite()) throw NumericalError("texture", "the mesh has a non-finite vertex");
+  }
 
   TriangleMesh decimated;
   if (options.max_faces > 0 && input_mesh.faces.size() > static_cast<std::size_t>(options.max_faces)) {

@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+
+#include "core/error.h"
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <iostream>
@@ -241,6 +244,21 @@ TEST(TextureMesh, UnseenFacesTakeNeighbourColours) {
     EXPECT_GT(c.minCoeff(), 40.0f);
   }
   EXPECT_EQ(flat, 4 * result.stats.num_unseen_faces);
+}
+
+TEST(TextureMesh, BadMeshOrNoViewsThrowHosErrors) {
+  TriangleMesh mesh = make_icosphere(1, kRadius);
+  const auto views = ring_views(3);
+  EXPECT_THROW(texture_mesh(mesh, std::vector<TextureView>{}, TextureOptions{}, null_reporter()),
+               StageError);
+  mesh.faces[3][1] = 1000;
+  EXPECT_THROW(texture_mesh(mesh, views, TextureOptions{}, null_reporter()), StageError);
+  mesh = make_icosphere(1, kRadius);
+  mesh.vertices[2].x() = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW(texture_mesh(mesh, views, TextureOptions{}, null_reporter()), NumericalError);
+  TextureOptions bad;
+  bad.atlas_size = 10;
+  EXPECT_THROW(texture_mesh(make_icosphere(1, kRadius), views, bad, null_reporter()), ConfigError);
 }
 
 TEST(TextureMesh, RootMatrixTakesCameraUpToY) {
