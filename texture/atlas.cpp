@@ -117,7 +117,7 @@ cv::Vec3b to_bgr(const Eigen::Vector3f& rgb) {
 
 Atlas build_atlas(const TriangleMesh& mesh, const MeshTopology& topology,
                   const FaceViewCandidates& candidates, const std::vector<Chart>& charts,
-                  const std::vector<TextureView>& views, const std::vector<float>& gains,
+                  const std::vector<TextureView>& views, const std::vector<Eigen::Vector3f>& gains,
                   const SeamLeveling& leveling, const std::vector<FlatFace>& flat_faces,
                   const TextureOptions& options, Reporter& reporter) {
   const int num_charts = static_cast<int>(charts.size());
@@ -209,7 +209,7 @@ Atlas build_atlas(const TriangleMesh& mesh, const MeshTopology& topology,
     const Rect& r = rects[c];
     const int page = page_of[c];
     const TextureView& view = views[charts[c].view];
-    const float gain = gains[charts[c].view];
+    const Eigen::Vector3f gain = gains[charts[c].view];
     cv::Mat& image = atlas.pages[page];
     cv::Mat& mask = filled[page];
     const Eigen::Vector2d origin(r.x + pad + 0.5, r.y + pad + 0.5);
@@ -265,7 +265,8 @@ Atlas build_atlas(const TriangleMesh& mesh, const MeshTopology& topology,
                         const Eigen::Vector3f offset = static_cast<float>(w[0]) * offsets[face[0]] +
                                                        static_cast<float>(w[1]) * offsets[face[1]] +
                                                        static_cast<float>(w[2]) * offsets[face[2]];
-                        Eigen::Vector3f rgb = gain * sample_rgb(view.image, q.x(), q.y()) + offset;
+                        Eigen::Vector3f rgb =
+                            gain.cwiseProduct(sample_rgb(view.image, q.x(), q.y())) + offset;
                         // Local blending: half-and-half on the seam, own view
                         // only blend_width texels away from it.
                         double best = blend_width;
@@ -291,7 +292,8 @@ Atlas build_atlas(const TriangleMesh& mesh, const MeshTopology& topology,
                           const Eigen::Vector3d p = views[other_view].project(point);
                           if (p.z() > 0.0) {
                             const Eigen::Vector3f other =
-                                gains[other_view] * sample_rgb(views[other_view].image, p.x(), p.y()) +
+                                gains[other_view].cwiseProduct(
+                                    sample_rgb(views[other_view].image, p.x(), p.y())) +
                                 static_cast<float>(1.0 - along) * nearest->offset_a +
                                 static_cast<float>(along) * nearest->offset_b;
                             const float t = static_cast<float>(0.5 * (1.0 - best / blend_width));

@@ -54,7 +54,7 @@ struct Atlas {
 // only if that view is among the face's candidates (visible, consistent).
 Atlas build_atlas(const TriangleMesh& mesh, const MeshTopology& topology,
                   const FaceViewCandidates& candidates, const std::vector<Chart>& charts,
-                  const std::vector<TextureView>& views, const std::vector<float>& gains,
+                  const std::vector<TextureView>& views, const std::vector<Eigen::Vector3f>& gains,
                   const SeamLeveling& leveling, const std::vector<FlatFace>& flat_faces,
                   const TextureOptions& options, Reporter& reporter);
 

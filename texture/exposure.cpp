@@ -2,6 +2,7 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace hos {
@@ -9,7 +10,7 @@ namespace hos {
 namespace {
 
 struct LogRatioResidual {
-  double log_ratio;  // log(L_fu) - log(L_fv)
+  double log_ratio;  // log(C_fu) - log(C_fv) of one channel
   template <typename T>
   bool operator()(const T* const a_u, const T* const a_v, T* residual) const {
     residual[0] = T(log_ratio) + a_u[0] - a_v[0];
@@ -26,36 +27,27 @@ struct PriorResidual {
   }
 };
 
-float luminance(const Eigen::Vector3f& rgb) {
-  return 0.2126f * rgb.x() + 0.7152f * rgb.y() + 0.0722f * rgb.z();
-}
-
-}  // namespace
-
-std::vector<float> estimate_exposure_gains(const FaceViewCandidates& candidates, int num_views,
-                                           Reporter& reporter) {
+// Log-gains of one colour channel (k = 0, 1, 2).
+std::vector<double> channel_log_gains(const FaceViewCandidates& candidates, int num_views, int k,
+                                      std::vector<int>& pairs_per_view) {
   std::vector<double> log_gain(num_views, 0.0);
-  if (num_views < 2) return std::vector<float>(num_views, 1.0f);
-  reporter.begin("exposure gains", 0);
   ceres::Problem problem;
   // Subsample faces so the problem stays small (about 100k view pairs): the
   // gains are a handful of unknowns, more pairs only cost time and memory.
   const int num_faces = candidates.num_faces();
   const int stride = std::max<int>(1, static_cast<int>(candidates.samples.size() / 100000));
-  std::vector<int> pairs_per_view(num_views, 0);
   for (int f = 0; f < num_faces; f += stride) {
     const int b = candidates.begin(f), e = candidates.end(f);
     // Each view against the next one of the face: a chain per face.
     for (int i = b; i + 1 < e; ++i) {
       const FaceViewSample& s = candidates.samples[i];
       const FaceViewSample& t = candidates.samples[i + 1];
-      const float lu = luminance(s.mean_rgb), lv = luminance(t.mean_rgb);
+      const float cu = s.mean_rgb[k], cv = t.mean_rgb[k];
       // Dark or saturated faces say little about the gain.
-      if (lu < 8.0f || lv < 8.0f || lu > 250.0f || lv > 250.0f) continue;
-      problem.AddResidualBlock(
-          new ceres::AutoDiffCostFunction<LogRatioResidual, 1, 1, 1>(
-              new LogRatioResidual{std::log(lu) - std::log(lv)}),
-          new ceres::CauchyLoss(0.05), &log_gain[s.view], &log_gain[t.view]);
+      if (cu < 8.0f || cv < 8.0f || cu > 250.0f || cv > 250.0f) continue;
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LogRatioResidual, 1, 1, 1>(
+                                   new LogRatioResidual{std::log(cu) - std::log(cv)}),
+                               new ceres::CauchyLoss(0.05), &log_gain[s.view], &log_gain[t.view]);
       ++pairs_per_view[s.view];
       ++pairs_per_view[t.view];
     }
@@ -82,16 +74,31 @@ std::vector<float> estimate_exposure_gains(const FaceViewCandidates& candidates,
     }
   }
   if (counted > 0) mean /= counted;
-  std::vector<float> gains(num_views, 1.0f);
-  for (int v = 0; v < num_views; ++v) {
-    gains[v] = pairs_per_view[v] > 0 ? static_cast<float>(std::exp(log_gain[v] - mean)) : 1.0f;
+  for (int v = 0; v < num_views; ++v) log_gain[v] = pairs_per_view[v] > 0 ? log_gain[v] - mean : 0.0;
+  return log_gain;
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3f> estimate_exposure_gains(const FaceViewCandidates& candidates,
+                                                     int num_views, Reporter& reporter) {
+  std::vector<Eigen::Vector3f> gains(num_views, Eigen::Vector3f::Ones());
+  if (num_views < 2) return gains;
+  reporter.begin("exposure gains", 3);
+  for (int k = 0; k < 3; ++k) {
+    reporter.throw_if_cancelled();
+    std::vector<int> pairs(num_views, 0);
+    const std::vector<double> log_gain = channel_log_gains(candidates, num_views, k, pairs);
+    for (int v = 0; v < num_views; ++v) gains[v][k] = static_cast<float>(std::exp(log_gain[v]));
+    reporter.advance();
   }
   reporter.end();
   return gains;
 }
 
-void apply_exposure_gains(const std::vector<float>& gains, FaceViewCandidates& candidates) {
-  for (auto& s : candidates.samples) s.mean_rgb *= gains[s.view];
+void apply_exposure_gains(const std::vector<Eigen::Vector3f>& gains,
+                          FaceViewCandidates& candidates) {
+  for (auto& s : candidates.samples) s.mean_rgb = s.mean_rgb.cwiseProduct(gains[s.view]);
 }
 
 }  // namespace hos

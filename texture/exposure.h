@@ -11,14 +11,16 @@
 
 namespace hos {
 
-// Multiplicative gain per view that makes the views agree (geometric mean 1).
-// Minimizes sum over faces f and view pairs (u, v) seeing f of
-// rho(log(L_fu) + log(g_u) - log(L_fv) - log(g_v)) with a Cauchy loss rho
-// (Ceres), L the face's mean luminance.
-std::vector<float> estimate_exposure_gains(const FaceViewCandidates& candidates, int num_views,
-                                           Reporter& reporter);
+// Multiplicative RGB gain per view that makes the views agree (geometric mean
+// 1 per channel), so differences in exposure and white balance are undone.
+// Per channel k, minimizes over faces f and view pairs (u, v) seeing f
+// rho(log(C_fuk) + log(g_uk) - log(C_fvk) - log(g_vk)) with a Cauchy loss rho
+// (Ceres), C the face's mean colour in the view.
+std::vector<Eigen::Vector3f> estimate_exposure_gains(const FaceViewCandidates& candidates,
+                                                     int num_views, Reporter& reporter);
 
 // Multiplies every candidate's mean colour by its view's gain.
-void apply_exposure_gains(const std::vector<float>& gains, FaceViewCandidates& candidates);
+void apply_exposure_gains(const std::vector<Eigen::Vector3f>& gains,
+                          FaceViewCandidates& candidates);
 
 }  // namespace hos

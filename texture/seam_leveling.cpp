@@ -9,7 +9,7 @@
 namespace hos {
 
 SeamLeveling level_seams(const TriangleMesh& mesh, const std::vector<Chart>& charts,
-                         const std::vector<TextureView>& views, const std::vector<float>& gains,
+                         const std::vector<TextureView>& views, const std::vector<Eigen::Vector3f>& gains,
                          const TextureOptions& options, Reporter& reporter) {
   reporter.begin("seam leveling", 0);
   SeamLeveling result;
@@ -34,7 +34,7 @@ SeamLeveling level_seams(const TriangleMesh& mesh, const std::vector<Chart>& cha
       for (int c : charts_of_view[v]) {
         for (std::size_t i = 0; i < charts[c].vertices.size(); ++i) {
           const Eigen::Vector3d p = views[v].project(mesh.vertices[charts[c].vertices[i]].cast<double>());
-          f[first[c] + i] = gains[v] * sample_rgb(blurred, p.x(), p.y());
+          f[first[c] + i] = gains[v].cwiseProduct(sample_rgb(blurred, p.x(), p.y()));
         }
       }
     }

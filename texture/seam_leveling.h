@@ -30,11 +30,11 @@ struct SeamLeveling {
   int solver_iterations = 0;
 };
 
-// gains: per-view exposure gain applied to the views' colours. With
+// gains: per-view RGB exposure gains applied to the views' colours. With
 // options.global_leveling false, offsets are zero (the colours are still
 // returned).
 SeamLeveling level_seams(const TriangleMesh& mesh, const std::vector<Chart>& charts,
-                         const std::vector<TextureView>& views, const std::vector<float>& gains,
+                         const std::vector<TextureView>& views, const std::vector<Eigen::Vector3f>& gains,
                          const TextureOptions& options, Reporter& reporter);
 
 }  // namespace hos

@@ -171,7 +171,7 @@ TextureResult texture_mesh(const TriangleMesh& input_mesh, const std::vector<Tex
   stats.num_candidates = static_cast<std::int64_t>(candidates.samples.size());
   timer.lap("visibility");
 
-  std::vector<float> gains(views.size(), 1.0f);
+  std::vector<Eigen::Vector3f> gains(views.size(), Eigen::Vector3f::Ones());
   if (options.exposure_compensation) {
     gains = estimate_exposure_gains(candidates, static_cast<int>(views.size()), reporter);
     apply_exposure_gains(gains, candidates);

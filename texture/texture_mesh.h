@@ -35,7 +35,7 @@ struct TextureStats {
   int num_seam_vertices = 0;
   double mean_seam_jump_before = 0.0;  // 8-bit RGB distance at seam vertices
   double mean_seam_jump_after = 0.0;
-  std::vector<float> exposure_gains;   // per view, in workspace image order
+  std::vector<Eigen::Vector3f> exposure_gains;  // RGB gain per view, in workspace image order
   Eigen::Vector3d estimated_up = Eigen::Vector3d::UnitY();  // model frame
   // Wall time of each step in seconds, in order.
   std::vector<std::pair<std::string, double>> step_seconds;

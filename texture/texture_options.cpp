@@ -49,7 +49,7 @@ void register_options(OptionSet& set, TextureOptions& o) {
   set.add("outlier_min_views", o.outlier_min_views, "faces seen by fewer views are not checked", 2,
           1000);
   set.add("exposure_compensation", o.exposure_compensation,
-          "estimate and undo per-image brightness gains (robust, Ceres)");
+          "estimate and undo per-image RGB gains (exposure, white balance; robust, Ceres)");
   set.add("global_leveling", o.global_leveling,
           "global seam leveling: per-vertex additive colour offsets (Waechter 2014)");
   set.add("leveling_regularization", o.leveling_regularization,

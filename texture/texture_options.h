@@ -36,7 +36,8 @@ struct TextureOptions {
   double outlier_threshold = 25.0;
   int outlier_min_views = 3;  // faces seen by fewer views are not checked
 
-  // Per-image exposure gains (robust, Ceres), applied before everything else.
+  // Per-image RGB gains (exposure and white balance; robust, Ceres), applied
+  // before everything else.
   bool exposure_compensation = true;
   // Global seam leveling (Waechter Sec. 5.1): per-vertex per-view additive
   // offsets; leveling_regularization is Waechter's lambda: in-patch offset

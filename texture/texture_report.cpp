@@ -25,7 +25,9 @@ std::string texture_report_json(const TextureResult& result) {
   j["seam_vertices"] = s.num_seam_vertices;
   j["mean_seam_jump_before"] = s.mean_seam_jump_before;
   j["mean_seam_jump_after"] = s.mean_seam_jump_after;
-  j["exposure_gains"] = s.exposure_gains;
+  nlohmann::ordered_json gains = nlohmann::ordered_json::array();
+  for (const auto& g : s.exposure_gains) gains.push_back({g.x(), g.y(), g.z()});
+  j["exposure_gains"] = gains;
   j["estimated_up"] = {s.estimated_up.x(), s.estimated_up.y(), s.estimated_up.z()};
   // Column-major, as in the glTF node.
   j["root_matrix"] = std::vector<double>(result.mesh.root_matrix.data(),

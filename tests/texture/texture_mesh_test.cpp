@@ -188,8 +188,11 @@ TEST(TextureMesh, ExposureAndLevelingReduceSeamJumps) {
   EXPECT_LT(jump_on, jump_global);
   // The brighter photos get a gain near 1/1.3 relative to the others.
   for (int i = 0; i < 10; ++i) {
-    const float relative = leveled.stats.exposure_gains[i] * gains[i] / leveled.stats.exposure_gains[1];
-    EXPECT_NEAR(relative, 1.0f, 0.05f) << "view " << i;
+    for (int k = 0; k < 3; ++k) {
+      const float relative =
+          leveled.stats.exposure_gains[i][k] * gains[i] / leveled.stats.exposure_gains[1][k];
+      EXPECT_NEAR(relative, 1.0f, 0.05f) << "view " << i << " channel " << k;
+    }
   }
   EXPECT_LT(jump_on, 0.5 * jump_off) << "off " << jump_off << " on " << jump_on;
   EXPECT_LT(jump_on, 8.0) << "off " << jump_off << " on " << jump_on;
