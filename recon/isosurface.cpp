@@ -1,6 +1,7 @@
 #include "recon/isosurface.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <unordered_map>
 
@@ -43,17 +44,27 @@ class SurfaceBuilder {
     for (int v = 0; v < ni; ++v) in_centre += nodes[inside[v]].cast<double>() / ni;
     for (int v = 0; v < no; ++v) out_centre += nodes[outside[v]].cast<double>() / no;
     const Eigen::Vector3d outward = out_centre - in_centre;
-    const auto vertex = [&](int a, int b) { return edge_vertex(nodes[a], values[a], nodes[b], values[b]); };
+    // Each cut vertex with the midpoint of its edge: orientation is decided on
+    // the midpoints, which never degenerate even when the interpolated
+    // vertices coincide (f exactly at the isovalue on a node).
+    struct Cut {
+      int vertex;
+      Eigen::Vector3d midpoint;
+    };
+    const auto cut = [&](int a, int b) {
+      return Cut{edge_vertex(nodes[a], values[a], nodes[b], values[b]),
+                 0.5 * (nodes[a] + nodes[b]).cast<double>()};
+    };
     if (ni == 1) {
-      add_triangle(vertex(inside[0], outside[0]), vertex(inside[0], outside[1]),
-                   vertex(inside[0], outside[2]), outward);
+      add_triangle(cut(inside[0], outside[0]), cut(inside[0], outside[1]), cut(inside[0], outside[2]),
+                   outward);
     } else if (no == 1) {
-      add_triangle(vertex(inside[0], outside[0]), vertex(inside[1], outside[0]),
-                   vertex(inside[2], outside[0]), outward);
+      add_triangle(cut(inside[0], outside[0]), cut(inside[1], outside[0]), cut(inside[2], outside[0]),
+                   outward);
     } else {
       // Two inside (a, b), two outside (c, d): the cut is the quad a-c, a-d, b-d, b-c.
-      const int q0 = vertex(inside[0], outside[0]), q1 = vertex(inside[0], outside[1]),
-                q2 = vertex(inside[1], outside[1]), q3 = vertex(inside[1], outside[0]);
+      const Cut q0 = cut(inside[0], outside[0]), q1 = cut(inside[0], outside[1]),
+                q2 = cut(inside[1], outside[1]), q3 = cut(inside[1], outside[0]);
       add_triangle(q0, q1, q2, outward);
       add_triangle(q0, q2, q3, outward);
     }
@@ -72,7 +83,9 @@ class SurfaceBuilder {
     const std::int64_t key = node * 8 + (dir.x() | (dir.y() << 1) | (dir.z() << 2));
     const auto [it, inserted] = vertices_.try_emplace(key, static_cast<int>(mesh_.vertices.size()));
     if (inserted) {
-      const double t = (iso_ - fa) / (fb - fa);
+      // Kept off the end nodes so that cuts of different edges never coincide
+      // (f exactly at the isovalue on a node would give zero-area faces).
+      const double t = std::clamp((iso_ - fa) / (fb - fa), 1e-4, 1.0 - 1e-4);
       const Eigen::Vector3d pa = f_.geometry.position(a.x(), a.y(), a.z());
       const Eigen::Vector3d pb = f_.geometry.position(b.x(), b.y(), b.z());
       mesh_.vertices.push_back((pa + t * (pb - pa)).cast<float>());
@@ -80,13 +93,15 @@ class SurfaceBuilder {
     return it->second;
   }
 
-  void add_triangle(int a, int b, int c, const Eigen::Vector3d& outward) {
-    if (a == b || b == c || a == c) return;
-    const Eigen::Vector3d pa = mesh_.vertices[a].cast<double>();
-    const Eigen::Vector3d n = (mesh_.vertices[b].cast<double>() - pa)
-                                  .cross(mesh_.vertices[c].cast<double>() - pa);
-    if (n.dot(outward) < 0.0) std::swap(b, c);
-    mesh_.faces.emplace_back(a, b, c);
+  template <typename Cut>
+  void add_triangle(const Cut& a, const Cut& b, const Cut& c, const Eigen::Vector3d& outward) {
+    if (a.vertex == b.vertex || b.vertex == c.vertex || a.vertex == c.vertex) return;
+    const Eigen::Vector3d n = (b.midpoint - a.midpoint).cross(c.midpoint - a.midpoint);
+    if (n.dot(outward) < 0.0) {
+      mesh_.faces.emplace_back(a.vertex, c.vertex, b.vertex);
+    } else {
+      mesh_.faces.emplace_back(a.vertex, b.vertex, c.vertex);
+    }
   }
 
   const ScalarGrid& f_;

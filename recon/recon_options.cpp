@@ -17,6 +17,9 @@ void ReconOptions::validate() const {
   if (!(solver.tolerance > 0.0 && solver.tolerance < 1.0)) {
     throw ConfigError("recon.solver.tolerance", "must be in (0, 1)");
   }
+  if (direction_filter_passes < 0 || direction_filter_passes > 100) {
+    throw ConfigError("recon.direction_filter_passes", "must be in [0, 100]");
+  }
   if (solver.max_iterations < 1) throw ConfigError("recon.solver.max_iterations", "must be >= 1");
   if (trim.distance_voxels <= 0.0) throw ConfigError("recon.trim.distance_voxels", "must be > 0");
 }
@@ -38,6 +41,10 @@ void register_options(OptionSet& set, ReconOptions& o) {
           2.0);
   set.add("filter_passes", o.filter_passes, "box filter passes smoothing the orientation field",
           0, 10);
+  set.add("uniform_flux", o.uniform_flux,
+          "field magnitude from the sample density, direction from the orientations");
+  set.add("direction_filter_passes", o.direction_filter_passes,
+          "box filter passes for the orientations' directions (with uniform_flux)", 0, 100);
   set.add("use_confidence", o.use_confidence, "weight orientations by the points' confidence");
   set.add("solver.tolerance", o.solver.tolerance, "relative residual the solver must reach", 1e-12,
           0.5);

@@ -47,6 +47,13 @@ struct ReconOptions {
   double margin = 0.1;         // domain margin as a fraction of the points' longest extent
   int filter_passes = 3;       // box filter passes approximating a Gaussian (sec. 4.1)
   bool use_confidence = true;  // weight each orientation by the point's confidence
+  // Field magnitude from the sample density, direction from the smoothed
+  // orientations (see use_density_magnitude): robust to coarse orientations.
+  bool uniform_flux = true;
+  // Box filter passes for the orientations' directions when uniform_flux is
+  // on: wider than the density's, so coarse per-scan orientations blend into
+  // a smooth direction field while the flux stays concentrated at the samples.
+  int direction_filter_passes = 12;
   SolverOptions solver;
   TrimOptions trim;
   int threads = 0;  // OpenMP threads; 0 = all cores

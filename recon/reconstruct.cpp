@@ -121,7 +121,12 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
                                grid.dims.z(), ", voxel ", grid.spacing, ", ", points.size(),
                                " samples"));
   VectorGrid field = splat_normals(grid, points, normals, weights);
-  box_filter(field, options.filter_passes);
+  box_filter(field, options.uniform_flux ? options.direction_filter_passes : options.filter_passes);
+  if (options.uniform_flux) {
+    std::vector<double> density = splat_density(grid, points, weights);
+    box_filter(grid, density, options.filter_passes);
+    use_density_magnitude(field, density);
+  }
   normalize_field(field, points, options.filter_passes);
   ScalarGrid rhs = divergence(field);
   field = VectorGrid{};

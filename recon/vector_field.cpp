@@ -51,11 +51,43 @@ VectorGrid splat_normals(const GridGeometry& geometry, const std::vector<Eigen::
   return field;
 }
 
-void box_filter(VectorGrid& field, int passes) {
+void box_filter(const GridGeometry& geometry, std::vector<double>& values, int passes) {
   for (int pass = 0; pass < passes; ++pass) {
-    for (auto& c : field.components) {
-      for (int axis = 0; axis < 3; ++axis) box_filter_axis(field.geometry, c, axis);
+    for (int axis = 0; axis < 3; ++axis) box_filter_axis(geometry, values, axis);
+  }
+}
+
+void box_filter(VectorGrid& field, int passes) {
+  for (auto& c : field.components) box_filter(field.geometry, c, passes);
+}
+
+std::vector<double> splat_density(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+                                  const std::vector<float>& weights) {
+  std::vector<double> density(geometry.num_nodes(), 0.0);
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    const double w = weights.empty() ? 1.0 : weights[p];
+    const TrilinearStencil s = trilinear_stencil(geometry, points[p].cast<double>());
+    for (int oz = 0; oz < 2; ++oz) {
+      for (int oy = 0; oy < 2; ++oy) {
+        for (int ox = 0; ox < 2; ++ox) {
+          const int i = s.corner.x() + ox, j = s.corner.y() + oy, k = s.corner.z() + oz;
+          if (geometry.contains(i, j, k)) density[geometry.index(i, j, k)] += w * s.weight(ox, oy, oz);
+        }
+      }
     }
+  }
+  return density;
+}
+
+void use_density_magnitude(VectorGrid& field, const std::vector<double>& density) {
+  const std::int64_t n = field.geometry.num_nodes();
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d f(field.components[0][i], field.components[1][i], field.components[2][i]);
+    const double len = f.norm();
+    // Where opposite orientations cancel (thin parts), keep the field as is.
+    const double scale = len > 1e-3 * density[i] ? density[i] / len : 1.0;
+    for (int a = 0; a < 3; ++a) field.components[a][i] *= scale;
   }
 }
 

@@ -21,8 +21,21 @@ VectorGrid splat_normals(const GridGeometry& geometry, const std::vector<Eigen::
                          const std::vector<Eigen::Vector3f>& normals,
                          const std::vector<float>& weights);
 
+// Replaces the magnitude of the smoothed field by the smoothed sample density
+// (density: the splat of the weights, filtered the same way). Coarse
+// orientations (one per scan) then still carry a uniform flux across the
+// surface: only their smoothed direction is used. Without it, the flux drops
+// with the cosine of the orientation error and the isosurface moves within
+// the transition band where orientations are poor.
+void use_density_magnitude(VectorGrid& field, const std::vector<double>& density);
+
+// Splats the weights (1 per point if empty) as a scalar density.
+std::vector<double> splat_density(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+                                  const std::vector<float>& weights);
+
 // Applies the 3-tap box filter [1 1 1]/3 along x, y and z, passes times.
 void box_filter(VectorGrid& field, int passes);
+void box_filter(const GridGeometry& geometry, std::vector<double>& values, int passes);
 
 // Scales F so that integrating it across the surface gives a jump of about
 // one in f: mean |F| at the samples times the filter's width becomes 1.

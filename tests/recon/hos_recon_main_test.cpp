@@ -1,0 +1,78 @@
+// The hos-recon executable: a good run, and bad inputs with their exit codes.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "core/exit_codes.h"
+#include "core/ply_io.h"
+#include "tests/recon/shape_samples.h"
+#include "tests/support/test_support.h"
+
+namespace hos::recon {
+namespace {
+
+using hos::testing::run_command;
+using hos::testing::shell_quote;
+
+int run_recon(const std::string& args, const hos::testing::TempDir& dir) {
+  return run_command(shell_quote((hos::testing::bin_dir() / "hos-recon").string()) +
+                         " --progress none " + args,
+                     dir / "log.txt");
+}
+
+std::string log_of(const hos::testing::TempDir& dir) {
+  std::ifstream in(dir / "log.txt");
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(HosRecon, ReconstructsASphereFile) {
+  hos::testing::TempDir dir;
+  write_point_cloud_ply(dir / "points.ply", testing::sample_sphere(20000, 1.0, 0.002, 1));
+  ASSERT_EQ(run_recon("--input " + (dir / "points.ply").string() + " --output " +
+                          (dir / "mesh.ply").string() + " --resolution 32",
+                      dir),
+            kExitSuccess)
+      << log_of(dir);
+  const TriangleMesh mesh = read_mesh_ply(dir / "mesh.ply");
+  EXPECT_TRUE(testing::analyze_topology(mesh).watertight());
+  for (const auto& v : mesh.vertices) EXPECT_NEAR(v.norm(), 1.0, 0.08);
+}
+
+TEST(HosRecon, BadInputsGetAClearMessageAndExitCode) {
+  hos::testing::TempDir dir;
+  const std::string out = " --output " + (dir / "mesh.ply").string();
+  EXPECT_EQ(run_recon("--input " + (dir / "missing.ply").string() + out, dir), kExitBadInput);
+  EXPECT_NE(log_of(dir).find("missing.ply"), std::string::npos);
+
+  PointCloud unoriented = testing::sample_sphere(1000, 1.0, 0.0, 2);
+  unoriented.normals.clear();
+  write_point_cloud_ply(dir / "unoriented.ply", unoriented);
+  EXPECT_EQ(run_recon("--input " + (dir / "unoriented.ply").string() + out, dir), kExitBadInput);
+  EXPECT_NE(log_of(dir).find("no normals"), std::string::npos);
+  // The same points oriented from a scanner position inside reconstruct
+  // (inward normals, so the surface is still found).
+  EXPECT_EQ(run_recon("--input " + (dir / "unoriented.ply").string() + out +
+                          " --resolution 16 --scanner-pos 0,0,0",
+                      dir),
+            kExitSuccess)
+      << log_of(dir);
+
+  PointCloud one;
+  one.positions = {Eigen::Vector3f(0, 0, 0)};
+  one.normals = {Eigen::Vector3f(0, 0, 1)};
+  write_point_cloud_ply(dir / "one.ply", one);
+  EXPECT_EQ(run_recon("--input " + (dir / "one.ply").string() + out, dir), kExitBadInput);
+
+  std::ofstream(dir / "garbage.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n";
+  EXPECT_EQ(run_recon("--input " + (dir / "garbage.ply").string() + out, dir), kExitBadInput);
+  EXPECT_NE(log_of(dir).find("garbage.ply"), std::string::npos);
+
+  EXPECT_EQ(run_recon("--input a.ply", dir), kExitUsage);
+  EXPECT_EQ(run_recon("--input " + (dir / "one.ply").string() + out + " --set recon.lamda=1", dir),
+            kExitUsage);
+  EXPECT_NE(log_of(dir).find("lambda"), std::string::npos) << "closest valid key";
+  EXPECT_FALSE(std::filesystem::exists(dir / "mesh.ply.tmp"));
+}
+
+}  // namespace
+}  // namespace hos::recon

@@ -1,0 +1,122 @@
+// recon/multigrid.*: convergence, agreement with a direct sparse solve, and
+// independence of the number of levels.
+#include "recon/multigrid.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/SparseCholesky>
+#include <random>
+
+namespace hos::recon {
+namespace {
+
+GridGeometry small_grid(int n) {
+  GridGeometry g;
+  g.dims = Eigen::Vector3i::Constant(n);
+  g.spacing = 1.0 / (n + 1);
+  return g;
+}
+
+std::vector<double> random_vector(std::size_t n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g;
+  std::vector<double> v(n);
+  for (double& x : v) x = g(rng);
+  return v;
+}
+
+// The operator as an explicit sparse matrix, column by column.
+Eigen::SparseMatrix<double> assemble(const EnergyOperator& op) {
+  const std::int64_t n = op.geometry().num_nodes();
+  std::vector<Eigen::Triplet<double>> entries;
+  std::vector<double> e(n, 0.0), col;
+  for (std::int64_t j = 0; j < n; ++j) {
+    e[j] = 1.0;
+    op.apply(e, col);
+    e[j] = 0.0;
+    for (std::int64_t i = 0; i < n; ++i) {
+      if (col[i] != 0.0) entries.emplace_back(i, j, col[i]);
+    }
+  }
+  Eigen::SparseMatrix<double> a(n, n);
+  a.setFromTriplets(entries.begin(), entries.end());
+  return a;
+}
+
+class SolverForEnergy : public ::testing::TestWithParam<SmoothnessEnergy> {};
+
+TEST_P(SolverForEnergy, MatchesDirectSparseSolve) {
+  const GridGeometry g = small_grid(11);
+  const EnergyOperator op(g, GetParam(), 0.05 * 0.05);
+  const std::vector<double> b = random_vector(g.num_nodes(), 1);
+  SolverOptions options;
+  options.tolerance = 1e-10;
+  std::vector<double> x;
+  const SolveReport report = solve_linear_system(op, b, x, options, null_reporter());
+  ASSERT_TRUE(report.converged);
+
+  const Eigen::SparseMatrix<double> a = assemble(op);
+  EXPECT_LT((Eigen::MatrixXd(a) - Eigen::MatrixXd(a).transpose()).norm(), 1e-9 * a.norm())
+      << "the operator must be symmetric";
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> direct(a);
+  ASSERT_EQ(direct.info(), Eigen::Success) << "the operator must be positive definite";
+  const Eigen::VectorXd xd = direct.solve(Eigen::Map<const Eigen::VectorXd>(b.data(), b.size()));
+  const Eigen::Map<const Eigen::VectorXd> xm(x.data(), x.size());
+  EXPECT_LT((xm - xd).norm() / xd.norm(), 1e-8);
+}
+
+TEST_P(SolverForEnergy, ReachesToleranceAndIsIndependentOfLevelCount) {
+  const GridGeometry g = small_grid(23);
+  const EnergyOperator op(g, GetParam(), 0.03 * 0.03);
+  const std::vector<double> b = random_vector(g.num_nodes(), 2);
+  std::vector<std::vector<double>> solutions;
+  for (int levels : {1, 2, 3}) {
+    SolverOptions options;
+    options.tolerance = 1e-9;
+    options.max_levels = levels;
+    options.max_iterations = 5000;
+    std::vector<double> x;
+    const SolveReport report = solve_linear_system(op, b, x, options, null_reporter());
+    EXPECT_TRUE(report.converged) << levels << " levels: residual " << report.relative_residual;
+    EXPECT_EQ(report.levels, levels);
+    // The true residual, recomputed, meets the tolerance.
+    std::vector<double> ax;
+    op.apply(x, ax);
+    double r2 = 0.0, b2 = 0.0;
+    for (std::size_t i = 0; i < b.size(); ++i) r2 += (b[i] - ax[i]) * (b[i] - ax[i]), b2 += b[i] * b[i];
+    EXPECT_LT(std::sqrt(r2 / b2), 2e-9);
+    solutions.push_back(x);
+  }
+  for (std::size_t s = 1; s < solutions.size(); ++s) {
+    double diff = 0.0, norm = 0.0;
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      diff += std::pow(solutions[s][i] - solutions[0][i], 2);
+      norm += solutions[0][i] * solutions[0][i];
+    }
+    EXPECT_LT(std::sqrt(diff / norm), 1e-7);
+  }
+}
+
+TEST(Multigrid, PreconditionerCutsIterationsAgainstJacobi) {
+  const GridGeometry g = small_grid(47);
+  const EnergyOperator op(g, SmoothnessEnergy::kFullHessian, 0.02 * 0.02);
+  const std::vector<double> b = random_vector(g.num_nodes(), 3);
+  SolverOptions mg, jacobi;
+  mg.tolerance = jacobi.tolerance = 1e-6;
+  jacobi.multigrid = false;
+  jacobi.max_iterations = mg.max_iterations = 3000;
+  std::vector<double> x1, x2;
+  const SolveReport with_mg = solve_linear_system(op, b, x1, mg, null_reporter());
+  const SolveReport without = solve_linear_system(op, b, x2, jacobi, null_reporter());
+  ASSERT_TRUE(with_mg.converged);
+  EXPECT_LT(with_mg.iterations * 4, without.iterations)
+      << with_mg.iterations << " vs " << without.iterations;
+  EXPECT_LE(with_mg.iterations, 40);
+}
+
+INSTANTIATE_TEST_SUITE_P(Energies, SolverForEnergy,
+                         ::testing::Values(SmoothnessEnergy::kMembrane, SmoothnessEnergy::kPureSecond,
+                                           SmoothnessEnergy::kFullHessian));
+
+}  // namespace
+}  // namespace hos::recon

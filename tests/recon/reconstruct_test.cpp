@@ -1,0 +1,171 @@
+// End-to-end accuracy of recon/reconstruct.* on analytic shapes.
+#include "recon/reconstruct.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.h"
+#include "tests/recon/shape_samples.h"
+
+namespace hos::recon {
+namespace {
+
+using testing::analyze_topology;
+
+ReconOptions options_at(int resolution, SmoothnessEnergy energy = SmoothnessEnergy::kFullHessian) {
+  ReconOptions o;
+  o.resolution = resolution;
+  o.energy = energy;
+  return o;
+}
+
+struct RadialError {
+  double mean = 0.0, max = 0.0;
+};
+RadialError sphere_error(const TriangleMesh& mesh, double radius) {
+  RadialError e;
+  for (const auto& v : mesh.vertices) {
+    const double d = std::abs(v.cast<double>().norm() - radius);
+    e.mean += d;
+    e.max = std::max(e.max, d);
+  }
+  e.mean /= static_cast<double>(mesh.num_vertices());
+  return e;
+}
+
+// Closed shapes: watertight, manifold, consistently oriented outward, one piece.
+void expect_closed_surface(const TriangleMesh& mesh, long euler) {
+  const auto t = analyze_topology(mesh);
+  EXPECT_TRUE(t.watertight()) << t.boundary_edges << " boundary, " << t.nonmanifold_edges
+                              << " non-manifold edges";
+  EXPECT_EQ(t.misoriented_edges, 0u);
+  EXPECT_EQ(t.components, 1);
+  EXPECT_EQ(t.euler(), euler);
+  EXPECT_GT(testing::signed_volume(mesh), 0.0) << "faces must be counter-clockwise from outside";
+}
+
+TEST(ReconstructSurface, NoisySphereIsAccurateAndClosedForEveryQuadraticEnergy) {
+  const PointCloud points = testing::sample_sphere(40000, 1.0, 0.002, 1);
+  for (auto energy : {SmoothnessEnergy::kMembrane, SmoothnessEnergy::kPureSecond,
+                      SmoothnessEnergy::kFullHessian}) {
+    const ReconResult r = reconstruct_surface(points, options_at(48, energy), null_reporter());
+    const double h = r.stats.voxel_size;
+    const RadialError e = sphere_error(r.mesh, 1.0);
+    SCOPED_TRACE(static_cast<int>(energy));
+    // Bounds: mean distance a quarter voxel, worst vertex one voxel.
+    EXPECT_LT(e.mean, 0.25 * h);
+    EXPECT_LT(e.max, 1.0 * h);
+    EXPECT_TRUE(r.stats.relative_residual <= 1e-6);
+    expect_closed_surface(r.mesh, 2);
+  }
+}
+
+TEST(ReconstructSurface, SphereFromSixScanDirectionsStaysWithinTheSameBound) {
+  PointCloud points = testing::sample_sphere(40000, 1.0, 0.002, 2);
+  testing::coarsen_to_axis_directions(points);
+  const ReconResult r = reconstruct_surface(points, options_at(48), null_reporter());
+  const RadialError e = sphere_error(r.mesh, 1.0);
+  // Six orientations pull the sphere towards a cube; the direction smoothing
+  // (recon.direction_filter_passes) limits that. Measured at 48^3: mean 0.61,
+  // max 1.75 voxels, versus 0.011 and 0.05 with exact normals. The issue asks
+  // for the exact-normal bound; this falls short of it (see docs/recon.md).
+  EXPECT_LT(e.mean, 0.75 * r.stats.voxel_size);
+  EXPECT_LT(e.max, 2.0 * r.stats.voxel_size);
+  expect_closed_surface(r.mesh, 2);
+}
+
+TEST(ReconstructSurface, TorusHasGenusOne) {
+  const PointCloud points = testing::sample_torus(40000, 1.0, 0.35, 0.002, 3);
+  const ReconResult r = reconstruct_surface(points, options_at(64), null_reporter());
+  expect_closed_surface(r.mesh, 0);
+  double mean = 0.0;
+  for (const auto& v : r.mesh.vertices) {
+    const Eigen::Vector3d p = v.cast<double>();
+    const double ring = std::hypot(p.x(), p.y()) - 1.0;
+    mean += std::abs(std::hypot(ring, p.z()) - 0.35);
+  }
+  mean /= static_cast<double>(r.mesh.num_vertices());
+  EXPECT_LT(mean, 0.25 * r.stats.voxel_size);
+}
+
+TEST(ReconstructSurface, RoundedBoxIsClosedAndClose) {
+  const double a = 1.0, rad = 0.25;
+  const PointCloud points = testing::sample_rounded_box(60000, a, rad, 0.002, 4);
+  const ReconResult r = reconstruct_surface(points, options_at(48), null_reporter());
+  expect_closed_surface(r.mesh, 2);
+  double mean = 0.0;
+  for (const auto& v : r.mesh.vertices) {
+    const Eigen::Vector3d p = v.cast<double>();
+    const Eigen::Vector3d core = p.cwiseMax(-(a - rad)).cwiseMin(a - rad);
+    mean += std::abs((p - core).norm() - rad);
+  }
+  mean /= static_cast<double>(r.mesh.num_vertices());
+  EXPECT_LT(mean, 0.35 * r.stats.voxel_size);
+}
+
+TEST(ReconstructSurface, OpenPlanePatchIsTrimmedToTheData) {
+  const PointCloud points = testing::sample_plane_patch(20000, 1.0, 0.002, 5);
+  const ReconResult r = reconstruct_surface(points, options_at(48), null_reporter());
+  const auto t = analyze_topology(r.mesh);
+  EXPECT_GT(t.boundary_edges, 0u) << "an open patch must stay open after trimming";
+  EXPECT_EQ(t.nonmanifold_edges, 0u);
+  double max_z = 0.0, max_xy = 0.0;
+  for (const auto& v : r.mesh.vertices) {
+    max_z = std::max(max_z, double(std::abs(v.z())));
+    max_xy = std::max(max_xy, double(v.head<2>().cwiseAbs().maxCoeff()));
+  }
+  // The sheet lies on the plane and does not extend beyond the samples by
+  // more than the trim distance.
+  EXPECT_LT(max_z, 1.0 * r.stats.voxel_size);
+  EXPECT_LT(max_xy, 1.0 + 3.5 * r.stats.voxel_size);
+}
+
+TEST(ReconstructSurface, TotalVariationIsPiecewiseFlatterThanMembrane) {
+  const PointCloud points = testing::sample_sphere(20000, 1.0, 0.002, 6);
+  const ReconResult membrane =
+      reconstruct_surface(points, options_at(32, SmoothnessEnergy::kMembrane), null_reporter());
+  ReconOptions tv = options_at(32, SmoothnessEnergy::kTotalVariation);
+  tv.lambda = 1.0;
+  const ReconResult r = reconstruct_surface(points, tv, null_reporter());
+  // Fraction of grid nodes whose gradient is (numerically) flat, relative to
+  // the function's range: TV drives gradients to exactly zero, the membrane
+  // energy spreads them.
+  const auto flat_fraction = [](const ScalarGrid& f) {
+    double lo = 1e300, hi = -1e300;
+    for (double v : f.values) lo = std::min(lo, v), hi = std::max(hi, v);
+    const Eigen::Vector3i d = f.geometry.dims;
+    std::size_t flat = 0;
+    for (int k = 0; k < d.z(); ++k)
+      for (int j = 0; j < d.y(); ++j)
+        for (int i = 0; i < d.x(); ++i) {
+          const double g = std::abs(f.at(i + 1, j, k) - f.at(i - 1, j, k)) +
+                           std::abs(f.at(i, j + 1, k) - f.at(i, j - 1, k)) +
+                           std::abs(f.at(i, j, k + 1) - f.at(i, j, k - 1));
+          if (g < 1e-3 * (hi - lo)) ++flat;
+        }
+    return static_cast<double>(flat) / static_cast<double>(f.values.size());
+  };
+  const double flat_tv = flat_fraction(r.function), flat_membrane = flat_fraction(membrane.function);
+  EXPECT_GT(flat_tv, flat_membrane + 0.1) << "TV " << flat_tv << " membrane " << flat_membrane;
+  expect_closed_surface(r.mesh, 2);
+  EXPECT_LT(sphere_error(r.mesh, 1.0).mean, 0.5 * r.stats.voxel_size);
+}
+
+TEST(ReconstructSurface, RejectsUnusablePoints) {
+  PointCloud none;
+  EXPECT_THROW(reconstruct_surface(none, ReconOptions{}, null_reporter()), InputError);
+  PointCloud unoriented = testing::sample_sphere(100, 1.0, 0.0, 7);
+  unoriented.normals.clear();
+  EXPECT_THROW(reconstruct_surface(unoriented, ReconOptions{}, null_reporter()), InputError);
+  PointCloud zero = testing::sample_sphere(100, 1.0, 0.0, 7);
+  for (auto& n : zero.normals) n.setZero();
+  EXPECT_THROW(reconstruct_surface(zero, ReconOptions{}, null_reporter()), InputError);
+  ReconOptions bad;
+  bad.lambda = -1.0;
+  EXPECT_THROW(reconstruct_surface(testing::sample_sphere(100, 1.0, 0.0, 7), bad, null_reporter()),
+               ConfigError);
+}
+
+}  // namespace
+}  // namespace hos::recon
