@@ -27,7 +27,7 @@ struct TextureOptions {
   // angle; Potts smoothness with this weight; alpha-expansion sweeps.
   double smoothness = 0.5;
   double gradient_floor = 2.0;
-  int expansion_sweeps = 3;
+  int expansion_sweeps = 3;  // at most; stops once fewer than 1% of the faces change
 
   // Photo-consistency (Waechter Sec. 4, "outlier removal"): a view whose mean
   // face colour (after exposure compensation) is farther than this (8-bit RGB
