@@ -1,0 +1,302 @@
+#include "synth/dataset.h"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <random>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/colmap_io.h"
+#include "core/error.h"
+#include "core/ply_io.h"
+
+namespace hos {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+ImageRecord look_at(int id, const Eigen::Vector3d& centre, const Eigen::Vector3d& target,
+                    const Eigen::Vector3d& up) {
+  const Eigen::Vector3d z = (target - centre).normalized();
+  const Eigen::Vector3d x = (-up).cross(z).normalized();  // -up is the camera's y (down)
+  const Eigen::Vector3d y = z.cross(x);
+  Eigen::Matrix3d R;
+  R.row(0) = x;
+  R.row(1) = y;
+  R.row(2) = z;
+  ImageRecord image;
+  image.id = id;
+  image.camera_id = 1;
+  image.cam_from_world_rotation = Eigen::Quaterniond(R).normalized();
+  image.cam_from_world_translation = -R * centre;
+  return image;
+}
+
+// Camera centre at the given elevation (above the horizon) and azimuth.
+Eigen::Vector3d ring_position(const Scene& scene, double distance, double elevation, double azimuth) {
+  const Eigen::Vector3d up = scene.up.cast<double>();
+  // Two horizontal axes orthogonal to up.
+  const Eigen::Vector3d a = up.unitOrthogonal();
+  const Eigen::Vector3d b = up.cross(a);
+  const Eigen::Vector3d dir = std::cos(elevation) * (std::cos(azimuth) * a + std::sin(azimuth) * b) +
+                              std::sin(elevation) * up;
+  return scene.centre.cast<double>() + distance * dir;
+}
+
+double camera_distance(const Scene& scene, const DatasetOptions& o, double focal) {
+  const double half_fov = std::atan(0.5 * std::min(o.width, o.height) / focal);
+  return 1.08 * scene.radius / std::sin(half_fov);
+}
+
+double focal_of(const DatasetOptions& o) { return o.focal > 0 ? o.focal : 0.9 * o.width; }
+
+Camera make_camera(const DatasetOptions& o) {
+  const double f = focal_of(o);
+  return Camera::pinhole(1, o.width, o.height, f, f, 0.5 * o.width, 0.5 * o.height);
+}
+
+// Area-weighted random surface points of all objects, with their normals.
+struct SurfaceSampler {
+  std::vector<std::pair<int, int>> faces;  // (object, face)
+  std::vector<double> cumulative;
+  const Scene& scene;
+  explicit SurfaceSampler(const Scene& s) : scene(s) {
+    double total = 0;
+    for (int o = 0; o < static_cast<int>(s.objects.size()); ++o) {
+      const TriangleMesh& m = s.objects[o].mesh;
+      for (int f = 0; f < static_cast<int>(m.faces.size()); ++f) {
+        const Eigen::Vector3i& F = m.faces[f];
+        total += 0.5 * (m.vertices[F[1]] - m.vertices[F[0]]).cross(m.vertices[F[2]] - m.vertices[F[0]]).norm();
+        faces.emplace_back(o, f);
+        cumulative.push_back(total);
+      }
+    }
+  }
+  Eigen::Vector3d sample(std::mt19937& rng) const {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const double r = u(rng) * cumulative.back();
+    const std::size_t i = std::min(faces.size() - 1, static_cast<std::size_t>(
+        std::lower_bound(cumulative.begin(), cumulative.end(), r) - cumulative.begin()));
+    const TriangleMesh& m = scene.objects[faces[i].first].mesh;
+    const Eigen::Vector3i& F = m.faces[faces[i].second];
+    double s = u(rng), t = u(rng);
+    if (s + t > 1) s = 1 - s, t = 1 - t;
+    return (m.vertices[F[0]] + s * (m.vertices[F[1]] - m.vertices[F[0]]) + t * (m.vertices[F[2]] - m.vertices[F[0]]))
+        .cast<double>();
+  }
+};
+
+void add_sparse_points(const Scene& scene, const std::vector<RenderedView>& views, int target,
+                       SparseModel& model) {
+  if (scene.objects.empty() || target <= 0) return;
+  SurfaceSampler sampler(scene);
+  std::mt19937 rng(12345);
+  std::vector<ImageRecord*> images;
+  for (auto& [id, image] : model.images) images.push_back(&image);
+  const Camera& camera = model.cameras.begin()->second;
+  std::int64_t next_id = 1;
+  for (int attempt = 0; attempt < 20 * target && static_cast<int>(model.points.size()) < target; ++attempt) {
+    const Eigen::Vector3d X = sampler.sample(rng);
+    std::vector<std::pair<int, Eigen::Vector2d>> seen;
+    for (std::size_t k = 0; k < images.size(); ++k) {
+      const Eigen::Vector3d xc = images[k]->cam_from_world(X);
+      const auto p = camera.project(xc);
+      if (!p || (*p).x() < 0 || (*p).y() < 0 || (*p).x() >= camera.width || (*p).y() >= camera.height) continue;
+      const float d = views[k].depth.at<float>(static_cast<int>((*p).y()), static_cast<int>((*p).x()));
+      if (d <= 0 || std::abs(d - xc.z()) > 0.01 * xc.z()) continue;
+      seen.emplace_back(static_cast<int>(k), *p);
+    }
+    if (seen.size() < 2) continue;
+    Point3D point;
+    point.id = next_id++;
+    point.xyz = X;
+    const cv::Vec3b c = views[seen[0].first].color.at<cv::Vec3b>(static_cast<int>(seen[0].second.y()),
+                                                                  static_cast<int>(seen[0].second.x()));
+    point.color = {c[2], c[1], c[0]};
+    for (const auto& [k, xy] : seen) {
+      ImageRecord& image = *images[k];
+      point.track.push_back({image.id, static_cast<int>(image.keypoints.size())});
+      image.keypoints.push_back({xy, point.id});
+    }
+    model.points.emplace(point.id, std::move(point));
+  }
+}
+
+TriangleMesh merge_meshes(const Scene& scene, bool with_ground) {
+  TriangleMesh out;
+  for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+    if (scene.is_ground[o] && !with_ground) continue;
+    const TriangleMesh& m = scene.objects[o].mesh;
+    const int offset = static_cast<int>(out.vertices.size());
+    out.vertices.insert(out.vertices.end(), m.vertices.begin(), m.vertices.end());
+    out.normals.insert(out.normals.end(), m.normals.begin(), m.normals.end());
+    out.colors.insert(out.colors.end(), m.colors.begin(), m.colors.end());
+    for (const Eigen::Vector3i& f : m.faces) out.faces.push_back(f + Eigen::Vector3i::Constant(offset));
+  }
+  return out;
+}
+
+void write_image(const fs::path& path, const cv::Mat& image) {
+  bool ok = false;
+  try {
+    ok = cv::imwrite(path.string(), image);
+  } catch (const cv::Exception& e) {
+    throw OutputError(path.string(), e.what());
+  }
+  if (!ok) throw OutputError(path.string(), "could not write the image");
+}
+
+nlohmann::json vec_json(const Eigen::Vector3f& v) { return {v.x(), v.y(), v.z()}; }
+
+}  // namespace
+
+std::string view_name(int index, bool jpeg) {
+  std::ostringstream s;
+  s << "view_" << std::setw(3) << std::setfill('0') << index << (jpeg ? ".jpg" : ".png");
+  return s.str();
+}
+
+void DatasetOptions::validate() const {
+  if (num_views < 2) throw ConfigError("views", "at least 2 views are needed");
+  if (width < 16 || height < 16) throw ConfigError("width/height", "images must be at least 16x16");
+  if (rings < 1) throw ConfigError("rings", "must be >= 1");
+  if (focal < 0 || !std::isfinite(focal)) throw ConfigError("focal", "must be >= 0 (0 = 0.9 * width)");
+  if (supersampling < 1 || supersampling > 8) throw ConfigError("supersampling", "must be in 1..8");
+  if (holdout < 0) throw ConfigError("holdout", "must be >= 0");
+  if (num_points < 0) throw ConfigError("num_points", "must be >= 0");
+  if (!exposure_gains.empty() && static_cast<int>(exposure_gains.size()) != num_views)
+    throw ConfigError("exposure_gains", "needs one gain per view");
+  for (const float g : exposure_gains)
+    if (!(g > 0) || !std::isfinite(g)) throw ConfigError("exposure_gains", "gains must be positive");
+}
+
+SparseModel make_cameras(const Scene& scene, const DatasetOptions& o) {
+  o.validate();
+  SparseModel model;
+  const Camera camera = make_camera(o);
+  model.cameras.emplace(1, camera);
+  const double distance = camera_distance(scene, o, focal_of(o));
+  const Eigen::Vector3d target = scene.centre.cast<double>();
+  int id = 1;
+  for (int r = 0; r < o.rings; ++r) {
+    const int count = o.num_views / o.rings + (r < o.num_views % o.rings ? 1 : 0);
+    const double elevation =
+        (o.rings == 1 ? 30.0 : 15.0 + 35.0 * r / (o.rings - 1)) * kPi / 180.0;
+    const double offset = r * kPi / std::max(1, count);  // rings staggered
+    for (int k = 0; k < count; ++k) {
+      const double azimuth = offset + 2 * kPi * k / count;
+      ImageRecord image = look_at(id, ring_position(scene, distance, elevation, azimuth), target,
+                                  scene.up.cast<double>());
+      image.name = view_name(id - 1, o.jpeg);
+      model.images.emplace(id, std::move(image));
+      ++id;
+    }
+  }
+  return model;
+}
+
+RenderedDataset render_dataset(const Scene& scene, const DatasetOptions& o, Reporter& reporter) {
+  o.validate();
+  RenderedDataset data;
+  data.model = make_cameras(scene, o);
+  const Camera& camera = data.model.cameras.at(1);
+  RenderOptions render_options;
+  render_options.supersampling = o.supersampling;
+  reporter.begin("rendering", o.num_views + o.holdout);
+  for (const auto& [id, image] : data.model.images) {
+    reporter.throw_if_cancelled();
+    render_options.exposure_gain = o.exposure_gains.empty() ? 1.0f : o.exposure_gains[id - 1];
+    data.views.push_back(render_view(scene.objects, camera, image, render_options));
+    reporter.advance();
+  }
+  render_options.exposure_gain = 1.0f;
+  data.holdout.cameras.emplace(1, camera);
+  const double distance = camera_distance(scene, o, focal_of(o));
+  for (int k = 0; k < o.holdout; ++k) {
+    reporter.throw_if_cancelled();
+    // Between the rings in elevation and between the views in azimuth.
+    const double azimuth = 2 * kPi * (k + 0.37) / o.holdout;
+    ImageRecord image = look_at(k + 1, ring_position(scene, distance, 27.0 * kPi / 180.0, azimuth),
+                                scene.centre.cast<double>(), scene.up.cast<double>());
+    image.name = view_name(k, o.jpeg);
+    data.holdout_views.push_back(render_view(scene.objects, camera, image, render_options));
+    data.holdout.images.emplace(k + 1, std::move(image));
+    reporter.advance();
+  }
+  reporter.end();
+  add_sparse_points(scene, data.views, o.num_points, data.model);
+  return data;
+}
+
+void write_dataset(const fs::path& folder, const Scene& scene, const SceneOptions& scene_options,
+                   const DatasetOptions& o, Reporter& reporter) {
+  const RenderedDataset data = render_dataset(scene, o, reporter);
+  write_folder_atomically(folder, [&](const fs::path& tmp) {
+    fs::create_directories(tmp / "images");
+    std::size_t i = 0;
+    for (const auto& [id, image] : data.model.images) write_image(tmp / "images" / image.name, data.views[i++].color);
+    write_colmap_model(data.model, tmp / "sparse", ColmapFormat::kText);
+    if (o.write_depth) {
+      fs::create_directories(tmp / "depth");
+      for (std::size_t k = 0; k < data.views.size(); ++k)
+        write_image(tmp / "depth" / (fs::path(view_name(static_cast<int>(k), false)).stem().string() + ".tiff"),
+                    data.views[k].depth);
+    }
+    if (o.holdout > 0) {
+      fs::create_directories(tmp / "holdout" / "images");
+      std::size_t k = 0;
+      for (const auto& [id, image] : data.holdout.images)
+        write_image(tmp / "holdout" / "images" / image.name, data.holdout_views[k++].color);
+      write_colmap_model(data.holdout, tmp / "holdout" / "sparse", ColmapFormat::kText);
+    }
+    write_mesh_ply(tmp / "gt_mesh.ply", merge_meshes(scene, true));
+    write_mesh_ply(tmp / "gt_objects.ply", merge_meshes(scene, false));
+
+    BoundingBox box;
+    nlohmann::json objects = nlohmann::json::array();
+    for (std::size_t k = 0; k < scene.objects.size(); ++k) {
+      BoundingBox b;
+      for (const Eigen::Vector3f& v : scene.objects[k].mesh.vertices) b.extend(v);
+      if (!scene.is_ground[k]) box.extend(b.min), box.extend(b.max);
+      objects.push_back({{"name", scene.names[k]},
+                         {"ground", static_cast<bool>(scene.is_ground[k])},
+                         {"vertices", scene.objects[k].mesh.num_vertices()},
+                         {"faces", scene.objects[k].mesh.num_faces()},
+                         {"bbox_min", vec_json(b.min)},
+                         {"bbox_max", vec_json(b.max)}});
+    }
+    const Lighting lighting;
+    const nlohmann::json json = {
+        {"seed", scene_options.seed},
+        {"scene", scene_options.name},
+        {"ground_plane", scene_options.ground_plane},
+        {"objects", objects},
+        {"bbox_min", vec_json(box.min)},
+        {"bbox_max", vec_json(box.max)},
+        {"diagonal", box.diagonal()},
+        {"centre", vec_json(scene.centre)},
+        {"radius", scene.radius},
+        {"up", vec_json(scene.up)},
+        {"light_direction", vec_json(lighting.direction_to_light.normalized())},
+        {"ambient", lighting.ambient},
+        {"diffuse", lighting.diffuse},
+        {"views", o.num_views},
+        {"holdout", o.holdout},
+        {"width", o.width},
+        {"height", o.height},
+        {"focal", focal_of(o)},
+        {"supersampling", o.supersampling},
+        {"exposure_gains", o.exposure_gains},
+        {"sparse_points", data.model.points.size()}};
+    std::ofstream out(tmp / "scene.json");
+    out << json.dump(2) << "\n";
+    if (!out) throw OutputError((folder / "scene.json").string(), "could not write");
+  });
+}
+
+}  // namespace hos

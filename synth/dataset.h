@@ -1,0 +1,71 @@
+// Rendering a synthetic scene into a dataset with known truth.
+//
+// Output layout of write_dataset (a contract other stages and tests rely on;
+// also in docs/synth.md):
+//   DIR/images/view_000.png ...     the photos (.jpg with jpeg)
+//   DIR/sparse/{cameras,images,points3D}.txt
+//                                   ground-truth COLMAP text model, one PINHOLE
+//                                   camera, so DIR is an undistorted workspace
+//                                   (core/undistorted_workspace.h). points3D
+//                                   holds surface points seen (depth-tested)
+//                                   in >= 2 views, with their keypoints.
+//   DIR/gt_mesh.ply                 every surface (objects and ground), vertex
+//                                   colours = albedo (sRGB)
+//   DIR/gt_objects.ply              the objects only
+//   DIR/depth/view_000.tiff         CV_32F camera z, 0 = empty (write_depth)
+//   DIR/holdout/images, DIR/holdout/sparse
+//                                   held-out views, not in DIR/images (holdout > 0)
+//   DIR/scene.json                  seed, objects, bounding box, diagonal, up
+//                                   axis, light direction
+// World up is -y. The folder is written atomically (a temporary folder
+// renamed over DIR), so a half-written DIR never looks finished.
+#pragma once
+
+#include <filesystem>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "core/reporter.h"
+#include "core/sparse_model.h"
+#include "render/rasterizer.h"
+#include "synth/scene.h"
+
+namespace hos {
+
+struct DatasetOptions {
+  int num_views = 24;
+  int width = 640;
+  int height = 480;
+  int rings = 2;          // elevation rings the views are spread over
+  double focal = 0.0;     // pixels; 0 = 0.9 * width
+  bool jpeg = false;
+  bool write_depth = false;
+  int supersampling = 2;
+  int holdout = 0;        // extra views for novel-view checks
+  int num_points = 3000;  // target size of the sparse ground-truth model
+  // Per-view exposure gains (empty = all 1, else num_views entries).
+  std::vector<float> exposure_gains;
+  void validate() const;  // throws ConfigError
+};
+
+struct RenderedDataset {
+  SparseModel model;             // cameras, poses, ground-truth sparse points
+  SparseModel holdout;           // held-out views (no points)
+  std::vector<RenderedView> views;
+  std::vector<RenderedView> holdout_views;
+};
+
+// The camera poses: rings around the scene centre, looking at it, objects in frame.
+SparseModel make_cameras(const Scene& scene, const DatasetOptions& options);
+
+RenderedDataset render_dataset(const Scene& scene, const DatasetOptions& options,
+                               Reporter& reporter = null_reporter());
+
+// Renders and writes the layout above. Throws OutputError.
+void write_dataset(const std::filesystem::path& folder, const Scene& scene, const SceneOptions& scene_options,
+                   const DatasetOptions& options, Reporter& reporter = null_reporter());
+
+// The file name of view i ("view_007.png").
+std::string view_name(int index, bool jpeg);
+
+}  // namespace hos
