@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "core/error.h"
+#include "pipeline/driver/pipeline_config.h"
 #include "tests/support/test_support.h"
 
 namespace hos {
@@ -133,6 +134,14 @@ TEST_F(DriverTest, ChangedOptionRerunsThatStageAndLaterOnes) {
   run();
   options_.assignments = {"sfm.max_num_features=5000"};
   EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "texture"));
+  EXPECT_TRUE(run().empty());
+}
+
+TEST_F(DriverTest, ChangedReconLambdaRerunsReconAndTextureOnly) {
+  if (!PipelineConfig().has_stage("recon")) GTEST_SKIP() << "the recon stage is not part of this build";
+  run();
+  options_.assignments = {"recon.lambda=0.25"};
+  EXPECT_THAT(run(), ElementsAre("recon", "texture"));
   EXPECT_TRUE(run().empty());
 }
 
