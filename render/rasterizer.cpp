@@ -17,7 +17,7 @@
 namespace hos {
 namespace {
 
-constexpr float kNear = 1e-4f;
+constexpr double kNear = 1e-4;
 
 float srgb_to_linear(float c) {
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
@@ -38,15 +38,16 @@ const std::array<float, 256>& srgb_decode_table() {
 }
 
 // A triangle after near-plane clipping: pixel-space (scaled) positions, 1/z,
-// and the barycentrics of its corners in the ORIGINAL face, so interpolation
+// (double: a clipped vertex near the camera projects far outside the image,
+// and float edge functions lose the interior's precision), and the barycentrics of its corners in the ORIGINAL face, so interpolation
 // stays in terms of the original vertices' attributes.
 struct ScreenTriangle {
-  std::array<Eigen::Vector2f, 3> p;
-  std::array<float, 3> inv_z;
-  std::array<Eigen::Vector3f, 3> bary;
+  std::array<Eigen::Vector2d, 3> p;
+  std::array<double, 3> inv_z;
+  std::array<Eigen::Vector3d, 3> bary;
   int face = 0;    // global face index
   int object = 0;
-  float xmin, xmax, ymin, ymax;
+  double xmin, xmax, ymin, ymax;
 };
 
 struct CameraFrame {
@@ -67,12 +68,12 @@ struct SampleBuffer {
 void clip_and_project(const std::array<Eigen::Vector3f, 3>& cam, const CameraFrame& frame, float scale,
                       int face, int object, std::vector<ScreenTriangle>& out) {
   struct ClipVertex {
-    Eigen::Vector3f x;
-    Eigen::Vector3f b;
+    Eigen::Vector3d x;
+    Eigen::Vector3d b;
   };
-  std::array<ClipVertex, 3> in{{{cam[0], Eigen::Vector3f(1, 0, 0)},
-                                {cam[1], Eigen::Vector3f(0, 1, 0)},
-                                {cam[2], Eigen::Vector3f(0, 0, 1)}}};
+  std::array<ClipVertex, 3> in{{{cam[0].cast<double>(), Eigen::Vector3d(1, 0, 0)},
+                                {cam[1].cast<double>(), Eigen::Vector3d(0, 1, 0)},
+                                {cam[2].cast<double>(), Eigen::Vector3d(0, 0, 1)}}};
   std::vector<ClipVertex> poly;
   poly.reserve(4);
   for (int i = 0; i < 3; ++i) {
@@ -82,13 +83,13 @@ void clip_and_project(const std::array<Eigen::Vector3f, 3>& cam, const CameraFra
     const bool b_in = b.x.z() >= kNear;
     if (a_in) poly.push_back(a);
     if (a_in != b_in) {
-      const float s = (kNear - a.x.z()) / (b.x.z() - a.x.z());
+      const double s = (kNear - a.x.z()) / (b.x.z() - a.x.z());
       poly.push_back({a.x + s * (b.x - a.x), a.b + s * (b.b - a.b)});
     }
   }
   if (poly.size() < 3) return;
   auto project = [&](const ClipVertex& v) {
-    return Eigen::Vector2f((frame.fx * v.x.x() / v.x.z() + frame.cx) * scale,
+    return Eigen::Vector2d((frame.fx * v.x.x() / v.x.z() + frame.cx) * scale,
                            (frame.fy * v.x.y() / v.x.z() + frame.cy) * scale);
   };
   for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
@@ -152,35 +153,35 @@ SampleBuffer rasterize(const std::vector<ScreenTriangle>& tris, int width, int h
     const int y1 = std::min(height, y0 + band_height);
     for (const ScreenTriangle& t : tris) {
       if (t.ymax < y0 || t.ymin > y1) continue;
-      const Eigen::Vector2f &a = t.p[0], &b = t.p[1], &c = t.p[2];
-      const float area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
-      if (std::abs(area) < 1e-12f) continue;
-      const int xs = std::max(0, static_cast<int>(std::ceil(t.xmin - 0.5f)));
-      const int xe = std::min(width - 1, static_cast<int>(std::floor(t.xmax - 0.5f)));
-      const int ys = std::max(y0, static_cast<int>(std::ceil(t.ymin - 0.5f)));
-      const int ye = std::min(y1 - 1, static_cast<int>(std::floor(t.ymax - 0.5f)));
-      const float inv_area = 1.0f / area;
+      const Eigen::Vector2d &a = t.p[0], &b = t.p[1], &c = t.p[2];
+      const double area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+      if (std::abs(area) < 1e-12) continue;
+      const int xs = static_cast<int>(std::max(0.0, std::ceil(t.xmin - 0.5)));
+      const int xe = static_cast<int>(std::min(width - 1.0, std::floor(t.xmax - 0.5)));
+      const int ys = static_cast<int>(std::max<double>(y0, std::ceil(t.ymin - 0.5)));
+      const int ye = static_cast<int>(std::min<double>(y1 - 1, std::floor(t.ymax - 0.5)));
+      const double inv_area = 1.0 / area;
       for (int y = ys; y <= ye; ++y) {
-        const float py = y + 0.5f;
+        const double py = y + 0.5;
         for (int x = xs; x <= xe; ++x) {
-          const float px = x + 0.5f;
+          const double px = x + 0.5;
           // Edge functions; the same sign as the area means inside. Ties on
           // a shared edge go to both triangles; the z test decides.
-          float w0 = ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) * inv_area;
-          float w1 = ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) * inv_area;
-          float w2 = 1.0f - w0 - w1;
+          const double w0 = ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) * inv_area;
+          const double w1 = ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) * inv_area;
+          const double w2 = 1.0 - w0 - w1;
           if (w0 < 0 || w1 < 0 || w2 < 0) continue;
           // Perspective-correct: 1/z and attribute/z are affine in screen space.
-          const float iz = w0 * t.inv_z[0] + w1 * t.inv_z[1] + w2 * t.inv_z[2];
+          const double iz = w0 * t.inv_z[0] + w1 * t.inv_z[1] + w2 * t.inv_z[2];
           if (!(iz > 0)) continue;
-          const float z = 1.0f / iz;
+          const float z = static_cast<float>(1.0 / iz);
           const std::size_t idx = static_cast<std::size_t>(y) * width + x;
           if (z >= buf.z[idx]) continue;
           buf.z[idx] = z;
           buf.face[idx] = t.face;
           buf.object[idx] = t.object;
-          buf.bary[idx] = (w0 * t.inv_z[0] * t.bary[0] + w1 * t.inv_z[1] * t.bary[1] +
-                           w2 * t.inv_z[2] * t.bary[2]) * z;
+          buf.bary[idx] = ((w0 * t.inv_z[0] * t.bary[0] + w1 * t.inv_z[1] * t.bary[1] +
+                            w2 * t.inv_z[2] * t.bary[2]) / iz).cast<float>();
         }
       }
     }
