@@ -1,0 +1,120 @@
+#include "mvs/fusion.h"
+
+#include <cmath>
+
+namespace hos {
+namespace {
+
+struct Observation {
+  int view;
+  int x, y;
+  Eigen::Vector3d point;
+  Eigen::Vector3d normal;
+};
+
+Eigen::Vector3d back_project(const FusionView& v, int x, int y, double depth) {
+  const Eigen::Vector3d xc = v.K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1.0) * depth;
+  return v.R.transpose() * (xc - v.t);
+}
+
+Eigen::Vector3d normal_at(const FusionView& v, int x, int y) {
+  const cv::Vec3f n = v.map.normal.at<cv::Vec3f>(y, x);
+  return Eigen::Vector3d(n[0], n[1], n[2]);
+}
+
+}  // namespace
+
+FusionView make_fusion_view(const MvsView& view, DepthMap map) {
+  FusionView f;
+  f.K = view.K;
+  f.K_inv = view.K_inv;
+  f.R = view.R;
+  f.t = view.t;
+  f.map = std::move(map);
+  f.color = view.color;
+  return f;
+}
+
+PointCloud fuse_depth_maps(const std::vector<FusionView>& views, const MvsOptions& options, Reporter& reporter) {
+  const double cos_normal = std::cos(options.max_normal_error_deg * M_PI / 180.0);
+  const double max_reproj2 = options.max_reprojection_error_px * options.max_reprojection_error_px;
+  std::vector<cv::Mat> used;
+  for (const auto& v : views) used.push_back(cv::Mat::zeros(v.map.depth.size(), CV_8U));
+  PointCloud cloud;
+  reporter.begin("fusion", static_cast<std::int64_t>(views.size()));
+  for (std::size_t r = 0; r < views.size(); ++r) {
+    reporter.throw_if_cancelled();
+    const FusionView& ref = views[r];
+    const int w = ref.map.depth.cols, h = ref.map.depth.rows;
+    std::vector<std::vector<std::vector<Observation>>> rows(h);
+    // Consistency checks in parallel; merging and marking in order below.
+#pragma omp parallel for schedule(dynamic, 4)
+    for (int y = 0; y < h; ++y) {
+      rows[y].resize(w);
+      for (int x = 0; x < w; ++x) {
+        const float d = ref.map.depth.at<float>(y, x);
+        if (!(d > 0) || used[r].at<uchar>(y, x)) continue;
+        const Eigen::Vector3d X = back_project(ref, x, y, d);
+        const Eigen::Vector3d n = normal_at(ref, x, y);
+        auto& obs = rows[y][x];
+        obs.push_back({static_cast<int>(r), x, y, X, n});
+        for (std::size_t s = 0; s < views.size(); ++s) {
+          if (s == r) continue;
+          const FusionView& src = views[s];
+          const Eigen::Vector3d xs = src.R * X + src.t;
+          if (xs.z() <= 0) continue;
+          const Eigen::Vector3d uv = src.K * xs / xs.z();
+          const int qx = static_cast<int>(std::floor(uv.x())), qy = static_cast<int>(std::floor(uv.y()));
+          if (qx < 0 || qy < 0 || qx >= src.map.depth.cols || qy >= src.map.depth.rows) continue;
+          const float ds = src.map.depth.at<float>(qy, qx);
+          if (!(ds > 0) || used[s].at<uchar>(qy, qx)) continue;
+          if (std::abs(xs.z() - ds) > options.max_depth_error * ds) continue;
+          const Eigen::Vector3d ns = normal_at(src, qx, qy);
+          if (ns.dot(n) < cos_normal) continue;
+          const Eigen::Vector3d Xs = back_project(src, qx, qy, ds);
+          const Eigen::Vector3d back = ref.R * Xs + ref.t;
+          if (back.z() <= 0) continue;
+          const Eigen::Vector3d buv = ref.K * back / back.z();
+          if ((buv.head<2>() - Eigen::Vector2d(x + 0.5, y + 0.5)).squaredNorm() > max_reproj2) continue;
+          obs.push_back({static_cast<int>(s), qx, qy, Xs, ns});
+        }
+      }
+    }
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const auto& obs = rows[y][x];
+        if (static_cast<int>(obs.size()) < options.min_consistent_views + 1) continue;
+        // Pixels claimed by an earlier point of this view in this pass.
+        bool taken = false;
+        for (const auto& o : obs) taken = taken || used[o.view].at<uchar>(o.y, o.x);
+        if (taken) continue;
+        Eigen::Vector3d p = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero(), c = Eigen::Vector3d::Zero();
+        for (const auto& o : obs) {
+          p += o.point;
+          n += o.normal;
+          const cv::Vec3b bgr = views[o.view].color.at<cv::Vec3b>(o.y, o.x);
+          c += Eigen::Vector3d(bgr[2], bgr[1], bgr[0]);
+          used[o.view].at<uchar>(o.y, o.x) = 1;
+        }
+        const double k = static_cast<double>(obs.size());
+        p /= k;
+        c /= k;
+        if (n.norm() < 1e-9) continue;
+        n.normalize();
+        // Normals point towards the cameras that saw the point.
+        if (n.dot(ref.R.transpose() * (-ref.t) - p) < 0) n = -n;
+        cloud.positions.push_back(p.cast<float>());
+        cloud.normals.push_back(n.cast<float>());
+        cloud.colors.push_back({static_cast<std::uint8_t>(std::lround(c.x())),
+                                static_cast<std::uint8_t>(std::lround(c.y())),
+                                static_cast<std::uint8_t>(std::lround(c.z()))});
+        cloud.confidence.push_back(static_cast<float>(obs.size()));
+      }
+    }
+    reporter.advance();
+  }
+  reporter.end();
+  return cloud;
+}
+
+}  // namespace hos

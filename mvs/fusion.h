@@ -1,0 +1,33 @@
+// Geometric consistency and fusion of depth maps into one oriented point set.
+// A pixel survives when at least min_consistent_views other views agree with
+// it: its 3D point projects onto a pixel of the other view whose depth is
+// within max_depth_error (relative), whose normal is within
+// max_normal_error_deg, and whose own point projects back within
+// max_reprojection_error_px. Agreeing pixels are merged into one point
+// (averaged position, normal and colour) and marked used, so every surface
+// point is emitted once; the number of agreeing views is its confidence.
+#pragma once
+
+#include <vector>
+
+#include "core/reporter.h"
+#include "core/types.h"
+#include "mvs/mvs_options.h"
+#include "mvs/patch_match.h"
+
+namespace hos {
+
+// The parts of a view fusion needs (kept for every view, images are not).
+struct FusionView {
+  Eigen::Matrix3d K = Eigen::Matrix3d::Identity(), K_inv = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  DepthMap map;
+  cv::Mat color;  // CV_8UC3 at the depth map's size
+};
+
+FusionView make_fusion_view(const MvsView& view, DepthMap map);
+
+PointCloud fuse_depth_maps(const std::vector<FusionView>& views, const MvsOptions& options, Reporter& reporter);
+
+}  // namespace hos

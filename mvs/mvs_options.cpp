@@ -1,0 +1,44 @@
+#include "mvs/mvs_options.h"
+
+#include "core/error.h"
+#include "core/option_set.h"
+
+namespace hos {
+
+void MvsOptions::validate() const {
+  if (backend != "cpu" && backend != "colmap") throw ConfigError("mvs.backend", "must be cpu or colmap");
+  if (max_image_size < 64) throw ConfigError("mvs.max_image_size", "must be >= 64");
+  if (num_source_views < 1) throw ConfigError("mvs.num_source_views", "must be >= 1");
+  if (best_k < 1) throw ConfigError("mvs.best_k", "must be >= 1");
+  if (window_radius < 1 || window_step < 1 || window_step > window_radius) {
+    throw ConfigError("mvs.window_radius", "needs 1 <= window_step <= window_radius");
+  }
+  if (min_consistent_views < 1) throw ConfigError("mvs.min_consistent_views", "must be >= 1");
+}
+
+void register_options(OptionSet& set, MvsOptions& o) {
+  set.add_choice("backend", o.backend, {"cpu", "colmap"},
+                 "cpu: hos PatchMatch; colmap: COLMAP's patch_match_stereo (needs CUDA)");
+  set.add("max_image_size", o.max_image_size, "longest image side used for matching", 64, 16384);
+  set.add("num_source_views", o.num_source_views, "source views per reference view", 1, 32);
+  set.add("best_k", o.best_k, "photo-consistency: mean of the best K source views", 1, 32);
+  set.add("window_radius", o.window_radius, "matching window half size (pixels)", 1, 15);
+  set.add("window_step", o.window_step, "window sampling step (pixels)", 1, 15);
+  set.add("iterations", o.iterations, "PatchMatch sweeps", 1, 20);
+  set.add("min_triangulation_angle_deg", o.min_triangulation_angle_deg,
+          "smallest triangulation angle of a source view", 0.0, 60.0);
+  set.add("max_cost", o.max_cost, "largest accepted matching cost (1 - NCC)", 0.0, 2.0);
+  set.add("min_texture_std", o.min_texture_std, "window intensity std below which a pixel is textureless",
+          0.0, 1.0);
+  set.add("sigma_color", o.sigma_color, "bilateral weight intensity scale", 1e-3, 10.0);
+  set.add("min_consistent_views", o.min_consistent_views, "views that must agree for a point to survive", 1,
+          32);
+  set.add("max_depth_error", o.max_depth_error, "relative depth difference to agree", 1e-4, 0.5);
+  set.add("max_normal_error_deg", o.max_normal_error_deg, "normal angle difference to agree (degrees)", 1.0,
+          90.0);
+  set.add("max_reprojection_error_px", o.max_reprojection_error_px,
+          "forward-backward reprojection error to agree (pixels)", 0.1, 20.0);
+  set.add("threads", o.threads, "OpenMP threads (0 = all cores)", 0, 1024);
+}
+
+}  // namespace hos

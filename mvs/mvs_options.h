@@ -1,0 +1,34 @@
+// Options of the dense stereo stage, mapped 1:1 onto the "mvs:" YAML section.
+#pragma once
+
+#include <string>
+
+namespace hos {
+class OptionSet;
+
+struct MvsOptions {
+  std::string backend = "cpu";   // cpu | colmap (COLMAP's CUDA PatchMatch, only when available)
+  int max_image_size = 640;      // longest image side used for matching (2 cores: keep small)
+  int num_source_views = 4;      // source views per reference view
+  int best_k = 2;                // photo-consistency: mean of the best K source costs (occlusions)
+  int window_radius = 4;         // matching window half size in pixels
+  int window_step = 2;           // sample every step-th pixel of the window
+  int iterations = 3;            // PatchMatch sweeps (red-black, both colours)
+  double min_triangulation_angle_deg = 3.0;  // source views below this angle are not chosen
+  double max_cost = 0.6;         // 1 - NCC above this: pixel rejected
+  double min_texture_std = 0.01; // window intensity std (0..1) below this: textureless, no depth
+  double sigma_color = 0.2;      // bilateral weight: intensity scale
+  // Geometric consistency and fusion.
+  int min_consistent_views = 2;  // other views that must agree on depth and normal
+  double max_depth_error = 0.01; // relative depth difference to agree
+  double max_normal_error_deg = 20.0;
+  double max_reprojection_error_px = 1.5;
+  int threads = 0;               // OpenMP threads; 0 = all cores
+
+  // Throws ConfigError naming the offending option.
+  void validate() const;
+};
+
+void register_options(OptionSet& set, MvsOptions& options);
+
+}  // namespace hos

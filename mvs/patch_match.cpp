@@ -1,0 +1,359 @@
+#include "mvs/patch_match.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/error.h"
+
+namespace hos {
+namespace {
+
+// Deterministic per-(pixel, iteration, draw) random numbers, so results do
+// not depend on the number of threads.
+double random_unit(std::uint64_t seed) {
+  seed += 0x9E3779B97F4A7C15ull;
+  seed = (seed ^ (seed >> 30)) * 0xBF58476D1CE4E5B9ull;
+  seed = (seed ^ (seed >> 27)) * 0x94D049BB133111EBull;
+  seed ^= seed >> 31;
+  return static_cast<double>(seed >> 11) * (1.0 / 9007199254740992.0);
+}
+
+float bilinear(const cv::Mat& image, double u, double v) {
+  // u, v in array coordinates (pixel centres at integers).
+  const int x0 = static_cast<int>(std::floor(u)), y0 = static_cast<int>(std::floor(v));
+  const float fx = static_cast<float>(u - x0), fy = static_cast<float>(v - y0);
+  const float* r0 = image.ptr<float>(y0);
+  const float* r1 = image.ptr<float>(y0 + 1);
+  return (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) + fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
+}
+
+struct Plane {
+  float depth = 0.0f;
+  Eigen::Vector3f normal = Eigen::Vector3f(0, 0, -1);  // reference camera frame
+};
+
+class PatchMatcher {
+ public:
+  PatchMatcher(const MvsView& ref, const std::vector<const MvsView*>& sources, double depth_min,
+               double depth_max, const MvsOptions& options)
+      : ref_(ref), sources_(sources), options_(options), inv_min_(1.0 / depth_max), inv_max_(1.0 / depth_min) {
+    for (int dy = -options.window_radius; dy <= options.window_radius; dy += options.window_step) {
+      for (int dx = -options.window_radius; dx <= options.window_radius; dx += options.window_step) {
+        offsets_.emplace_back(dx, dy);
+      }
+    }
+    for (const MvsView* s : sources) {
+      const Eigen::Matrix3d r_rel = s->R * ref.R.transpose();
+      relative_.push_back({r_rel, s->t - r_rel * ref.t});
+    }
+    const int w = ref.width(), h = ref.height();
+    planes_.resize(std::size_t(w) * h);
+    costs_.assign(std::size_t(w) * h, 2.0f);
+    prepare_windows();
+  }
+
+  void initialise(const std::vector<Eigen::Vector3d>& seeds) {
+    const int w = ref_.width(), h = ref_.height();
+#pragma omp parallel for schedule(dynamic, 4)
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const std::size_t i = std::size_t(y) * w + x;
+        planes_[i] = random_plane(x, y, i * 7919u);
+      }
+    }
+    // Sparse points: their depth, fronto-parallel, on a 3x3 neighbourhood.
+    for (const auto& p : seeds) {
+      const Eigen::Vector3d xc = ref_.R * p + ref_.t;
+      if (xc.z() <= 0) continue;
+      const Eigen::Vector3d uv = ref_.K * xc / xc.z();
+      const int px = static_cast<int>(uv.x()), py = static_cast<int>(uv.y());
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int x = px + dx, y = py + dy;
+          if (x < 0 || y < 0 || x >= w || y >= h) continue;
+          Plane& plane = planes_[std::size_t(y) * w + x];
+          plane.depth = static_cast<float>(xc.z());
+          plane.normal = -ray(x, y).normalized().cast<float>();
+        }
+      }
+    }
+#pragma omp parallel for schedule(dynamic, 4)
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const std::size_t i = std::size_t(y) * w + x;
+        costs_[i] = cost(x, y, planes_[i]);
+      }
+    }
+  }
+
+  void iterate(int iteration, Reporter& reporter) {
+    const int w = ref_.width(), h = ref_.height();
+    const double scale = 1.0 / (1 << iteration);
+    for (int colour = 0; colour < 2; ++colour) {
+      reporter.throw_if_cancelled();
+#pragma omp parallel for schedule(dynamic, 2)
+      for (int y = 0; y < h; ++y) {
+        for (int x = (y + colour) % 2; x < w; x += 2) update(x, y, iteration, scale);
+      }
+    }
+  }
+
+  DepthMap result(PatchMatchStats* stats) const {
+    const int w = ref_.width(), h = ref_.height();
+    DepthMap map;
+    map.depth = cv::Mat::zeros(h, w, CV_32F);
+    map.normal = cv::Mat::zeros(h, w, CV_32FC3);
+    map.cost = cv::Mat(h, w, CV_32F);
+    const Eigen::Matrix3f r_world = ref_.R.transpose().cast<float>();
+    PatchMatchStats s;
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const std::size_t i = std::size_t(y) * w + x;
+        map.cost.at<float>(y, x) = costs_[i];
+        if (!textured_[i]) {
+          ++s.textureless_pixels;
+          continue;
+        }
+        if (!(costs_[i] <= options_.max_cost)) continue;
+        map.depth.at<float>(y, x) = planes_[i].depth;
+        const Eigen::Vector3f n = r_world * planes_[i].normal;
+        map.normal.at<cv::Vec3f>(y, x) = cv::Vec3f(n.x(), n.y(), n.z());
+        ++s.valid_pixels;
+      }
+    }
+    if (stats) *stats = s;
+    return map;
+  }
+
+ private:
+  struct Relative {
+    Eigen::Matrix3d R;
+    Eigen::Vector3d t;
+  };
+
+  // Viewing ray of pixel (x, y) with z = 1.
+  Eigen::Vector3d ray(int x, int y) const { return ref_.K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1.0); }
+
+  Plane random_plane(int x, int y, std::uint64_t seed) const {
+    Plane p;
+    const double inv = inv_min_ + random_unit(seed) * (inv_max_ - inv_min_);
+    p.depth = static_cast<float>(1.0 / inv);
+    p.normal = random_normal(x, y, seed + 1);
+    return p;
+  }
+
+  Eigen::Vector3f random_normal(int x, int y, std::uint64_t seed) const {
+    const double z = random_unit(seed) * 2.0 - 1.0, phi = random_unit(seed + 17) * 2.0 * M_PI;
+    const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
+    Eigen::Vector3d n(s * std::cos(phi), s * std::sin(phi), z);
+    return facing_camera(n, x, y);
+  }
+
+  // Flips n to face the camera and keeps it away from grazing angles.
+  Eigen::Vector3f facing_camera(Eigen::Vector3d n, int x, int y) const {
+    const Eigen::Vector3d view = -ray(x, y).normalized();
+    if (n.dot(view) < 0) n = -n;
+    if (n.dot(view) < 0.1) n = (n + 0.2 * view).normalized();
+    return n.normalized().cast<float>();
+  }
+
+  void prepare_windows() {
+    const int w = ref_.width(), h = ref_.height();
+    const std::size_t k = offsets_.size();
+    weights_.assign(std::size_t(w) * h * k, 0.0f);
+    ref_values_.assign(std::size_t(w) * h * k, 0.0f);
+    textured_.assign(std::size_t(w) * h, 0);
+    const double r2 = double(options_.window_radius) * options_.window_radius;
+#pragma omp parallel for schedule(static)
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const std::size_t i = std::size_t(y) * w + x;
+        const float centre = ref_.gray.at<float>(y, x);
+        double sw = 0, s1 = 0, s2 = 0;
+        bool inside = true;
+        for (std::size_t j = 0; j < k; ++j) {
+          const int qx = x + offsets_[j].x(), qy = y + offsets_[j].y();
+          if (qx < 0 || qy < 0 || qx >= w || qy >= h) {
+            inside = false;
+            break;
+          }
+          const float v = ref_.gray.at<float>(qy, qx);
+          const double wt = std::exp(-std::abs(v - centre) / options_.sigma_color -
+                                     offsets_[j].squaredNorm() / (2.0 * r2));
+          weights_[i * k + j] = static_cast<float>(wt);
+          ref_values_[i * k + j] = v;
+          sw += wt;
+          s1 += wt * v;
+          s2 += wt * v * v;
+        }
+        if (!inside) continue;
+        const double mean = s1 / sw;
+        const double var = std::max(0.0, s2 / sw - mean * mean);
+        textured_[i] = std::sqrt(var) >= options_.min_texture_std;
+      }
+    }
+  }
+
+  // Aggregated cost of plane at pixel (x, y): mean of the best K source costs.
+  float cost(int x, int y, const Plane& plane) const {
+    const std::size_t i = std::size_t(y) * ref_.width() + x;
+    if (!textured_[i] || !(plane.depth > 0)) return 2.0f;
+    const std::size_t k = offsets_.size();
+    const float* wts = &weights_[i * k];
+    const float* rv = &ref_values_[i * k];
+    const Eigen::Vector3d n = plane.normal.cast<double>();
+    const Eigen::Vector3d xp = ray(x, y) * plane.depth;
+    const double nd = n.dot(xp);
+    if (std::abs(nd) < 1e-12) return 2.0f;
+    float view_costs[32];
+    const int nsrc = static_cast<int>(std::min<std::size_t>(sources_.size(), 32));
+    for (int s = 0; s < nsrc; ++s) {
+      const MvsView& src = *sources_[s];
+      const Eigen::Matrix3d H = src.K * (relative_[s].R + relative_[s].t * n.transpose() / nd) * ref_.K_inv;
+      double sw = 0, sr = 0, ss = 0, srr = 0, sss = 0, srs = 0;
+      bool ok = true;
+      for (std::size_t j = 0; j < k; ++j) {
+        const Eigen::Vector3d q(x + offsets_[j].x() + 0.5, y + offsets_[j].y() + 0.5, 1.0);
+        const Eigen::Vector3d m = H * q;
+        if (m.z() <= 1e-9) {
+          ok = false;
+          break;
+        }
+        const double u = m.x() / m.z() - 0.5, v = m.y() / m.z() - 0.5;
+        if (u < 0 || v < 0 || u >= src.width() - 1 || v >= src.height() - 1) {
+          ok = false;
+          break;
+        }
+        const double sv = bilinear(src.gray, u, v);
+        const double wt = wts[j], r = rv[j];
+        sw += wt;
+        sr += wt * r;
+        ss += wt * sv;
+        srr += wt * r * r;
+        sss += wt * sv * sv;
+        srs += wt * r * sv;
+      }
+      float c = 2.0f;
+      if (ok && sw > 0) {
+        const double var_r = srr - sr * sr / sw, var_s = sss - ss * ss / sw;
+        const double cov = srs - sr * ss / sw;
+        if (var_r > 1e-10 && var_s > 1e-10) c = static_cast<float>(1.0 - cov / std::sqrt(var_r * var_s));
+      }
+      view_costs[s] = c;
+    }
+    if (nsrc == 0) return 2.0f;
+    const int best = std::min(options_.best_k, nsrc);
+    std::partial_sort(view_costs, view_costs + best, view_costs + nsrc);
+    float sum = 0;
+    for (int s = 0; s < best; ++s) sum += view_costs[s];
+    return sum / best;
+  }
+
+  void try_plane(int x, int y, std::size_t i, const Plane& candidate) {
+    if (!(candidate.depth > 0) || !std::isfinite(candidate.depth)) return;
+    const float c = cost(x, y, candidate);
+    if (c < costs_[i]) {
+      costs_[i] = c;
+      planes_[i] = candidate;
+    }
+  }
+
+  void update(int x, int y, int iteration, double scale) {
+    const int w = ref_.width(), h = ref_.height();
+    const std::size_t i = std::size_t(y) * w + x;
+    if (!textured_[i]) return;
+    // Propagation from the neighbours of the other colour (distance 1 and 3).
+    static constexpr int kNeighbours[8][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}, {-3, 0}, {3, 0}, {0, -3}, {0, 3}};
+    for (const auto& o : kNeighbours) {
+      const int nx = x + o[0], ny = y + o[1];
+      if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+      const Plane& neighbour = planes_[std::size_t(ny) * w + nx];
+      // The neighbour's plane, re-intersected with this pixel's ray.
+      Plane candidate = neighbour;
+      const Eigen::Vector3d n = neighbour.normal.cast<double>();
+      const Eigen::Vector3d xn = ray(nx, ny) * neighbour.depth;
+      const double denom = n.dot(ray(x, y));
+      if (std::abs(denom) < 1e-9) continue;
+      candidate.depth = static_cast<float>(n.dot(xn) / denom);
+      if (candidate.depth < 0.5 / inv_max_ || candidate.depth > 2.0 / inv_min_) continue;
+      try_plane(x, y, i, candidate);
+    }
+    // Random refinement: perturb depth and normal, shrinking per iteration.
+    const std::uint64_t seed = (std::uint64_t(i) * 131 + iteration) * 1000003ull;
+    const Plane current = planes_[i];
+    Plane perturbed = current;
+    const double range = (1.0 / inv_min_ - 1.0 / inv_max_) * 0.05 * scale;
+    perturbed.depth = static_cast<float>(current.depth + (random_unit(seed) * 2 - 1) * range);
+    const Eigen::Vector3d dn(random_unit(seed + 1) - 0.5, random_unit(seed + 2) - 0.5, random_unit(seed + 3) - 0.5);
+    perturbed.normal = facing_camera(current.normal.cast<double>() + 0.6 * scale * dn, x, y);
+    try_plane(x, y, i, perturbed);
+    Plane depth_only = current;
+    depth_only.depth = perturbed.depth;
+    try_plane(x, y, i, depth_only);
+    Plane normal_only = current;
+    normal_only.normal = perturbed.normal;
+    try_plane(x, y, i, normal_only);
+    try_plane(x, y, i, random_plane(x, y, seed + 5));
+  }
+
+  const MvsView& ref_;
+  const std::vector<const MvsView*>& sources_;
+  const MvsOptions& options_;
+  double inv_min_, inv_max_;
+  std::vector<Eigen::Vector2i> offsets_;
+  std::vector<Relative> relative_;
+  std::vector<Plane> planes_;
+  std::vector<float> costs_;
+  std::vector<float> weights_, ref_values_;
+  std::vector<char> textured_;
+};
+
+}  // namespace
+
+MvsView load_view(const UndistortedWorkspace& workspace, const ImageRecord& image, int max_image_size) {
+  const auto path = workspace.image_path(image);
+  cv::Mat color = cv::imread(path.string(), cv::IMREAD_COLOR);
+  if (color.empty()) throw InputError(path.string(), "cannot read the image");
+  const Camera& camera = workspace.model.camera_of(image);
+  if (color.cols != camera.width || color.rows != camera.height) {
+    throw InputError(path.string(), "image is " + std::to_string(color.cols) + "x" + std::to_string(color.rows) +
+                                        " but its camera says " + std::to_string(camera.width) + "x" +
+                                        std::to_string(camera.height));
+  }
+  const double scale = std::min(1.0, double(max_image_size) / std::max(color.cols, color.rows));
+  MvsView view;
+  view.image_id = image.id;
+  view.name = image.name;
+  if (scale < 1.0) {
+    cv::resize(color, view.color, cv::Size(), scale, scale, cv::INTER_AREA);
+  } else {
+    view.color = color;
+  }
+  // Exact scale per axis after rounding, so pixel edges keep matching.
+  const double sx = double(view.color.cols) / color.cols, sy = double(view.color.rows) / color.rows;
+  cv::Mat gray;
+  cv::cvtColor(view.color, gray, cv::COLOR_BGR2GRAY);
+  gray.convertTo(view.gray, CV_32F, 1.0 / 255.0);
+  Eigen::Matrix3d K = camera.calibration_matrix();
+  K.row(0) *= sx;
+  K.row(1) *= sy;
+  view.K = K;
+  view.K_inv = K.inverse();
+  view.R = image.rotation();
+  view.t = image.cam_from_world_translation;
+  return view;
+}
+
+DepthMap estimate_depth_map(const MvsView& ref, const std::vector<const MvsView*>& sources, double depth_min,
+                            double depth_max, const std::vector<Eigen::Vector3d>& seed_points,
+                            const MvsOptions& options, Reporter& reporter, PatchMatchStats* stats) {
+  PatchMatcher matcher(ref, sources, depth_min, depth_max, options);
+  matcher.initialise(seed_points);
+  for (int it = 0; it < options.iterations; ++it) matcher.iterate(it, reporter);
+  return matcher.result(stats);
+}
+
+}  // namespace hos

@@ -1,0 +1,58 @@
+// Per-view depth and normal estimation with PatchMatch stereo (Bleyer et al.
+// 2011; multi-view form as in Galliani et al. 2015 and Schoenberger et al.
+// 2016): every pixel holds a slanted plane (depth, normal); planes spread to
+// neighbours by red-black checkerboard propagation and are refined by random
+// perturbation; a plane's cost is the bilaterally weighted NCC of its window
+// warped into each source view by the plane's homography, aggregated over the
+// best K source views so occluded views do not ruin it.
+#pragma once
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "core/reporter.h"
+#include "core/undistorted_workspace.h"
+#include "mvs/mvs_options.h"
+
+namespace hos {
+
+// One image prepared for matching, at the matching scale. Pixel coordinates
+// follow COLMAP: the centre of the top-left pixel is (0.5, 0.5).
+struct MvsView {
+  int image_id = 0;
+  std::string name;
+  cv::Mat gray;   // CV_32F in [0, 1]
+  cv::Mat color;  // CV_8UC3, BGR
+  Eigen::Matrix3d K = Eigen::Matrix3d::Identity(), K_inv = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // cam_from_world
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  Eigen::Vector3d center() const { return -R.transpose() * t; }
+  int width() const { return gray.cols; }
+  int height() const { return gray.rows; }
+};
+
+// Loads and downscales an image of the workspace. Throws InputError naming
+// the file if it cannot be read or its size disagrees with its camera.
+MvsView load_view(const UndistortedWorkspace& workspace, const ImageRecord& image, int max_image_size);
+
+// A reference view's result; depth 0 marks pixels without a reliable estimate.
+struct DepthMap {
+  cv::Mat depth;   // CV_32F, camera z
+  cv::Mat normal;  // CV_32FC3, world-frame unit normal facing the camera
+  cv::Mat cost;    // CV_32F, aggregated 1 - NCC
+};
+
+struct PatchMatchStats {
+  std::size_t valid_pixels = 0;
+  std::size_t textureless_pixels = 0;
+};
+
+// Estimates the depth map of ref against sources within [depth_min, depth_max];
+// seed_points (world) are sparse points used to initialise nearby pixels.
+DepthMap estimate_depth_map(const MvsView& ref, const std::vector<const MvsView*>& sources, double depth_min,
+                            double depth_max, const std::vector<Eigen::Vector3d>& seed_points,
+                            const MvsOptions& options, Reporter& reporter, PatchMatchStats* stats = nullptr);
+
+}  // namespace hos

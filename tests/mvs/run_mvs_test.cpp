@@ -1,0 +1,185 @@
+// mvs/run_mvs.* against the synthetic scene's ground truth (the issue's bounds).
+#include "mvs/run_mvs.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <unordered_set>
+
+#include "core/error.h"
+#include "tests/mvs/synthetic_workspace.h"
+
+namespace hos {
+namespace {
+
+using mvs_testing::synthetic_workspace;
+
+const MvsResult& mvs_result() {
+  static const MvsResult result = run_mvs(synthetic_workspace().workspace, MvsOptions{}, null_reporter(),
+                                          synthetic_workspace().dir->path() / "depth_maps");
+  return result;
+}
+
+// Where the point lies relative to the true surface in the view that sees it
+// best: the distance along that view's ray to the rendered surface (an upper
+// bound of the distance to the surface), and the true normal there.
+struct TruthAtPoint {
+  double distance = 1e30;
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+};
+
+TruthAtPoint truth_at(const Eigen::Vector3d& x) {
+  const auto& s = synthetic_workspace();
+  TruthAtPoint best;
+  std::size_t v = 0;
+  for (const auto& [id, image] : s.truth.model.images) {
+    const RenderedView& view = s.truth.views[v++];
+    const Camera& camera = s.truth.model.camera_of(image);
+    const Eigen::Vector3d xc = image.cam_from_world(x);
+    const auto uv = camera.project(xc);
+    if (!uv) continue;
+    const int px = static_cast<int>(uv->x()), py = static_cast<int>(uv->y());
+    if (px < 0 || py < 0 || px >= camera.width || py >= camera.height) continue;
+    const float depth = view.depth.at<float>(py, px);
+    if (!(depth > 0)) continue;
+    const double along_ray = std::abs(xc.z() - depth) * xc.norm() / xc.z();
+    if (along_ray < best.distance) {
+      best.distance = along_ray;
+      const cv::Vec3f n = view.normal.at<cv::Vec3f>(py, px);
+      best.normal = Eigen::Vector3d(n[0], n[1], n[2]);
+    }
+  }
+  return best;
+}
+
+TEST(RunMvs, FusedPointsAreAccurateAndCorrectlyOriented) {
+  const auto& s = synthetic_workspace();
+  const PointCloud& points = mvs_result().points;
+  ASSERT_GT(points.size(), 1000u);
+  std::size_t accurate = 0, oriented = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const TruthAtPoint t = truth_at(points.positions[i].cast<double>());
+    if (t.distance < 0.005 * s.diagonal) ++accurate;
+    const double angle = std::acos(std::clamp(t.normal.dot(points.normals[i].cast<double>()), -1.0, 1.0));
+    if (angle < 20.0 * M_PI / 180.0) ++oriented;
+  }
+  const double n = static_cast<double>(points.size());
+  std::cout << points.size() << " points; within 0.5% of the diagonal: " << accurate / n
+            << "; normals within 20 degrees: " << oriented / n << "\n";
+  // Issue bounds: >= 90% within 0.5% of the diagonal, >= 80% of normals within 20 degrees.
+  EXPECT_GE(accurate / n, 0.90) << accurate << " of " << points.size();
+  EXPECT_GE(oriented / n, 0.80) << oriented << " of " << points.size();
+  ASSERT_EQ(points.colors.size(), points.size());
+  ASSERT_EQ(points.confidence.size(), points.size());
+  for (float c : points.confidence) EXPECT_GE(c, 3.0f);  // itself + min_consistent_views
+}
+
+TEST(RunMvs, PointsCoverTheSurfaceThatTwoViewsSee) {
+  const auto& s = synthetic_workspace();
+  const PointCloud& points = mvs_result().points;
+  const double radius = 0.01 * s.diagonal;
+  // Fused points hashed in cells of the radius.
+  const auto cell = [&](const Eigen::Vector3d& p) {
+    const Eigen::Vector3i c = (p / radius).array().floor().cast<int>();
+    return (std::int64_t(c.x() & 0xFFFFF) << 40) | (std::int64_t(c.y() & 0xFFFFF) << 20) | std::int64_t(c.z() & 0xFFFFF);
+  };
+  std::unordered_multimap<std::int64_t, std::size_t> grid;
+  for (std::size_t i = 0; i < points.size(); ++i) grid.emplace(cell(points.positions[i].cast<double>()), i);
+  const auto covered = [&](const Eigen::Vector3d& p) {
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const auto range = grid.equal_range(cell(p + radius * Eigen::Vector3d(dx, dy, dz)));
+          for (auto it = range.first; it != range.second; ++it) {
+            if ((points.positions[it->second].cast<double>() - p).norm() < radius) return true;
+          }
+        }
+    return false;
+  };
+  std::vector<const ImageRecord*> images;
+  for (const auto& [id, image] : s.truth.model.images) images.push_back(&image);
+  std::size_t seen_twice = 0, hit = 0;
+  for (std::size_t v = 0; v < images.size(); v += 3) {
+    const Camera& camera = s.truth.model.camera_of(*images[v]);
+    const cv::Mat& depth = s.truth.views[v].depth;
+    for (int y = 0; y < depth.rows; y += 4) {
+      for (int x = 0; x < depth.cols; x += 4) {
+        const float d = depth.at<float>(y, x);
+        if (!(d > 0)) continue;
+        const Eigen::Vector3d p = images[v]->world_from_cam(camera.unproject({x + 0.5, y + 0.5}) * d);
+        // Visible in another view too (depth test against its rendering)?
+        bool other = false;
+        for (std::size_t w = 0; w < images.size() && !other; ++w) {
+          if (w == v) continue;
+          const Eigen::Vector3d xc = images[w]->cam_from_world(p);
+          const auto uv = camera.project(xc);
+          if (!uv || uv->x() < 0 || uv->y() < 0 || uv->x() >= camera.width || uv->y() >= camera.height) continue;
+          const float dw = s.truth.views[w].depth.at<float>(int(uv->y()), int(uv->x()));
+          other = dw > 0 && std::abs(dw - xc.z()) < 0.005 * xc.z();
+        }
+        if (!other) continue;
+        ++seen_twice;
+        if (covered(p)) ++hit;
+      }
+    }
+  }
+  ASSERT_GT(seen_twice, 1000u);
+  std::cout << "completeness at 1% of the diagonal: " << double(hit) / seen_twice << "\n";
+  EXPECT_GE(double(hit) / seen_twice, 0.80) << hit << " of " << seen_twice;
+}
+
+TEST(RunMvs, DepthMapsMatchTheRenderedDepth) {
+  const auto& s = synthetic_workspace();
+  (void)mvs_result();
+  const cv::Mat estimate = cv::imread((s.dir->path() / "depth_maps" / "view_000.png.depth.tiff").string(),
+                                      cv::IMREAD_UNCHANGED);
+  ASSERT_FALSE(estimate.empty());
+  const cv::Mat& truth = s.truth.views[0].depth;
+  std::vector<double> errors;
+  for (int y = 0; y < estimate.rows; ++y) {
+    for (int x = 0; x < estimate.cols; ++x) {
+      // The depth map is at the matching scale; here both are 320x240.
+      const float e = estimate.at<float>(y, x), t = truth.at<float>(y, x);
+      if (e > 0 && t > 0) errors.push_back(std::abs(e - t) / t);
+    }
+  }
+  ASSERT_GT(errors.size(), 5000u);
+  std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
+  const double median = errors[errors.size() / 2];
+  std::cout << "median relative depth error of view 0: " << median << " over " << errors.size() << " pixels\n";
+  EXPECT_LT(median, 0.005);
+}
+
+TEST(RunMvs, MissingImageIsAClearError) {
+  const auto& s = synthetic_workspace();
+  hos::testing::TempDir dir;
+  std::filesystem::copy(s.dir->path() / "scene", dir.path() / "scene", std::filesystem::copy_options::recursive);
+  std::filesystem::remove(dir.path() / "scene" / "images" / "view_003.png");
+  try {
+    load_undistorted_workspace(dir.path() / "scene");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("view_003.png"), std::string::npos);
+  }
+}
+
+TEST(RunMvs, TexturelessViewGivesNoPointsInsteadOfNoise) {
+  const auto& s = synthetic_workspace();
+  UndistortedWorkspace ws = s.workspace;
+  hos::testing::TempDir dir;
+  std::filesystem::copy(s.dir->path() / "scene", dir.path() / "scene", std::filesystem::copy_options::recursive);
+  // Every image a flat grey: nothing can be matched.
+  for (const auto& [id, image] : ws.model.images) {
+    cv::imwrite((dir.path() / "scene" / "images" / image.name).string(), cv::Mat(240, 320, CV_8UC3, cv::Scalar(90, 90, 90)));
+  }
+  ws = load_undistorted_workspace(dir.path() / "scene");
+  MvsOptions options;
+  options.iterations = 1;
+  EXPECT_THROW(run_mvs(ws, options, null_reporter()), StageError);
+}
+
+}  // namespace
+}  // namespace hos

@@ -1,0 +1,51 @@
+// mvs/view_selection.*.
+#include "mvs/view_selection.h"
+
+#include <gtest/gtest.h>
+
+#include "tests/mvs/synthetic_workspace.h"
+
+namespace hos {
+namespace {
+
+TEST(ViewSelection, SourcesAreNearbyViewsWithBaseline) {
+  const SparseModel& model = mvs_testing::synthetic_workspace().workspace.model;
+  MvsOptions options;
+  const auto sources = select_source_views(model, options);
+  std::size_t i = 0;
+  for (const auto& [id, image] : model.images) {
+    ASSERT_FALSE(sources[i].empty()) << image.name;
+    EXPECT_LE(static_cast<int>(sources[i].size()), options.num_source_views);
+    for (int src : sources[i]) {
+      EXPECT_NE(src, id);
+      const double cos_angle = image.viewing_direction().dot(model.images.at(src).viewing_direction());
+      EXPECT_GT(cos_angle, std::cos(100.0 * M_PI / 180.0)) << image.name << " -> " << src;
+    }
+    ++i;
+  }
+}
+
+TEST(ViewSelection, ViewWithoutBaselineGetsNoSources) {
+  SparseModel model;
+  model.cameras[1] = Camera::pinhole(1, 100, 100, 100, 100, 50, 50);
+  for (int id : {1, 2}) {
+    ImageRecord image;
+    image.id = id;
+    image.camera_id = 1;
+    image.name = std::to_string(id);
+    model.images[id] = image;  // identical poses: zero baseline
+  }
+  for (int k = 0; k < 20; ++k) {
+    Point3D p;
+    p.id = k;
+    p.xyz = Eigen::Vector3d(0.01 * k, 0, 5);
+    p.track = {{1, 0}, {2, 0}};
+    model.points[k] = p;
+  }
+  const auto sources = select_source_views(model, MvsOptions{});
+  EXPECT_TRUE(sources[0].empty());
+  EXPECT_TRUE(sources[1].empty());
+}
+
+}  // namespace
+}  // namespace hos
