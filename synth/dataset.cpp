@@ -1,7 +1,9 @@
 #include "synth/dataset.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
@@ -48,9 +50,24 @@ Eigen::Vector3d ring_position(const Scene& scene, double distance, double elevat
   return scene.centre.cast<double>() + distance * dir;
 }
 
-double camera_distance(const Scene& scene, const DatasetOptions& o, double focal) {
-  const double half_fov = std::atan(0.5 * std::min(o.width, o.height) / focal);
-  return 1.08 * scene.radius / std::sin(half_fov);
+// The smallest distance from the scene centre at which every object vertex
+// projects inside the image with a margin, for a camera looking at the centre
+// from this direction: with (X, Y, Z) a vertex in the frame of a camera at the
+// centre, the vertex at distance D has depth Z + D and needs
+// |X| f / (Z + D) <= w/2 - margin, so D >= |X| f / (w/2 - margin) - Z (same for Y).
+double fit_distance(const Scene& scene, const ImageRecord& at_centre, const Camera& camera) {
+  const double margin = 0.06;
+  const double hw = (1 - margin) * 0.5 * camera.width, hh = (1 - margin) * 0.5 * camera.height;
+  double d = 0;
+  for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+    if (scene.is_ground[o]) continue;
+    for (const Eigen::Vector3f& v : scene.objects[o].mesh.vertices) {
+      const Eigen::Vector3d x = at_centre.cam_from_world(v.cast<double>());
+      d = std::max({d, std::abs(x.x()) * camera.focal_x() / hw - x.z(), std::abs(x.y()) * camera.focal_y() / hh - x.z()});
+    }
+  }
+  // Never inside the bounding sphere.
+  return std::max(d, 1.2 * scene.radius);
 }
 
 double focal_of(const DatasetOptions& o) { return o.focal > 0 ? o.focal : 0.9 * o.width; }
@@ -155,6 +172,31 @@ nlohmann::json vec_json(const Eigen::Vector3f& v) { return {v.x(), v.y(), v.z()}
 
 }  // namespace
 
+cv::Mat encode_normal_map(const cv::Mat& normals) {
+  cv::Mat out(normals.size(), CV_16UC3, cv::Scalar::all(0));
+  for (int y = 0; y < normals.rows; ++y)
+    for (int x = 0; x < normals.cols; ++x) {
+      const cv::Vec3f n = normals.at<cv::Vec3f>(y, x);
+      if (n == cv::Vec3f(0, 0, 0)) continue;
+      auto q = [](float v) { return static_cast<std::uint16_t>(std::lround((std::clamp(v, -1.0f, 1.0f) + 1.0f) * 0.5f * 65535.0f)); };
+      out.at<cv::Vec3w>(y, x) = cv::Vec3w(q(n[2]), q(n[1]), q(n[0]));  // BGR order: the file's RGB is xyz
+    }
+  return out;
+}
+
+cv::Mat decode_normal_map(const cv::Mat& encoded) {
+  if (encoded.type() != CV_16UC3) throw std::invalid_argument("decode_normal_map: expected a 16-bit 3-channel image");
+  cv::Mat out(encoded.size(), CV_32FC3, cv::Scalar::all(0));
+  for (int y = 0; y < encoded.rows; ++y)
+    for (int x = 0; x < encoded.cols; ++x) {
+      const cv::Vec3w v = encoded.at<cv::Vec3w>(y, x);
+      if (v == cv::Vec3w(0, 0, 0)) continue;
+      auto d = [](std::uint16_t q) { return q / 65535.0f * 2.0f - 1.0f; };
+      out.at<cv::Vec3f>(y, x) = cv::Vec3f(d(v[2]), d(v[1]), d(v[0]));
+    }
+  return out;
+}
+
 std::string view_name(int index, bool jpeg) {
   std::ostringstream s;
   s << "view_" << std::setw(3) << std::setfill('0') << index << (jpeg ? ".jpg" : ".png");
@@ -175,30 +217,72 @@ void DatasetOptions::validate() const {
     if (!(g > 0) || !std::isfinite(g)) throw ConfigError("exposure_gains", "gains must be positive");
 }
 
+namespace {
+
+// Directions (elevation, azimuth) of the training views, then of the held-out
+// views: between the rings in elevation and between the views in azimuth.
+std::vector<std::pair<double, double>> view_directions(const DatasetOptions& o) {
+  std::vector<std::pair<double, double>> dirs;
+  for (int r = 0; r < o.rings; ++r) {
+    const int count = o.num_views / o.rings + (r < o.num_views % o.rings ? 1 : 0);
+    const double elevation = (o.rings == 1 ? 30.0 : 15.0 + 35.0 * r / (o.rings - 1)) * kPi / 180.0;
+    const double offset = r * kPi / std::max(1, count);  // rings staggered
+    for (int k = 0; k < count; ++k) dirs.emplace_back(elevation, offset + 2 * kPi * k / count);
+  }
+  for (int k = 0; k < o.holdout; ++k) dirs.emplace_back(27.0 * kPi / 180.0, 2 * kPi * (k + 0.37) / o.holdout);
+  return dirs;
+}
+
+// All cameras (training then held-out), each as close as keeps every object
+// in its frame (so the objects fill the photos; distances differ per view).
+std::vector<ImageRecord> place_cameras(const Scene& scene, const DatasetOptions& o, const Camera& camera) {
+  const Eigen::Vector3d target = scene.centre.cast<double>();
+  const Eigen::Vector3d up = scene.up.cast<double>();
+  std::vector<ImageRecord> images;
+  for (const auto& [elevation, azimuth] : view_directions(o)) {
+    // The orientation does not depend on the distance: fit with the camera at the centre.
+    ImageRecord probe = look_at(0, ring_position(scene, 1.0, elevation, azimuth), target, up);
+    probe.cam_from_world_translation = -(probe.rotation() * target);
+    const double distance = fit_distance(scene, probe, camera);
+    images.push_back(look_at(0, ring_position(scene, distance, elevation, azimuth), target, up));
+  }
+  return images;
+}
+
+}  // namespace
+
 SparseModel make_cameras(const Scene& scene, const DatasetOptions& o) {
   o.validate();
   SparseModel model;
   const Camera camera = make_camera(o);
   model.cameras.emplace(1, camera);
-  const double distance = camera_distance(scene, o, focal_of(o));
-  const Eigen::Vector3d target = scene.centre.cast<double>();
-  int id = 1;
-  for (int r = 0; r < o.rings; ++r) {
-    const int count = o.num_views / o.rings + (r < o.num_views % o.rings ? 1 : 0);
-    const double elevation =
-        (o.rings == 1 ? 30.0 : 15.0 + 35.0 * r / (o.rings - 1)) * kPi / 180.0;
-    const double offset = r * kPi / std::max(1, count);  // rings staggered
-    for (int k = 0; k < count; ++k) {
-      const double azimuth = offset + 2 * kPi * k / count;
-      ImageRecord image = look_at(id, ring_position(scene, distance, elevation, azimuth), target,
-                                  scene.up.cast<double>());
-      image.name = view_name(id - 1, o.jpeg);
-      model.images.emplace(id, std::move(image));
-      ++id;
-    }
+  std::vector<ImageRecord> images = place_cameras(scene, o, camera);
+  for (int k = 0; k < o.num_views; ++k) {
+    ImageRecord& image = images[k];
+    image.id = k + 1;
+    image.name = view_name(k, o.jpeg);
+    model.images.emplace(image.id, std::move(image));
   }
   return model;
 }
+
+namespace {
+
+SparseModel make_holdout_cameras(const Scene& scene, const DatasetOptions& o) {
+  SparseModel model;
+  const Camera camera = make_camera(o);
+  model.cameras.emplace(1, camera);
+  std::vector<ImageRecord> images = place_cameras(scene, o, camera);
+  for (int k = 0; k < o.holdout; ++k) {
+    ImageRecord& image = images[o.num_views + k];
+    image.id = k + 1;
+    image.name = view_name(k, o.jpeg);
+    model.images.emplace(image.id, std::move(image));
+  }
+  return model;
+}
+
+}  // namespace
 
 RenderedDataset render_dataset(const Scene& scene, const DatasetOptions& o, Reporter& reporter) {
   o.validate();
@@ -215,17 +299,10 @@ RenderedDataset render_dataset(const Scene& scene, const DatasetOptions& o, Repo
     reporter.advance();
   }
   render_options.exposure_gain = 1.0f;
-  data.holdout.cameras.emplace(1, camera);
-  const double distance = camera_distance(scene, o, focal_of(o));
-  for (int k = 0; k < o.holdout; ++k) {
+  data.holdout = make_holdout_cameras(scene, o);
+  for (const auto& [id, image] : data.holdout.images) {
     reporter.throw_if_cancelled();
-    // Between the rings in elevation and between the views in azimuth.
-    const double azimuth = 2 * kPi * (k + 0.37) / o.holdout;
-    ImageRecord image = look_at(k + 1, ring_position(scene, distance, 27.0 * kPi / 180.0, azimuth),
-                                scene.centre.cast<double>(), scene.up.cast<double>());
-    image.name = view_name(k, o.jpeg);
     data.holdout_views.push_back(render_view(scene.objects, camera, image, render_options));
-    data.holdout.images.emplace(k + 1, std::move(image));
     reporter.advance();
   }
   reporter.end();
@@ -241,11 +318,17 @@ void write_dataset(const fs::path& folder, const Scene& scene, const SceneOption
     std::size_t i = 0;
     for (const auto& [id, image] : data.model.images) write_image(tmp / "images" / image.name, data.views[i++].color);
     write_colmap_model(data.model, tmp / "sparse", ColmapFormat::kText);
+    auto stem = [](std::size_t k) { return fs::path(view_name(static_cast<int>(k), false)).stem().string(); };
     if (o.write_depth) {
       fs::create_directories(tmp / "depth");
       for (std::size_t k = 0; k < data.views.size(); ++k)
-        write_image(tmp / "depth" / (fs::path(view_name(static_cast<int>(k), false)).stem().string() + ".tiff"),
-                    data.views[k].depth);
+        write_image(tmp / "depth" / (stem(k) + ".tiff"), data.views[k].depth);
+    }
+    // Not a float TIFF: OpenCV stores 3-channel float TIFFs as lossy LogLuv.
+    if (o.write_normals) {
+      fs::create_directories(tmp / "normals");
+      for (std::size_t k = 0; k < data.views.size(); ++k)
+        write_image(tmp / "normals" / (stem(k) + ".png"), encode_normal_map(data.views[k].normal));
     }
     if (o.holdout > 0) {
       fs::create_directories(tmp / "holdout" / "images");

@@ -13,6 +13,9 @@
 //                                   colours = albedo (sRGB)
 //   DIR/gt_objects.ply              the objects only
 //   DIR/depth/view_000.tiff         CV_32F camera z, 0 = empty (write_depth)
+//   DIR/normals/view_000.png        16-bit RGB = world-frame unit normal (x, y, z)
+//                                   as round((n + 1) / 2 * 65535), all 0 where
+//                                   empty (write_normals; decode_normal_map)
 //   DIR/holdout/images, DIR/holdout/sparse
 //                                   held-out views, not in DIR/images (holdout > 0)
 //   DIR/scene.json                  seed, objects, bounding box, diagonal, up
@@ -40,6 +43,7 @@ struct DatasetOptions {
   double focal = 0.0;     // pixels; 0 = 0.9 * width
   bool jpeg = false;
   bool write_depth = false;
+  bool write_normals = false;
   int supersampling = 2;
   int holdout = 0;        // extra views for novel-view checks
   int num_points = 3000;  // target size of the sparse ground-truth model
@@ -64,6 +68,11 @@ RenderedDataset render_dataset(const Scene& scene, const DatasetOptions& options
 // Renders and writes the layout above. Throws OutputError.
 void write_dataset(const std::filesystem::path& folder, const Scene& scene, const SceneOptions& scene_options,
                    const DatasetOptions& options, Reporter& reporter = null_reporter());
+
+// 16-bit normal map as written under normals/ and back (CV_32FC3 x, y, z;
+// 0 where empty).
+cv::Mat encode_normal_map(const cv::Mat& normals);
+cv::Mat decode_normal_map(const cv::Mat& encoded);
 
 // The file name of view i ("view_007.png").
 std::string view_name(int index, bool jpeg);

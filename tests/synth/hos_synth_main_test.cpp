@@ -1,7 +1,10 @@
 // hos-synth's command line: the flags other stages' tests call, and bad ones.
 #include <gtest/gtest.h>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "core/undistorted_workspace.h"
+#include "synth/dataset.h"
 #include "tests/support/test_support.h"
 
 namespace hos {
@@ -15,7 +18,7 @@ TEST(HosSynthMainTest, WritesTheDocumentedLayout) {
   const fs::path out = dir / "scene";
   ASSERT_EQ(testing::run_command(synth() + " --output " + testing::shell_quote(out.string()) +
                                      " --views 4 --width 160 --height 120 --seed 2 --scene torus --ground-plane"
-                                     " --rings 1 --jpeg --depth --supersampling 1 --holdout 1 --progress none",
+                                     " --rings 1 --jpeg --depth --normals --supersampling 1 --holdout 1 --progress none",
                                  dir / "log"),
             0);
   const UndistortedWorkspace ws = load_undistorted_workspace(out);
@@ -23,6 +26,23 @@ TEST(HosSynthMainTest, WritesTheDocumentedLayout) {
   EXPECT_TRUE(fs::exists(out / "images" / "view_000.jpg"));
   EXPECT_TRUE(fs::exists(out / "depth" / "view_003.tiff"));
   EXPECT_TRUE(fs::exists(out / "holdout" / "images" / "view_000.jpg"));
+  const cv::Mat depth = cv::imread((out / "depth" / "view_001.tiff").string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat normals =
+      decode_normal_map(cv::imread((out / "normals" / "view_001.png").string(), cv::IMREAD_UNCHANGED));
+  ASSERT_EQ(depth.type(), CV_32F);
+  ASSERT_EQ(normals.type(), CV_32FC3);
+  int covered = 0;
+  for (int y = 0; y < depth.rows; ++y)
+    for (int x = 0; x < depth.cols; ++x) {
+      const double n = cv::norm(normals.at<cv::Vec3f>(y, x));
+      if (depth.at<float>(y, x) > 0) {
+        ++covered;
+        EXPECT_NEAR(n, 1.0, 1e-3);
+      } else {
+        EXPECT_EQ(n, 0.0);
+      }
+    }
+  EXPECT_GT(covered, 0);
   EXPECT_TRUE(fs::exists(out / "gt_mesh.ply"));
   EXPECT_TRUE(fs::exists(out / "gt_objects.ply"));
   EXPECT_TRUE(fs::exists(out / "scene.json"));
