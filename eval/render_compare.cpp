@@ -1,0 +1,56 @@
+#include "eval/render_compare.h"
+
+#include <cmath>
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/error.h"
+#include "eval/image_metrics.h"
+
+namespace hos {
+
+RenderComparison compare_renders(const RenderObject& object, const SparseModel& model,
+                                 const std::filesystem::path& images_dir, Reporter& reporter) {
+  RenderComparison out;
+  const std::vector<RenderObject> objects{object};
+  RenderOptions options;
+  options.lighting.unlit = true;  // the texture already holds the photographed shading
+  reporter.begin("render", static_cast<std::int64_t>(model.images.size()));
+  double sum_psnr = 0.0, sum_ssim = 0.0;
+  std::size_t finite_psnr = 0;
+  for (const auto& [id, image] : model.images) {
+    reporter.throw_if_cancelled();
+    const Camera& camera = model.camera_of(image);
+    const std::filesystem::path photo_path = images_dir / image.name;
+    const cv::Mat photo = cv::imread(photo_path.string(), cv::IMREAD_COLOR);
+    if (photo.empty()) throw InputError(photo_path.string(), "missing or not a readable image");
+    if (photo.cols != camera.width || photo.rows != camera.height) {
+      throw InputError(photo_path.string(), "image size differs from its camera in the model");
+    }
+    const RenderedView view = render_view(objects, camera, image, options);
+    reporter.advance();
+    const std::size_t pixels = static_cast<std::size_t>(cv::countNonZero(view.mask));
+    if (pixels == 0) {
+      ++out.skipped_views;
+      continue;
+    }
+    ViewComparison v;
+    v.name = image.name;
+    v.mask_pixels = pixels;
+    v.psnr = masked_psnr(view.color, photo, view.mask);
+    v.ssim = masked_ssim(view.color, photo, view.mask);
+    if (std::isfinite(v.psnr)) {
+      sum_psnr += v.psnr;
+      ++finite_psnr;
+    }
+    sum_ssim += v.ssim;
+    out.views.push_back(v);
+  }
+  reporter.end();
+  if (out.views.empty()) throw StageError("eval", "the mesh is not visible from any camera of the model");
+  out.mean_psnr = finite_psnr > 0 ? sum_psnr / static_cast<double>(finite_psnr)
+                                  : std::numeric_limits<double>::infinity();
+  out.mean_ssim = sum_ssim / static_cast<double>(out.views.size());
+  return out;
+}
+
+}  // namespace hos

@@ -1,0 +1,72 @@
+// hos-eval from the command line: JSON output and exit codes.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "core/exit_codes.h"
+#include "core/ply_io.h"
+#include "tests/eval/test_meshes.h"
+#include "tests/support/test_support.h"
+
+namespace hos {
+namespace {
+
+using testing::shell_quote;
+
+std::string read_text(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string exe() { return shell_quote((testing::bin_dir() / "hos-eval").string()); }
+
+TEST(HosEvalMain, MeshJsonOnStdout) {
+  testing::TempDir dir;
+  write_mesh_ply(dir / "result.ply", testing::icosphere(4, 1.0));
+  write_mesh_ply(dir / "truth.ply", testing::icosphere(4, 1.01));
+  const auto out = dir / "out.json";
+  ASSERT_EQ(testing::run_command(exe() + " mesh --samples 20000 --result " + shell_quote((dir / "result.ply").string()) +
+                                 " --truth " + shell_quote((dir / "truth.ply").string()) + " --json > " +
+                                 shell_quote(out.string())),
+            0)
+      << read_text(out);
+  const auto j = nlohmann::json::parse(read_text(out));
+  EXPECT_NEAR(j["accuracy"]["mean"].get<double>(), 0.01, 5e-4);
+  EXPECT_DOUBLE_EQ(j["f_score"].get<double>(), 1.0);
+  EXPECT_EQ(j["thresholds"].size(), 3u);
+}
+
+TEST(HosEvalMain, SanityJsonFileAndTable) {
+  testing::TempDir dir;
+  TriangleMesh holed = testing::icosphere(2, 1.0);
+  holed.faces.pop_back();
+  write_mesh_ply(dir / "m.ply", holed);
+  const auto json_path = dir / "s.json";
+  ASSERT_EQ(testing::run_command(exe() + " sanity --mesh " + shell_quote((dir / "m.ply").string()) + " --json " +
+                                     shell_quote(json_path.string()),
+                                 dir / "log.txt"),
+            0);
+  EXPECT_NE(read_text(dir / "log.txt").find("watertight"), std::string::npos);
+  const auto j = nlohmann::json::parse(read_text(json_path));
+  EXPECT_FALSE(j["watertight"].get<bool>());
+  EXPECT_EQ(j["boundary_edges"].get<int>(), 3);
+}
+
+TEST(HosEvalMain, BadInputsGiveDocumentedExitCodes) {
+  testing::TempDir dir;
+  EXPECT_EQ(testing::run_command(exe() + " sanity --mesh " + shell_quote((dir / "missing.ply").string()), dir / "a.txt"),
+            kExitBadInput);
+  EXPECT_NE(read_text(dir / "a.txt").find("missing.ply"), std::string::npos);
+  EXPECT_EQ(testing::run_command(exe() + " frobnicate", dir / "b.txt"), kExitUsage);
+  write_mesh_ply(dir / "m.ply", testing::icosphere(1, 1.0));
+  const std::string m = shell_quote((dir / "m.ply").string());
+  EXPECT_EQ(testing::run_command(exe() + " mesh --result " + m + " --truth " + m + " --thresholds 0.01,x", dir / "c.txt"),
+            kExitUsage);
+}
+
+}  // namespace
+}  // namespace hos
