@@ -122,6 +122,8 @@ std::vector<ScreenTriangle> setup_triangles(const std::vector<RenderObject>& obj
     for (int f = 0; f < static_cast<int>(mesh.faces.size()); ++f) {
       const Eigen::Vector3i& F = mesh.faces[f];
       const std::array<Eigen::Vector3f, 3> c{cam[F[0]], cam[F[1]], cam[F[2]]};
+      // Faces with a non-finite vertex are not drawn (nothing NaN reaches the buffers).
+      if (!(c[0].allFinite() && c[1].allFinite() && c[2].allFinite())) continue;
       if (c[0].z() < kNear && c[1].z() < kNear && c[2].z() < kNear) continue;
       if (cull_back_faces && (c[1] - c[0]).cross(c[2] - c[0]).dot(c[0]) >= 0.0f) continue;
       clip_and_project(c, frame, scale, face_offset + f, o, tris);

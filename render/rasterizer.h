@@ -69,6 +69,8 @@ struct RenderedView {
 // Renders objects from one posed camera. Distortion parameters of the camera
 // are honoured by projecting vertices with Camera::project per pixel sample
 // only for pinhole models; distorted models are rendered as their pinhole part.
+// Faces with a non-finite vertex are skipped. Results do not depend on the
+// number of OpenMP threads.
 RenderedView render_view(const std::vector<RenderObject>& objects, const Camera& camera,
                          const ImageRecord& pose, const RenderOptions& options = {});
 

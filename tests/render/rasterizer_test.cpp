@@ -8,6 +8,8 @@
 #include <Eigen/Geometry>
 #include <opencv2/imgproc.hpp>
 #include <cmath>
+#include <limits>
+#include <omp.h>
 #include <random>
 
 namespace hos {
@@ -194,6 +196,33 @@ TEST(RasterizerTest, SupersamplingAntialiasesEdgesAndIsDeterministic) {
   const RenderedView aliased = render_view({sphere}, kCamera, kIdentityPose, options);
   cv::cvtColor(aliased.color, grey, cv::COLOR_BGR2GRAY);
   EXPECT_EQ(cv::countNonZero((grey > 10) & (grey < 245)), 0);
+}
+
+TEST(RasterizerTest, SameResultWithOneOrTwoThreadsAndNonFiniteFacesAreSkipped) {
+  RenderObject sphere{uv_sphere({0.2f, 0.1f, 4}, 1.0f, 48, 96), {}};
+  sphere.material.procedural = [](const Eigen::Vector3f& x) {
+    return Eigen::Vector3f(0.5f + 0.4f * std::sin(20 * x.x()), 0.5f + 0.4f * std::cos(17 * x.y()), 0.3f);
+  };
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const RenderedView one = render_view({sphere}, kCamera, kIdentityPose);
+  omp_set_num_threads(2);
+  const RenderedView two = render_view({sphere}, kCamera, kIdentityPose);
+  omp_set_num_threads(threads);
+  EXPECT_EQ(cv::norm(one.color, two.color, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(one.depth, two.depth, cv::NORM_INF), 0.0);
+  // A NaN vertex removes its faces and nothing else.
+  RenderObject broken = sphere;
+  broken.mesh.vertices[0].x() = std::numeric_limits<float>::quiet_NaN();
+  const RenderedView with_nan = render_view({broken}, kCamera, kIdentityPose);
+  EXPECT_TRUE(cv::checkRange(with_nan.depth));
+  EXPECT_TRUE(cv::checkRange(with_nan.normal));
+  // The pole's fan faces the camera: through the hole the far side shows.
+  const int changed = cv::countNonZero(cv::abs(one.depth - with_nan.depth) > 1e-4);
+  // The fan is a disk of radius ~ f sin(pi / 48) / 3 = 8.7 px: ~ 240 pixels.
+  EXPECT_GT(changed, 180);
+  EXPECT_LT(changed, 300);
+  EXPECT_EQ(cv::countNonZero(one.mask), cv::countNonZero(with_nan.mask));
 }
 
 TEST(RasterizerTest, BadMaterialsAreRejected) {
