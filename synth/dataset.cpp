@@ -312,6 +312,9 @@ RenderedDataset render_dataset(const Scene& scene, const DatasetOptions& o, Repo
 
 void write_dataset(const fs::path& folder, const Scene& scene, const SceneOptions& scene_options,
                    const DatasetOptions& o, Reporter& reporter) {
+  // The folder is replaced as a whole: never delete a folder hos-synth did not write.
+  if (fs::exists(folder) && !(fs::is_directory(folder) && (fs::is_empty(folder) || fs::exists(folder / "scene.json"))))
+    throw OutputError(folder.string(), "exists and is not a hos-synth output; refusing to replace it");
   const RenderedDataset data = render_dataset(scene, o, reporter);
   write_folder_atomically(folder, [&](const fs::path& tmp) {
     fs::create_directories(tmp / "images");

@@ -21,7 +21,9 @@
 //   DIR/scene.json                  seed, objects, bounding box, diagonal, up
 //                                   axis, light direction
 // World up is -y. The folder is written atomically (a temporary folder
-// renamed over DIR), so a half-written DIR never looks finished.
+// renamed over DIR), so a half-written DIR never looks finished. An existing
+// DIR is replaced only if it is empty or holds a scene.json (an earlier
+// output); anything else is an OutputError.
 #pragma once
 
 #include <filesystem>

@@ -1,6 +1,7 @@
 // hos-synth's command line: the flags other stages' tests call, and bad ones.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/undistorted_workspace.h"
@@ -56,6 +57,23 @@ TEST(HosSynthMainTest, BadInvocationsFailWithUsageErrors) {
   EXPECT_EQ(testing::run_command(synth() + out + " --views 1", dir / "log"), 2);
   EXPECT_EQ(testing::run_command(synth() + out + " --views 3 --exposure-gains 1,2", dir / "log"), 2);
   EXPECT_FALSE(fs::exists(dir / "scene"));
+}
+
+TEST(HosSynthMainTest, RefusesToReplaceAFolderItDidNotWrite) {
+  testing::TempDir dir;
+  fs::create_directories(dir / "mine");
+  { std::ofstream(dir / "mine" / "notes.txt") << "keep me"; }
+  const std::string flags = " --views 2 --width 64 --height 48 --points 10 --progress none";
+  EXPECT_EQ(testing::run_command(synth() + " --output " + testing::shell_quote((dir / "mine").string()) + flags,
+                                 dir / "log"),
+            5);
+  EXPECT_TRUE(fs::exists(dir / "mine" / "notes.txt"));
+  // An earlier output is replaced.
+  const std::string out = " --output " + testing::shell_quote((dir / "scene").string());
+  ASSERT_EQ(testing::run_command(synth() + out + flags, dir / "log"), 0);
+  ASSERT_EQ(testing::run_command(synth() + out + flags + " --jpeg", dir / "log"), 0);
+  EXPECT_TRUE(fs::exists(dir / "scene" / "images" / "view_000.jpg"));
+  EXPECT_FALSE(fs::exists(dir / "scene" / "images" / "view_000.png"));
 }
 
 }  // namespace
