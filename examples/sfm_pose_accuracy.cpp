@@ -3,6 +3,7 @@
 //
 //   sfm_pose_accuracy WS/sfm/undistorted/sparse strecha  DATA/gt_dense_cameras
 //   sfm_pose_accuracy WS/sfm/undistorted/sparse middlebury DATA/templeSR_par.txt
+//   sfm_pose_accuracy WS/sfm/undistorted/sparse colmap SCENE/sparse   (e.g. hos-synth's truth)
 //
 // Ground truth formats: Strecha et al. (one "<image>.camera" file per image:
 // K, distortion, camera-to-world R, centre C, size; x ~ K R^T (X - C)) and
@@ -70,6 +71,14 @@ std::map<std::string, Pose> read_middlebury(const fs::path& file) {
   return poses;
 }
 
+std::map<std::string, Pose> read_colmap_truth(const fs::path& folder) {
+  std::map<std::string, Pose> poses;
+  for (const auto& [id, image] : hos::read_colmap_model(folder).images) {
+    poses[image.name] = {image.rotation(), image.center()};
+  }
+  return poses;
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : v[v.size() / 2];
@@ -79,13 +88,15 @@ double median(std::vector<double> v) {
 
 int main(int argc, char** argv) {
   if (argc != 4) {
-    std::cerr << "usage: sfm_pose_accuracy MODEL_DIR strecha|middlebury GT_PATH\n";
+    std::cerr << "usage: sfm_pose_accuracy MODEL_DIR strecha|middlebury|colmap GT_PATH\n";
     return 2;
   }
   try {
     const hos::SparseModel model = hos::read_colmap_model(argv[1]);
     const std::string format = argv[2];
-    const auto truth = format == "strecha" ? read_strecha(argv[3]) : read_middlebury(argv[3]);
+    const auto truth = format == "strecha"   ? read_strecha(argv[3])
+                       : format == "colmap" ? read_colmap_truth(argv[3])
+                                            : read_middlebury(argv[3]);
     std::vector<std::string> names;
     std::vector<Eigen::Vector3d> estimated, expected;
     Eigen::AlignedBox3d box;

@@ -217,7 +217,8 @@ SfmResult run_sfm(const SfmInput& input, const SfmOptions& options, Reporter& re
                             paths.images.string(), "--ImageReader.camera_model", options.camera_model,
                             "--ImageReader.single_camera", result.single_camera ? "1" : "0",
                             "--SiftExtraction.use_gpu", gpu_flag, "--SiftExtraction.num_threads", threads,
-                            "--SiftExtraction.max_num_features", std::to_string(options.max_num_features)},
+                            "--SiftExtraction.max_num_features", std::to_string(options.max_num_features),
+                            "--SiftExtraction.peak_threshold", format_message(options.sift_peak_threshold)},
                            "extracting features",
                            num_images};
   const ColmapStepResult extracted = run_colmap_step(colmap, extract, reporter);
@@ -253,7 +254,8 @@ SfmResult run_sfm(const SfmInput& input, const SfmOptions& options, Reporter& re
   const ColmapStep map{"mapper",
                        {"--random_seed", seed, "--database_path", paths.database.string(), "--image_path",
                         paths.images.string(), "--output_path", paths.sparse.string(), "--Mapper.num_threads",
-                        threads, "--Mapper.min_model_size", "3"},
+                        threads, "--Mapper.min_model_size", "3", "--Mapper.abs_pose_min_num_inliers",
+                        std::to_string(options.min_pose_inliers)},
                        "mapping",
                        num_images};
   const ColmapStepResult mapped = run_colmap_step(colmap, map, reporter);

@@ -33,9 +33,13 @@ void register_options(OptionSet& set, SfmOptions& o) {
   set.add("min_image_size", o.min_image_size, "skip photos whose shorter side is smaller (pixels)", 1,
           100000);
   set.add("max_num_features", o.max_num_features, "SIFT features per photo", 100, 1000000);
+  set.add("sift_peak_threshold", o.sift_peak_threshold,
+          "SIFT contrast threshold (COLMAP default 0.0067; lower = more features)", 0.0005, 0.1);
   set.add("num_threads", o.num_threads, "COLMAP threads; -1 = all cores", -1, 1024);
   set.add_choice("use_gpu", o.use_gpu, {"auto", "yes", "no"},
                  "auto: GPU SIFT only if COLMAP was built with CUDA");
+  set.add("min_pose_inliers", o.min_pose_inliers,
+          "inlier matches the mapper needs to register a photo (COLMAP default 30)", 6, 10000);
   set.add("min_registered_images", o.min_registered_images,
           "fewer registered photos fail the stage", 3, 1000000);
   set.add("random_seed", o.random_seed, "COLMAP random seed (repeatable runs)", 0, 2147483647);

@@ -25,9 +25,17 @@ struct SfmOptions {
   int max_image_size = 0;
   int min_image_size = 64;      // photos with a shorter side are skipped
   int max_num_features = 8192;  // SIFT features per photo
+  // SIFT contrast threshold. Below COLMAP's 0.0067 so that small photos and
+  // sparsely textured objects get enough features; large photos reach
+  // max_num_features either way.
+  double sift_peak_threshold = 0.003;
   int num_threads = -1;         // COLMAP threads; -1 = all cores
   // "auto" uses the GPU only if the COLMAP binary reports CUDA support.
   std::string use_gpu = "auto";
+  // Inliers the mapper needs to register a photo. COLMAP's default (30) drops
+  // views of small, sparsely textured objects that match their neighbours
+  // with only 15-30 features; 15 still rejects chance matches.
+  int min_pose_inliers = 15;
   int min_registered_images = 3;  // fewer registered photos is a failure
   int random_seed = 0;            // COLMAP's random seed, for repeatable runs
 
