@@ -209,7 +209,7 @@ struct Builder {
 
 }  // namespace
 
-RenderObject read_glb(const std::filesystem::path& path) {
+RenderObject read_glb(const std::filesystem::path& path, GlbFrame frame) {
   if (!std::filesystem::is_regular_file(path)) throw InputError(path.string(), "no such file");
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&decode_image, nullptr);
@@ -226,7 +226,14 @@ RenderObject read_glb(const std::filesystem::path& path) {
   } else {
     for (int i = 0; i < static_cast<int>(model.nodes.size()); ++i) roots.push_back(i);
   }
-  for (int root : roots) builder.add_node(root, Eigen::Matrix4d::Identity(), 0);
+  for (int root : roots) {
+    Eigen::Matrix4d start = Eigen::Matrix4d::Identity();
+    if (frame == GlbFrame::kModel && root >= 0 && root < static_cast<int>(model.nodes.size())) {
+      // Cancels the root's own matrix: its children and meshes stay in the model frame.
+      start = local_matrix(model.nodes[root]).inverse();
+    }
+    builder.add_node(root, start, 0);
+  }
   if (builder.out.mesh.faces.empty()) throw InputError(path.string(), "the glTF holds no triangles");
   return std::move(builder.out);
 }

@@ -16,6 +16,9 @@
 #include "core/exit_codes.h"
 #include "core/ply_io.h"
 #include "eval/alignment.h"
+#if HOS_EVAL_HAS_RENDER
+#include "eval/visible_surface.h"
+#endif
 #include "eval/curvature.h"
 #include "eval/gltf_reader.h"
 #include "eval/mesh_sanity.h"
@@ -158,6 +161,11 @@ int main(int argc, char** argv) {
   mesh_cmd->add_option("--thresholds", thresholds_text, "F-score thresholds as fractions of the truth's bbox diagonal");
   mesh_cmd->add_option("--samples", distance_options.num_samples, "surface samples per mesh");
   mesh_cmd->add_option("--seed", distance_options.seed, "sampling seed");
+  std::string visible_model;
+  int visible_min_views = 2;
+  mesh_cmd->add_option("--visible-in", visible_model,
+                       "truth-frame sparse model: compare only with the true surface its cameras see");
+  mesh_cmd->add_option("--min-views", visible_min_views, "views that must see a true face (with --visible-in)");
   mesh_align.add(mesh_cmd);
   add_json(mesh_cmd);
 
@@ -204,8 +212,19 @@ int main(int argc, char** argv) {
       distance_options.thresholds = parse_thresholds(thresholds_text);
       distance_options.validate();
       hos::TriangleMesh result = read_surface(result_path);
-      const hos::TriangleMesh truth = read_surface(truth_path);
+      hos::TriangleMesh truth = read_surface(truth_path);
       table += "mesh: " + result_path + " vs " + truth_path + "\n";
+      if (!visible_model.empty()) {
+#if HOS_EVAL_HAS_RENDER
+        const std::size_t all_faces = truth.num_faces();
+        truth = hos::visible_part(truth, hos::read_colmap_model(visible_model), visible_min_views, reporter);
+        j["truth_faces_visible"] = truth.num_faces();
+        table += row("true faces seen by >= " + std::to_string(visible_min_views) + " views",
+                     std::to_string(truth.num_faces()) + " of " + std::to_string(all_faces));
+#else
+        throw hos::ConfigError("--visible-in", "hos-eval was built without the render module");
+#endif
+      }
       if (const auto alignment = mesh_align.compute()) {
         j["alignment"] = alignment_json(*alignment, table);
         hos::transform_mesh(result, alignment->truth_from_recovered);
