@@ -5,6 +5,11 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <fcntl.h>
+#include <string_view>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <optional>
 #include <fstream>
 #include <sstream>
@@ -77,7 +82,7 @@ struct PlyHeader {
   std::size_t data_offset = 0;
 };
 
-PlyHeader parse_header(const std::string& file, const std::string& data) {
+PlyHeader parse_header(const std::string& file, std::string_view data) {
   if (data.compare(0, 3, "ply") != 0 || (data.size() > 3 && data[3] != '\n' && data[3] != '\r')) {
     throw InputError(file, "not a PLY file (missing 'ply' magic line)");
   }
@@ -90,7 +95,7 @@ PlyHeader parse_header(const std::string& file, const std::string& data) {
     if (end == std::string::npos) {
       throw InputError(file, "PLY header is truncated (no 'end_header' line)");
     }
-    std::string line = data.substr(pos, end - pos);
+    std::string line(data.substr(pos, end - pos));
     pos = end + 1;
     ++line_number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -158,7 +163,7 @@ PlyHeader parse_header(const std::string& file, const std::string& data) {
 // endianness, with truncation checks.
 class BodyReader {
  public:
-  BodyReader(const std::string& file, const std::string& data, const PlyHeader& header)
+  BodyReader(const std::string& file, std::string_view data, const PlyHeader& header)
       : file_(file), data_(data), pos_(header.data_offset), format_(header.format) {}
 
   double read(PlyType type) {
@@ -170,6 +175,10 @@ class BodyReader {
     pos_ += n;
     const bool file_little = format_ == PlyFormat::kBinaryLittleEndian;
     if (file_little != (std::endian::native == std::endian::little)) std::reverse(bytes, bytes + n);
+    return decode(type, bytes);
+  }
+
+  static double decode(PlyType type, const unsigned char* bytes) {
     switch (type) {
       case PlyType::kInt8: return static_cast<double>(load<std::int8_t>(bytes));
       case PlyType::kUInt8: return static_cast<double>(load<std::uint8_t>(bytes));
@@ -184,8 +193,27 @@ class BodyReader {
   }
 
   void set_context(const std::string& element, std::size_t row) {
-    element_ = element;
+    element_ = &element;
     row_ = row;
+  }
+
+  bool binary() const { return format_ != PlyFormat::kAscii; }
+
+  // One row of scalar properties of a binary file with a single bounds check
+  // (the hot path of large point clouds).
+  void read_binary_row(const std::vector<PlyProperty>& properties, std::size_t row_bytes, double* out) {
+    if (data_.size() - pos_ < row_bytes) truncated();
+    const bool swap = (format_ == PlyFormat::kBinaryLittleEndian) != (std::endian::native == std::endian::little);
+    const unsigned char* p = reinterpret_cast<const unsigned char*>(data_.data()) + pos_;
+    for (std::size_t k = 0; k < properties.size(); ++k) {
+      const std::size_t n = type_size(properties[k].type);
+      unsigned char bytes[8];
+      std::memcpy(bytes, p, n);
+      if (swap) std::reverse(bytes, bytes + n);
+      out[k] = decode(properties[k].type, bytes);
+      p += n;
+    }
+    pos_ += row_bytes;
   }
 
   void expect_end() {
@@ -228,7 +256,7 @@ class BodyReader {
       char* parsed_end = nullptr;
       value = std::strtod(token.c_str(), &parsed_end);
       if (parsed_end != token.c_str() + token.size()) {
-        throw InputError(file_, "element '" + element_ + "' row " + std::to_string(row_) +
+        throw InputError(file_, "element '" + *element_ + "' row " + std::to_string(row_) +
                                     ": '" + token + "' is not a number");
       }
       ptr = token_end;
@@ -238,31 +266,57 @@ class BodyReader {
   }
 
   [[noreturn]] void truncated() const {
-    throw InputError(file_, "data ends in element '" + element_ + "' row " +
+    throw InputError(file_, "data ends in element '" + *element_ + "' row " +
                                 std::to_string(row_) +
                                 ": the file is truncated or the header's counts are wrong");
   }
 
   const std::string& file_;
-  const std::string& data_;
+  std::string_view data_;
   std::size_t pos_;
   PlyFormat format_;
-  std::string element_;
+  const std::string* element_ = &kNoElement;
   std::size_t row_ = 0;
+  static inline const std::string kNoElement = "(header)";
 };
 
-std::string read_whole_file(const fs::path& path) {
-  if (!fs::exists(path)) throw InputError(path.string(), "file does not exist");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string(), "cannot open file");
-  in.seekg(0, std::ios::end);
-  const auto size = static_cast<std::size_t>(in.tellg());
-  in.seekg(0);
-  std::string data(size, '\0');
-  in.read(data.data(), static_cast<std::streamsize>(size));
-  if (!in) throw InputError(path.string(), "read failed");
-  return data;
-}
+// The file mapped read-only into memory: no copy and no zero-fill of a
+// buffer, so a large binary file costs little more than the page cache reads.
+class MappedFile {
+ public:
+  explicit MappedFile(const fs::path& path) {
+    if (!fs::exists(path)) throw InputError(path.string(), "file does not exist");
+    fd_ = ::open(path.c_str(), O_RDONLY);
+    if (fd_ < 0) throw InputError(path.string(), "cannot open file");
+    struct stat st {};
+    if (::fstat(fd_, &st) != 0) {
+      ::close(fd_);
+      throw InputError(path.string(), "cannot read the file's size");
+    }
+    size_ = static_cast<std::size_t>(st.st_size);
+    if (size_ > 0) {
+      void* p = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd_, 0);
+      if (p == MAP_FAILED) {
+        ::close(fd_);
+        throw InputError(path.string(), "cannot map the file into memory");
+      }
+      data_ = static_cast<const char*>(p);
+      ::madvise(p, size_, MADV_SEQUENTIAL);
+    }
+  }
+  ~MappedFile() {
+    if (data_) ::munmap(const_cast<char*>(data_), size_);
+    if (fd_ >= 0) ::close(fd_);
+  }
+  MappedFile(const MappedFile&) = delete;
+  MappedFile& operator=(const MappedFile&) = delete;
+  std::string_view view() const { return {data_ ? data_ : "", size_}; }
+
+ private:
+  int fd_ = -1;
+  const char* data_ = nullptr;
+  std::size_t size_ = 0;
+};
 
 // Property indices of the vertex attributes hos understands.
 struct VertexLayout {
@@ -322,7 +376,8 @@ struct ParsedPly {
 
 ParsedPly parse_ply(const fs::path& path, bool want_faces) {
   const std::string file = path.string();
-  const std::string data = read_whole_file(path);
+  const MappedFile mapped(path);
+  const std::string_view data = mapped.view();
   const PlyHeader header = parse_header(file, data);
   BodyReader body(file, data, header);
   ParsedPly out;
@@ -351,9 +406,18 @@ ParsedPly parse_ply(const fs::path& path, bool want_faces) {
     }
     row.resize(element.properties.size());
     std::vector<int> polygon;
+    const bool fixed_rows = body.binary() && std::none_of(element.properties.begin(), element.properties.end(),
+                                                          [](const PlyProperty& p) { return p.is_list; });
+    std::size_t row_bytes = 0;
+    for (const auto& p : element.properties) row_bytes += type_size(p.type);
+    std::vector<std::vector<float>*> extra_columns;
+    if (is_vertex) {
+      for (int idx : layout->extra) extra_columns.push_back(&out.vertices.scalars[element.properties[idx].name]);
+    }
     for (std::size_t r = 0; r < element.count; ++r) {
       body.set_context(element.name, r);
-      for (std::size_t p = 0; p < element.properties.size(); ++p) {
+      if (fixed_rows) body.read_binary_row(element.properties, row_bytes, row.data());
+      for (std::size_t p = 0; p < element.properties.size() && !fixed_rows; ++p) {
         const auto& prop = element.properties[p];
         if (!prop.is_list) {
           row[p] = body.read(prop.type);
@@ -400,8 +464,8 @@ ParsedPly parse_ply(const fs::path& path, bool want_faces) {
           const double c = row[layout->confidence];
           v.confidence.push_back(std::isfinite(c) ? static_cast<float>(c) : 0.0f);
         }
-        for (int idx : layout->extra) {
-          v.scalars[element.properties[idx].name].push_back(static_cast<float>(row[idx]));
+        for (std::size_t e = 0; e < layout->extra.size(); ++e) {
+          extra_columns[e]->push_back(static_cast<float>(row[layout->extra[e]]));
         }
       } else if (is_face && polygon.size() >= 3) {
         for (std::size_t i = 1; i + 1 < polygon.size(); ++i) {
