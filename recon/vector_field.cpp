@@ -5,9 +5,11 @@
 namespace hos::recon {
 namespace {
 
-void box_filter_axis(const GridGeometry& g, std::vector<double>& v, int axis) {
+// out is scratch space of v's size, reused across calls: allocating (and
+// page-faulting) a grid-sized buffer per pass dominated the filter's time.
+void box_filter_axis(const GridGeometry& g, std::vector<double>& v, std::vector<double>& out, int axis) {
   const Eigen::Vector3i d = g.dims;
-  std::vector<double> out(v.size());
+  out.resize(v.size());
   const std::int64_t stride = axis == 0 ? 1 : axis == 1 ? d.x() : std::int64_t{d.x()} * d.y();
   const int n = d[axis];
 #pragma omp parallel for collapse(2) schedule(static)
@@ -52,8 +54,9 @@ VectorGrid splat_normals(const GridGeometry& geometry, const std::vector<Eigen::
 }
 
 void box_filter(const GridGeometry& geometry, std::vector<double>& values, int passes) {
+  std::vector<double> scratch;
   for (int pass = 0; pass < passes; ++pass) {
-    for (int axis = 0; axis < 3; ++axis) box_filter_axis(geometry, values, axis);
+    for (int axis = 0; axis < 3; ++axis) box_filter_axis(geometry, values, scratch, axis);
   }
 }
 
