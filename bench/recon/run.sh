@@ -30,7 +30,7 @@ fi
 timed() {
   /usr/bin/time -f "%e %M" -o "$work/time.txt" "$@" > "$work/cmd.log" 2>&1 || {
     echo "failed: $*" >&2; tail -5 "$work/cmd.log" >&2; echo "fail fail"; return; }
-  awk '{printf "%s %.0f", $1, $2/1024}' "$work/time.txt"
+  awk '{printf "%s %.0f\n", $1, $2/1024}' "$work/time.txt"
 }
 
 accuracy() {  # mesh input_points name

@@ -86,10 +86,15 @@ void write_test_glb(const std::filesystem::path& path) {
 TEST(GltfReader, ReadsTransformedWeldedTexturedMesh) {
   testing::TempDir dir;
   write_test_glb(dir / "q.glb");
-  const RenderObject o = read_glb(dir / "q.glb");
+  // The scene frame applies the root node's matrix (a translation by 5 in z);
+  // the model frame, hos-texture's convention, leaves the root's matrix out.
+  const RenderObject o = read_glb(dir / "q.glb", GlbFrame::kScene);
   ASSERT_EQ(o.mesh.faces.size(), 2u);
   EXPECT_EQ(o.mesh.vertices.size(), 4u);  // the seam's duplicated positions are welded
   for (const auto& v : o.mesh.vertices) EXPECT_FLOAT_EQ(v.z(), 5.0f);
+  const RenderObject model_frame = read_glb(dir / "q.glb");
+  ASSERT_EQ(model_frame.mesh.vertices.size(), 4u);
+  for (const auto& v : model_frame.mesh.vertices) EXPECT_FLOAT_EQ(v.z(), 0.0f);
   ASSERT_EQ(o.material.textures.size(), 1u);
   EXPECT_EQ(o.material.textures[0].size(), cv::Size(4, 2));
   EXPECT_EQ(o.material.textures[0].at<cv::Vec3b>(1, 3), cv::Vec3b(10, 20, 200));
