@@ -169,10 +169,46 @@ void EnergyOperator::apply(const std::vector<double>& x, std::vector<double>& y)
       }
     }
   }
+  if (screening_) {
+    // Exact S^T S x on the finest level: interpolate at the samples, splat back.
+    const auto& sc = *screening_;
+    const std::int64_t n_nodes = g.num_nodes();
+    std::int64_t corner_offsets[8];
+    for (int c = 0; c < 8; ++c) corner_offsets[c] = g.index(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+    for (std::size_t i = 0; i < sc.corner.size(); ++i) {
+      double v = 0.0;
+      for (int c = 0; c < 8; ++c) {
+        const std::int64_t node = sc.corner[i] + corner_offsets[c];
+        if (sc.weights[i][c] != 0.0f && node >= 0 && node < n_nodes) v += sc.weights[i][c] * x[node];
+      }
+      v *= sc.weight;
+      for (int c = 0; c < 8; ++c) {
+        const std::int64_t node = sc.corner[i] + corner_offsets[c];
+        if (sc.weights[i][c] != 0.0f && node >= 0 && node < n_nodes) y[node] += sc.weights[i][c] * v;
+      }
+    }
+  } else if (!screening_diagonal_.empty()) {
+    const std::int64_t n_nodes = g.num_nodes();
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < n_nodes; ++i) y[i] += screening_diagonal_[i] * x[i];
+  }
+}
+
+void EnergyOperator::set_screening(const Screening* screening) {
+  screening_ = screening;
+  screening_diagonal_.assign(geometry_.num_nodes(), 0.0);
+  if (!screening) return;
+  for (std::size_t i = 0; i < screening->corner.size(); ++i) {
+    for (int c = 0; c < 8; ++c) {
+      const std::int64_t node = screening->corner[i] + geometry_.index(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+      if (node >= 0 && node < geometry_.num_nodes()) screening_diagonal_[node] += screening->weight * screening->weights[i][c];
+    }
+  }
 }
 
 double EnergyOperator::l1_diagonal(std::int64_t node) const {
-  if (tv_node_weights_.empty()) return stencil_abs_sum_;
+  const double screen = screening_diagonal_.empty() ? 0.0 : screening_diagonal_[node];
+  if (tv_node_weights_.empty()) return stencil_abs_sum_ + screen;
   // Each TV edge contributes its weight twice to the row's absolute sum; the
   // neighbour weights are bounded by the node's own plus the largest nearby,
   // so use the node weight and its neighbours' directly.
@@ -189,7 +225,7 @@ double EnergyOperator::l1_diagonal(std::int64_t node) const {
     edges += 0.5 * (wi + (p[a] > 0 ? tv_node_weights_[node - strides[a]] : wi));
     edges += 0.5 * (wi + (p[a] < d[a] - 1 ? tv_node_weights_[node + strides[a]] : wi));
   }
-  return stencil_abs_sum_ + 2.0 * tv_weight_ / (g.spacing * g.spacing) * edges;
+  return stencil_abs_sum_ + 2.0 * tv_weight_ / (g.spacing * g.spacing) * edges + screen;
 }
 
 EnergyOperator EnergyOperator::coarsened() const {
@@ -198,7 +234,13 @@ EnergyOperator EnergyOperator::coarsened() const {
   if (!tv_node_weights_.empty()) {
     restrict_to_coarse(geometry_, tv_node_weights_, coarse, weights);
   }
-  return EnergyOperator(coarse, energy_, hessian_weight_, std::move(weights), tv_weight_);
+  EnergyOperator op(coarse, energy_, hessian_weight_, std::move(weights), tv_weight_);
+  if (!screening_diagonal_.empty()) {
+    // The coarse operator keeps the screening as a diagonal term (R D P).
+    restrict_to_coarse(geometry_, screening_diagonal_, coarse, op.screening_diagonal_);
+    for (double& v : op.screening_diagonal_) v *= 8.0;
+  }
+  return op;
 }
 
 namespace {

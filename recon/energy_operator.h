@@ -10,6 +10,7 @@
 // definite: the null space of constants and linear functions is removed.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "recon/grid.h"
@@ -29,6 +30,16 @@ struct Stencil {
 // (energy (2) gives just -Lap; its TV part is per-node).
 Stencil energy_stencil(SmoothnessEnergy energy, double spacing, double hessian_weight);
 
+// Optional screening term weight * sum_i (f(p_i) - target)^2 over the samples
+// (f(p_i) trilinear): it pins the level set to the samples where orientations
+// are too coarse to place it (one orientation per scan). On coarse multigrid
+// levels it is approximated by its diagonal (the splatted sample density).
+struct Screening {
+  std::vector<std::int64_t> corner;   // per sample: node index of its cell's lower corner
+  std::vector<std::array<float, 8>> weights;  // trilinear weights of the 8 corners
+  double weight = 0.0;
+};
+
 class EnergyOperator {
  public:
   // tv_node_weights: empty, or one weight per node (energy (2)), scaled by tv_weight.
@@ -36,6 +47,8 @@ class EnergyOperator {
                  std::vector<double> tv_node_weights = {}, double tv_weight = 0.0);
 
   const GridGeometry& geometry() const { return geometry_; }
+  // Adds the screening term (finest level); see Screening.
+  void set_screening(const Screening* screening);
   // y = A x.
   void apply(const std::vector<double>& x, std::vector<double>& y) const;
   // Per-node l1 row sums (>= |a_ii| + sum |a_ij|): the l1-Jacobi smoother.
@@ -51,6 +64,8 @@ class EnergyOperator {
   std::vector<std::int64_t> linear_offsets_;
   std::vector<double> tv_node_weights_;
   double tv_weight_;
+  const Screening* screening_ = nullptr;
+  std::vector<double> screening_diagonal_;  // weight * density per node
   double stencil_abs_sum_;
 };
 

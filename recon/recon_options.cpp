@@ -45,6 +45,7 @@ void register_options(OptionSet& set, ReconOptions& o) {
           "field magnitude from the sample density, direction from the orientations");
   set.add("direction_filter_passes", o.direction_filter_passes,
           "box filter passes for the orientations' directions (with uniform_flux)", 0, 100);
+  set.add("screening", o.screening, "weight pinning f at the samples to the isovalue (0 = off)", 0.0, 1000.0);
   set.add("use_confidence", o.use_confidence, "weight orientations by the points' confidence");
   set.add("solver.tolerance", o.solver.tolerance, "relative residual the solver must reach", 1e-12,
           0.5);

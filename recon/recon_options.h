@@ -54,6 +54,10 @@ struct ReconOptions {
   // on: wider than the density's, so coarse per-scan orientations blend into
   // a smooth direction field while the flux stays concentrated at the samples.
   int direction_filter_passes = 12;
+  // Weight of the screening term that pins f at the samples to the isovalue
+  // (see Screening in energy_operator.h); 0 = the paper's pure formulation.
+  // Not used with energy (2).
+  double screening = 4.0;
   SolverOptions solver;
   TrimOptions trim;
   int threads = 0;  // OpenMP threads; 0 = all cores

@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "core/error.h"
+#include <array>
+
 #include "recon/energy_operator.h"
 #include "recon/isosurface.h"
 #include "recon/multigrid.h"
@@ -171,7 +173,44 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   } else {
     const double weight =
         options.energy == SmoothnessEnergy::kMembrane ? options.lambda : options.lambda * ell * ell;
-    run(EnergyOperator(grid, options.energy, weight), solver);
+    EnergyOperator op(grid, options.energy, weight);
+    run(op, solver);
+    if (options.screening > 0.0) {
+      // Screened solve: pull f at the samples towards the isovalue of the
+      // unscreened solution (eq. 12), warm-started from it.
+      Screening screening;
+      std::vector<double> density(grid.num_nodes(), 0.0);
+      for (const auto& p : points) {
+        const TrilinearStencil st = trilinear_stencil(grid, p.cast<double>());
+        std::array<float, 8> w{};
+        for (int c = 0; c < 8; ++c) {
+          const int i = st.corner.x() + (c & 1), j = st.corner.y() + ((c >> 1) & 1), k = st.corner.z() + ((c >> 2) & 1);
+          if (!grid.contains(i, j, k)) continue;
+          w[c] = static_cast<float>(st.weight(c & 1, (c >> 1) & 1, (c >> 2) & 1));
+          density[grid.index(i, j, k)] += w[c];
+        }
+        screening.corner.push_back(grid.index(st.corner.x(), st.corner.y(), st.corner.z()));
+        screening.weights.push_back(w);
+      }
+      double sum = 0.0, count = 0.0;
+      for (double d : density) {
+        if (d > 0) sum += d, count += 1.0;
+      }
+      // Weighted so that at a typical surface node the term is screening
+      // times the Laplacian's scale 1 / h^2, at any resolution and density.
+      screening.weight = options.screening / (grid.spacing * grid.spacing * (sum / std::max(count, 1.0)));
+      double iso = 0.0;
+      for (const auto& p : points) iso += f.sample(p.cast<double>());
+      iso /= static_cast<double>(points.size());
+      for (std::size_t s = 0; s < points.size(); ++s) {
+        for (int c = 0; c < 8; ++c) {
+          const std::int64_t node = screening.corner[s] + grid.index(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+          if (screening.weights[s][c] != 0.0f) rhs.values[node] += screening.weight * iso * screening.weights[s][c];
+        }
+      }
+      op.set_screening(&screening);
+      run(op, solver);
+    }
   }
   for (double v : f.values) {
     if (!std::isfinite(v)) throw NumericalError("recon", "the implicit function is not finite");

@@ -2,6 +2,8 @@
 # Side-by-side: hos-recon (grid 256 / 512) against COLMAP's Screened Poisson
 # (poisson_mesher, depth 8 / 9) on the same oriented points, in one run.
 # Prints a markdown table: wall time, peak memory, triangles, accuracy.
+# COLMAP runs with PoissonMeshing.trim 0: its default density trim (10)
+# removed every face of these inputs; hos-recon trims by distance instead.
 #   bench/recon/run.sh [--large] [--data DIR]   (DIR holds stanford_bunny/)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -57,7 +59,7 @@ for name in "${inputs[@]}"; do
     res=$1 depth=$2
     read -r t m < <(timed "$bin/hos-recon" --input "$work/$name.ply" --output "$work/hos.ply" --resolution "$res" --progress none)
     echo "| $name | hos-recon (energy 4) | grid $res | $t | $m | $(faces "$work/hos.ply") | $(accuracy "$work/hos.ply" "$work/$name.ply" "$name") |"
-    read -r t m < <(timed env QT_QPA_PLATFORM=offscreen colmap poisson_mesher --input_path "$work/$name.ply" --output_path "$work/poisson.ply" --PoissonMeshing.depth "$depth")
+    read -r t m < <(timed env QT_QPA_PLATFORM=offscreen colmap poisson_mesher --input_path "$work/$name.ply" --output_path "$work/poisson.ply" --PoissonMeshing.depth "$depth" --PoissonMeshing.trim 0)
     if [ -f "$work/poisson.ply" ]; then
       echo "| $name | COLMAP poisson_mesher | depth $depth | $t | $m | $(faces "$work/poisson.ply") | $(accuracy "$work/poisson.ply" "$work/$name.ply" "$name") |"
       rm -f "$work/poisson.ply"
