@@ -22,11 +22,7 @@ int main(int argc, char** argv) {
   app.add_option("--output", output_path, "output PLY (x y z nx ny nz red green blue confidence)");
   app.add_option("--max-image-size", max_image_size, "longest image side for matching (= mvs.max_image_size)");
   app.add_option("--depth-maps", depth_maps, "also write every depth and normal map into this folder");
-  app.add_option("--config", flags.config_file, "YAML config file (its mvs: section is used)");
-  app.add_option("--set", flags.assignments, "override an option: --set mvs.key=value (repeatable)");
-  app.add_option("--progress", flags.progress, "auto|bar|plain|json|none");
-  app.add_option("--log", flags.log_file, "log file");
-  app.add_flag("--verbose", flags.verbose, "show debug messages");
+  hos::add_common_stage_flags(app, flags, "mvs");
   app.add_flag("--print-config", print_config, "print the mvs options with their documentation and exit");
   try {
     app.parse(argc, argv);

@@ -47,11 +47,7 @@ int main(int argc, char** argv) {
   app.add_option("--view-dir", view_dir, "orient all points towards this direction x,y,z");
   app.add_option("--scanner-pos", scanner_pos, "orient every point towards this position x,y,z");
   app.add_flag("--ascii", ascii, "write an ASCII PLY");
-  app.add_option("--config", flags.config_file, "YAML config file (its recon: section is used)");
-  app.add_option("--set", flags.assignments, "override an option: --set recon.key=value (repeatable)");
-  app.add_option("--progress", flags.progress, "auto|bar|plain|json|none");
-  app.add_option("--log", flags.log_file, "log file");
-  app.add_flag("--verbose", flags.verbose, "show debug messages (solver residuals)");
+  hos::add_common_stage_flags(app, flags, "recon");
   app.add_flag("--print-config", print_config, "print the recon options with their documentation and exit");
   try {
     app.parse(argc, argv);

@@ -29,11 +29,7 @@ int main(int argc, char** argv) {
   app.add_option("--max-faces", max_faces, "decimate to at most N faces first (= texture.max_faces)");
   app.add_option("--atlas-size", atlas_size, "maximum atlas size in pixels (= texture.atlas_size)");
   app.add_option("--image-format", image_format, "png|jpeg (= texture.image_format)");
-  app.add_option("--config", flags.config_file, "YAML config file (its texture: section is used)");
-  app.add_option("--set", flags.assignments, "override an option: --set texture.key=value (repeatable)");
-  app.add_option("--progress", flags.progress, "auto|bar|plain|json|none");
-  app.add_option("--log", flags.log_file, "log file");
-  app.add_flag("--verbose", flags.verbose, "show debug messages");
+  hos::add_common_stage_flags(app, flags, "texture");
   app.add_flag("--print-config", print_config, "print the texture options with their documentation and exit");
   try {
     app.parse(argc, argv);

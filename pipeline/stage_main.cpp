@@ -1,5 +1,7 @@
 #include "pipeline/stage_main.h"
 
+#include <CLI/CLI.hpp>
+
 #include <yaml-cpp/yaml.h>
 
 #include <atomic>
@@ -92,6 +94,15 @@ int run_stage_main(const std::string& stage, const CommonStageFlags& flags,
     reporter.error(std::string("internal error: ") + e.what());
     return kExitInternal;
   }
+}
+
+void add_common_stage_flags(CLI::App& app, CommonStageFlags& flags, const std::string& section) {
+  app.add_option("--config", flags.config_file, "YAML config file (its " + section + ": section is used)");
+  app.add_option("--set", flags.assignments,
+                 "override an option: --set " + section + ".key=value (repeatable)");
+  app.add_option("--progress", flags.progress, "auto|bar|plain|json|none");
+  app.add_option("--log", flags.log_file, "log file (every message, debug included)");
+  app.add_flag("--verbose", flags.verbose, "show debug messages");
 }
 
 }  // namespace hos

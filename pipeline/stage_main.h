@@ -10,6 +10,10 @@
 #include "core/option_set.h"
 #include "core/reporter.h"
 
+namespace CLI {
+class App;
+}
+
 namespace hos {
 
 // Command-line options common to all stage executables.
@@ -20,6 +24,10 @@ struct CommonStageFlags {
   std::string log_file;                  // --log FILE: every message, debug included
   bool verbose = false;                  // --verbose: debug messages on the terminal
 };
+
+// Adds --config, --set, --progress, --log and --verbose to a stage's command
+// line, documented for its YAML section.
+void add_common_stage_flags(CLI::App& app, CommonStageFlags& flags, const std::string& section);
 
 // Applies --config (the file's `section:` map) and then every --set to the
 // option set. "--set recon.lambda=0.2" and "--set lambda=0.2" are the same

@@ -21,11 +21,7 @@ int main(int argc, char** argv) {
   app.add_option("--images", input.images, "folder of photos (or the images of --sparse)");
   app.add_option("--workspace", input.workspace, "workspace folder; the stage writes WS/sfm/");
   app.add_option("--sparse", input.existing_model, "existing COLMAP sparse model of --images: skip SfM");
-  app.add_option("--config", flags.config_file, "YAML config file (its sfm: section is used)");
-  app.add_option("--set", flags.assignments, "override an option: --set sfm.key=value (repeatable)");
-  app.add_option("--progress", flags.progress, "auto|bar|plain|json|none");
-  app.add_option("--log", flags.log_file, "log file (default WS/logs/sfm.log); COLMAP's output goes there");
-  app.add_flag("--verbose", flags.verbose, "show debug messages and COLMAP's output");
+  hos::add_common_stage_flags(app, flags, "sfm");
   app.add_flag("--print-config", print_config, "print the sfm options with their documentation and exit");
   try {
     app.parse(argc, argv);
