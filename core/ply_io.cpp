@@ -199,12 +199,28 @@ class BodyReader {
 
   bool binary() const { return format_ != PlyFormat::kAscii; }
 
-  // One row of scalar properties of a binary file with a single bounds check
-  // (the hot path of large point clouds).
-  void read_binary_row(const std::vector<PlyProperty>& properties, std::size_t row_bytes, double* out) {
-    if (data_.size() - pos_ < row_bytes) truncated();
-    const bool swap = (format_ == PlyFormat::kBinaryLittleEndian) != (std::endian::native == std::endian::little);
-    const unsigned char* p = reinterpret_cast<const unsigned char*>(data_.data()) + pos_;
+  std::size_t remaining() const { return data_.size() - pos_; }
+
+  bool swap_bytes() const {
+    return (format_ == PlyFormat::kBinaryLittleEndian) != (std::endian::native == std::endian::little);
+  }
+
+  // The next `count` fixed-size binary rows, bounds-checked once for the
+  // whole element (the hot path of large point clouds).
+  const unsigned char* take_rows(std::size_t count, std::size_t row_bytes) {
+    const std::size_t available = data_.size() - pos_;
+    if (row_bytes > 0 && available / row_bytes < count) {
+      row_ = available / row_bytes;
+      truncated();
+    }
+    const auto* rows = reinterpret_cast<const unsigned char*>(data_.data()) + pos_;
+    pos_ += count * row_bytes;
+    return rows;
+  }
+
+  // One row of scalar properties at `p`, decoded into `out` in header order.
+  static void decode_row(const std::vector<PlyProperty>& properties, bool swap, const unsigned char* p,
+                         double* out) {
     for (std::size_t k = 0; k < properties.size(); ++k) {
       const std::size_t n = type_size(properties[k].type);
       unsigned char bytes[8];
@@ -213,7 +229,6 @@ class BodyReader {
       out[k] = decode(properties[k].type, bytes);
       p += n;
     }
-    pos_ += row_bytes;
   }
 
   void expect_end() {
@@ -295,7 +310,8 @@ class MappedFile {
     }
     size_ = static_cast<std::size_t>(st.st_size);
     if (size_ > 0) {
-      void* p = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd_, 0);
+      // MAP_POPULATE reads the pages in one go instead of one fault per page.
+      void* p = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd_, 0);
       if (p == MAP_FAILED) {
         ::close(fd_);
         throw InputError(path.string(), "cannot map the file into memory");
@@ -367,12 +383,140 @@ std::uint8_t to_color_byte(double v, PlyType type) {
   return static_cast<std::uint8_t>(std::min(255.0, std::round(v)));
 }
 
+// Asks for transparent huge pages on the 2 MiB-aligned interior of a large,
+// not yet touched array: first-touch page faults otherwise dominate loading a
+// big cloud (one fault per 4 KiB of output).
+template <typename T>
+void advise_huge_pages(std::vector<T>& values) {
+  constexpr std::uintptr_t kHuge = std::uintptr_t{1} << 21;
+  const auto begin = reinterpret_cast<std::uintptr_t>(values.data());
+  const auto end = begin + values.size() * sizeof(T);
+  const std::uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1);
+  const std::uintptr_t last = end & ~(kHuge - 1);
+  if (last > first) ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+}
+
+// Stores decoded vertex rows into pre-sized arrays, one slot per row, so that
+// binary rows can be decoded in parallel; rows with non-finite positions are
+// flagged and removed afterwards by compact() (dropped and counted, never
+// propagated).
+class VertexSink {
+ public:
+  VertexSink(const PlyElement& element, const VertexLayout& layout, PointCloud& cloud)
+      : element_(element), layout_(layout), cloud_(cloud), finite_(element.count, 1) {
+    const std::size_t n = element.count;
+    const auto allocate = [n](auto& values) {
+      values.resize(n);
+      advise_huge_pages(values);
+    };
+    allocate(cloud.positions);
+    if (layout.normal[0] >= 0) allocate(cloud.normals);
+    if (layout.color[0] >= 0) allocate(cloud.colors);
+    if (layout.confidence >= 0) allocate(cloud.confidence);
+    for (int idx : layout.extra) {
+      auto& column = cloud.scalars[element.properties[idx].name];
+      allocate(column);
+      extra_columns_.push_back(&column);
+    }
+  }
+
+  // `row` holds the element's property values in header order.
+  void store(std::size_t slot, const double* row) {
+    const Eigen::Vector3f x(row[layout_.position[0]], row[layout_.position[1]], row[layout_.position[2]]);
+    cloud_.positions[slot] = x;
+    if (!x.allFinite()) finite_[slot] = 0;
+    if (layout_.normal[0] >= 0) {
+      Eigen::Vector3f n(row[layout_.normal[0]], row[layout_.normal[1]], row[layout_.normal[2]]);
+      if (!n.allFinite()) n.setZero();  // an unusable normal, not an unusable point
+      cloud_.normals[slot] = n;
+    }
+    if (layout_.color[0] >= 0) {
+      Rgb8& c = cloud_.colors[slot];
+      for (int k = 0; k < 3; ++k) {
+        c[k] = to_color_byte(row[layout_.color[k]], element_.properties[layout_.color[k]].type);
+      }
+    }
+    if (layout_.confidence >= 0) {
+      const double c = row[layout_.confidence];
+      cloud_.confidence[slot] = std::isfinite(c) ? static_cast<float>(c) : 0.0f;
+    }
+    for (std::size_t e = 0; e < layout_.extra.size(); ++e) {
+      (*extra_columns_[e])[slot] = static_cast<float>(row[layout_.extra[e]]);
+    }
+  }
+
+  // Removes the flagged rows, keeping order; returns how many were removed.
+  std::size_t compact() {
+    const std::size_t removed = static_cast<std::size_t>(std::count(finite_.begin(), finite_.end(), 0));
+    if (removed == 0) return 0;
+    compact_array(cloud_.positions);
+    compact_array(cloud_.normals);
+    compact_array(cloud_.colors);
+    compact_array(cloud_.confidence);
+    for (auto* column : extra_columns_) compact_array(*column);
+    return removed;
+  }
+
+ private:
+  template <typename T>
+  void compact_array(std::vector<T>& values) const {
+    if (values.empty()) return;
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      if (finite_[i]) values[kept++] = values[i];
+    }
+    values.resize(kept);
+  }
+
+  const PlyElement& element_;
+  const VertexLayout& layout_;
+  PointCloud& cloud_;
+  std::vector<std::vector<float>*> extra_columns_;
+  std::vector<std::uint8_t> finite_;
+};
+
 struct ParsedPly {
   PointCloud vertices;
-  std::vector<bool> finite;  // per vertex read
   std::vector<Eigen::Vector3i> faces;
   std::size_t num_nonfinite = 0;
 };
+
+// Reads the rows of one element with ASCII tokens or list properties, one value
+// at a time. Vertex rows go to `sink`; face lists (when `face_list` >= 0) are
+// fan-triangulated into `faces`.
+void read_rows_sequentially(BodyReader& body, const std::string& file, const PlyElement& element,
+                            VertexSink* sink, int face_list, std::vector<Eigen::Vector3i>& faces) {
+  std::vector<double> row(element.properties.size());
+  std::vector<int> polygon;
+  for (std::size_t r = 0; r < element.count; ++r) {
+    body.set_context(element.name, r);
+    for (std::size_t p = 0; p < element.properties.size(); ++p) {
+      const auto& prop = element.properties[p];
+      if (!prop.is_list) {
+        row[p] = body.read(prop.type);
+        continue;
+      }
+      const double count = body.read(prop.count_type);
+      if (!(count >= 0) || count > 1e6) {
+        throw InputError(file, "element '" + element.name + "' row " + std::to_string(r) +
+                                   ": invalid list length");
+      }
+      const bool keep = static_cast<int>(p) == face_list;
+      if (keep) polygon.clear();
+      for (int i = 0; i < static_cast<int>(count); ++i) {
+        const double value = body.read(prop.type);
+        if (keep) polygon.push_back(static_cast<int>(value));
+      }
+    }
+    if (sink) {
+      sink->store(r, row.data());
+    } else if (face_list >= 0 && polygon.size() >= 3) {
+      for (std::size_t i = 1; i + 1 < polygon.size(); ++i) {
+        faces.emplace_back(polygon[0], polygon[i], polygon[i + 1]);
+      }
+    }
+  }
+}
 
 ParsedPly parse_ply(const fs::path& path, bool want_faces) {
   const std::string file = path.string();
@@ -382,97 +526,57 @@ ParsedPly parse_ply(const fs::path& path, bool want_faces) {
   BodyReader body(file, data, header);
   ParsedPly out;
   bool have_vertex = false;
-  std::vector<double> row;
   for (const auto& element : header.elements) {
     const bool is_vertex = element.name == "vertex";
-    const bool is_face = element.name == "face" && want_faces;
-    std::optional<VertexLayout> layout;
-    int face_list = -1;
-    if (is_vertex) {
-      have_vertex = true;
-      layout = vertex_layout(file, element);
-      auto& v = out.vertices;
-      v.positions.reserve(element.count);
-      if (layout->normal[0] >= 0) v.normals.reserve(element.count);
-      if (layout->color[0] >= 0) v.colors.reserve(element.count);
-      if (layout->confidence >= 0) v.confidence.reserve(element.count);
-      for (int idx : layout->extra) v.scalars[element.properties[idx].name].reserve(element.count);
+    // A row takes at least one byte per scalar (binary) or two (a digit and a
+    // separator), so a count the data cannot hold is refused before anything
+    // is allocated for it.
+    const std::size_t min_row_bytes = (body.binary() ? 1 : 2) * std::max<std::size_t>(element.properties.size(), 1);
+    if (element.count > body.remaining() / min_row_bytes) {
+      throw InputError(file, "the header declares " + std::to_string(element.count) + " rows of element '" +
+                                 element.name + "' but only " + std::to_string(body.remaining()) +
+                                 " bytes of data remain: the file is truncated or the header's counts are wrong");
     }
-    if (is_face) {
+    const VertexLayout layout = is_vertex ? vertex_layout(file, element) : VertexLayout{};
+    std::optional<VertexSink> sink;
+    if (is_vertex) {
+      if (have_vertex) throw InputError(file, "PLY file has more than one 'vertex' element");
+      have_vertex = true;
+      sink.emplace(element, layout, out.vertices);
+    }
+    int face_list = -1;
+    if (element.name == "face" && want_faces) {
       face_list = element.find({"vertex_indices", "vertex_index"});
       if (face_list < 0 || !element.properties[face_list].is_list) {
         throw InputError(file, "face element has no 'vertex_indices' list");
       }
     }
-    row.resize(element.properties.size());
-    std::vector<int> polygon;
     const bool fixed_rows = body.binary() && std::none_of(element.properties.begin(), element.properties.end(),
                                                           [](const PlyProperty& p) { return p.is_list; });
-    std::size_t row_bytes = 0;
-    for (const auto& p : element.properties) row_bytes += type_size(p.type);
-    std::vector<std::vector<float>*> extra_columns;
-    if (is_vertex) {
-      for (int idx : layout->extra) extra_columns.push_back(&out.vertices.scalars[element.properties[idx].name]);
-    }
-    for (std::size_t r = 0; r < element.count; ++r) {
-      body.set_context(element.name, r);
-      if (fixed_rows) body.read_binary_row(element.properties, row_bytes, row.data());
-      for (std::size_t p = 0; p < element.properties.size() && !fixed_rows; ++p) {
-        const auto& prop = element.properties[p];
-        if (!prop.is_list) {
-          row[p] = body.read(prop.type);
-          continue;
-        }
-        const double count = body.read(prop.count_type);
-        if (!(count >= 0) || count > 1e6) {
-          throw InputError(file, "element '" + element.name + "' row " + std::to_string(r) +
-                                     ": invalid list length");
-        }
-        const bool keep = static_cast<int>(p) == face_list;
-        if (keep) polygon.clear();
-        for (int i = 0; i < static_cast<int>(count); ++i) {
-          const double value = body.read(prop.type);
-          if (keep) polygon.push_back(static_cast<int>(value));
-        }
-      }
-      if (is_vertex) {
-        const Eigen::Vector3f x(row[layout->position[0]], row[layout->position[1]],
-                                row[layout->position[2]]);
-        const bool finite = x.allFinite();
-        out.finite.push_back(finite);
-        if (!finite) {
-          ++out.num_nonfinite;
-          continue;
-        }
-        auto& v = out.vertices;
-        v.positions.push_back(x);
-        if (layout->normal[0] >= 0) {
-          Eigen::Vector3f n(row[layout->normal[0]], row[layout->normal[1]],
-                            row[layout->normal[2]]);
-          if (!n.allFinite()) n.setZero();  // an unusable normal, not an unusable point
-          v.normals.push_back(n);
-        }
-        if (layout->color[0] >= 0) {
-          Rgb8 c;
-          for (int k = 0; k < 3; ++k) {
-            c[k] = to_color_byte(row[layout->color[k]],
-                                 element.properties[layout->color[k]].type);
+    if (!fixed_rows) {
+      read_rows_sequentially(body, file, element, sink ? &*sink : nullptr, face_list, out.faces);
+    } else {
+      std::size_t row_bytes = 0;
+      for (const auto& p : element.properties) row_bytes += type_size(p.type);
+      body.set_context(element.name, 0);
+      const unsigned char* rows = body.take_rows(element.count, row_bytes);
+      if (sink) {
+        // Rows have a fixed size, so they decode independently: in parallel,
+        // which also spreads the first touch of the output pages over cores.
+        const bool swap = body.swap_bytes();
+        const auto count = static_cast<std::ptrdiff_t>(element.count);
+#pragma omp parallel
+        {
+          std::vector<double> row(element.properties.size());
+#pragma omp for schedule(static)
+          for (std::ptrdiff_t r = 0; r < count; ++r) {
+            BodyReader::decode_row(element.properties, swap, rows + r * row_bytes, row.data());
+            sink->store(static_cast<std::size_t>(r), row.data());
           }
-          v.colors.push_back(c);
-        }
-        if (layout->confidence >= 0) {
-          const double c = row[layout->confidence];
-          v.confidence.push_back(std::isfinite(c) ? static_cast<float>(c) : 0.0f);
-        }
-        for (std::size_t e = 0; e < layout->extra.size(); ++e) {
-          extra_columns[e]->push_back(static_cast<float>(row[layout->extra[e]]));
-        }
-      } else if (is_face && polygon.size() >= 3) {
-        for (std::size_t i = 1; i + 1 < polygon.size(); ++i) {
-          out.faces.emplace_back(polygon[0], polygon[i], polygon[i + 1]);
         }
       }
     }
+    if (sink) out.num_nonfinite = sink->compact();
   }
   body.expect_end();
   if (!have_vertex) throw InputError(file, "PLY file has no 'vertex' element");

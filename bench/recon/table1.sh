@@ -29,21 +29,10 @@ import json, sys
 work = sys.argv[1]
 print("| energy | triangles | RMS | avg |H| | max |H| | avg |K| | max |K| |")
 print("|---|---|---|---|---|---|---|")
-def find(d, *names):
-    for n in names:
-        for k, v in d.items():
-            if k == n: return v
-        for v in d.values():
-            if isinstance(v, dict):
-                r = find(v, *names)
-                if r is not None: return r
-    return None
+keys = ["triangles", "rms_point_distance", "mean_abs_mean_curvature", "max_abs_mean_curvature",
+        "mean_abs_gaussian_curvature", "max_abs_gaussian_curvature"]
 for e in range(1, 5):
     d = json.load(open(f"{work}/c{e}.json"))
-    vals = [find(d, "triangles", "faces"), find(d, "rms_point_distance", "rms"),
-            find(d, "mean_curvature_avg", "average_mean_curvature", "avg_abs_mean_curvature"),
-            find(d, "mean_curvature_max", "maximum_mean_curvature", "max_abs_mean_curvature"),
-            find(d, "gaussian_curvature_avg", "average_gaussian_curvature", "avg_abs_gaussian_curvature"),
-            find(d, "gaussian_curvature_max", "maximum_gaussian_curvature", "max_abs_gaussian_curvature")]
+    vals = [d[k] for k in keys]  # the keys hos-eval curvature --json writes
     print(f"| ({e}) | " + " | ".join("?" if v is None else (f"{v:.4g}" if isinstance(v, float) else str(v)) for v in vals) + " |")
 PY

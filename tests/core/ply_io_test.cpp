@@ -94,6 +94,12 @@ TEST(PlyIo, BadInputsAreInputErrorsNamingTheFile) {
   write_point_cloud_ply(dir / "bin.ply", cloud(), PlyFormat::kBinaryLittleEndian);
   std::filesystem::resize_file(dir / "bin.ply", std::filesystem::file_size(dir / "bin.ply") - 10);
   EXPECT_NE(error_of(dir / "bin.ply").find("truncated"), std::string::npos);
+
+  // A count no data could hold is refused before anything is allocated for it.
+  std::ofstream(dir / "huge.ply", std::ios::binary)
+      << "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000000\nproperty float x\n"
+         "property float y\nproperty float z\nend_header\n0123456789ab";
+  EXPECT_NE(error_of(dir / "huge.ply").find("truncated"), std::string::npos);
 }
 
 TEST(PlyIo, NonFiniteCoordinatesAreSkippedAndCounted) {
