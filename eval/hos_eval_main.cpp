@@ -190,12 +190,13 @@ int main(int argc, char** argv) {
   add_json(cameras_cmd);
 
   // render
-  std::string glb_path, render_model, images_dir;
+  std::string glb_path, render_model, images_dir, render_save_dir;
   AlignFlags render_align;
   CLI::App* render_cmd = app.add_subcommand("render", "PSNR/SSIM of a textured .glb re-rendered from a model's cameras");
   render_cmd->add_option("--glb", glb_path, "textured mesh (.glb)")->required();
   render_cmd->add_option("--model", render_model, "sparse model whose cameras render (PINHOLE)")->required();
   render_cmd->add_option("--images", images_dir, "folder of the model's photos")->required();
+  render_cmd->add_option("--save", render_save_dir, "write each render beside its photo as DIR/NAME.png");
   render_align.add(render_cmd);
   add_json(render_cmd);
 
@@ -308,7 +309,8 @@ int main(int argc, char** argv) {
         hos::transform_mesh(object.mesh, alignment->truth_from_recovered);
       }
       const hos::RenderComparison c =
-          hos::compare_renders(object, hos::read_colmap_model(render_model), images_dir, reporter);
+          hos::compare_renders(object, hos::read_colmap_model(render_model), images_dir, reporter,
+                               render_save_dir);
       j["mean_psnr"] = number(c.mean_psnr);
       j["mean_ssim"] = c.mean_ssim;
       j["skipped_views"] = c.skipped_views;

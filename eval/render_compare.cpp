@@ -1,6 +1,7 @@
 #include "eval/render_compare.h"
 
 #include <cmath>
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/error.h"
@@ -9,8 +10,10 @@
 namespace hos {
 
 RenderComparison compare_renders(const RenderObject& object, const SparseModel& model,
-                                 const std::filesystem::path& images_dir, Reporter& reporter) {
+                                 const std::filesystem::path& images_dir, Reporter& reporter,
+                                 const std::filesystem::path& save_dir) {
   RenderComparison out;
+  if (!save_dir.empty()) std::filesystem::create_directories(save_dir);
   const std::vector<RenderObject> objects{object};
   RenderOptions options;
   options.lighting.unlit = true;  // the texture already holds the photographed shading
@@ -28,6 +31,12 @@ RenderComparison compare_renders(const RenderObject& object, const SparseModel& 
     }
     const RenderedView view = render_view(objects, camera, image, options);
     reporter.advance();
+    if (!save_dir.empty()) {
+      cv::Mat side_by_side;
+      cv::hconcat(view.color, photo, side_by_side);
+      const std::filesystem::path target = save_dir / (std::filesystem::path(image.name).stem().string() + ".png");
+      if (!cv::imwrite(target.string(), side_by_side)) throw OutputError(target.string(), "cannot write the image");
+    }
     const std::size_t pixels = static_cast<std::size_t>(cv::countNonZero(view.mask));
     if (pixels == 0) {
       ++out.skipped_views;

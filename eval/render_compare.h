@@ -28,8 +28,11 @@ struct RenderComparison {
 };
 
 // Photos are read from images_dir / image.name and must have the camera's
-// size. Throws InputError naming a missing or unreadable photo.
+// size. Throws InputError naming a missing or unreadable photo. With a
+// non-empty save_dir, each view is also written there as a PNG: the render
+// beside the photo (for looking at what the figures measure).
 RenderComparison compare_renders(const RenderObject& object, const SparseModel& model,
-                                 const std::filesystem::path& images_dir, Reporter& reporter);
+                                 const std::filesystem::path& images_dir, Reporter& reporter,
+                                 const std::filesystem::path& save_dir = {});
 
 }  // namespace hos

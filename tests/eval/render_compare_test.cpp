@@ -45,7 +45,14 @@ TEST(RenderCompare, SelfRendersMatchAndAChangedColourDoesNot) {
   EXPECT_NEAR(same.mean_ssim, 1.0, 1e-9);
 
   object.material.constant_albedo = Eigen::Vector3f(0.3f, 0.3f, 0.2f);
-  const RenderComparison other = compare_renders(object, model, dir.path(), null_reporter());
+  const RenderComparison other = compare_renders(object, model, dir.path(), null_reporter(), dir / "saved");
+  // The saved image is the render beside the photo.
+  for (const auto& [id, image] : model.images) {
+    const cv::Mat saved = cv::imread((dir / "saved" / (std::filesystem::path(image.name).stem().string() + ".png")).string());
+    ASSERT_FALSE(saved.empty()) << image.name;
+    EXPECT_EQ(saved.cols, 2 * model.camera_of(image).width);
+    EXPECT_EQ(saved.rows, model.camera_of(image).height);
+  }
   EXPECT_TRUE(std::isfinite(other.mean_psnr));
   EXPECT_LT(other.mean_psnr, 30.0);
   EXPECT_LT(other.mean_ssim, 1.0);
