@@ -21,15 +21,6 @@ double random_unit(std::uint64_t seed) {
   return static_cast<double>(seed >> 11) * (1.0 / 9007199254740992.0);
 }
 
-float bilinear(const cv::Mat& image, double u, double v) {
-  // u, v in array coordinates (pixel centres at integers).
-  const int x0 = static_cast<int>(std::floor(u)), y0 = static_cast<int>(std::floor(v));
-  const float fx = static_cast<float>(u - x0), fy = static_cast<float>(v - y0);
-  const float* r0 = image.ptr<float>(y0);
-  const float* r1 = image.ptr<float>(y0 + 1);
-  return (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) + fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
-}
-
 struct Plane {
   float depth = 0.0f;
   Eigen::Vector3f normal = Eigen::Vector3f(0, 0, -1);  // reference camera frame
@@ -47,7 +38,8 @@ class PatchMatcher {
     }
     for (const MvsView* s : sources) {
       const Eigen::Matrix3d r_rel = s->R * ref.R.transpose();
-      relative_.push_back({r_rel, s->t - r_rel * ref.t});
+      const Eigen::Vector3d t_rel = s->t - r_rel * ref.t;
+      relative_.push_back({s->K * r_rel * ref.K_inv, s->K * t_rel});
     }
     const int w = ref.width(), h = ref.height();
     planes_.resize(std::size_t(w) * h);
@@ -129,9 +121,12 @@ class PatchMatcher {
   }
 
  private:
+  // The plane-induced homography from the reference into a source view is
+  // K_s (R + t n^T / d) K_ref^-1 = A + b m^T with m = K_ref^-T n / d; A and b
+  // depend only on the view pair.
   struct Relative {
-    Eigen::Matrix3d R;
-    Eigen::Vector3d t;
+    Eigen::Matrix3d A;
+    Eigen::Vector3d b;
   };
 
   // Viewing ray of pixel (x, y) with z = 1.
@@ -160,41 +155,96 @@ class PatchMatcher {
     return n.normalized().cast<float>();
   }
 
+  // Everything of the bilaterally weighted NCC that depends on the reference
+  // window only, once per pixel: weights normalised to sum 1, the weighted
+  // and centred reference values w_j (r_j - mean_r) (the covariance with any
+  // source window is then a single dot product) and the weighted variance.
   void prepare_windows() {
     const int w = ref_.width(), h = ref_.height();
     const std::size_t k = offsets_.size();
     weights_.assign(std::size_t(w) * h * k, 0.0f);
-    ref_values_.assign(std::size_t(w) * h * k, 0.0f);
+    centred_.assign(std::size_t(w) * h * k, 0.0f);
+    ref_var_.assign(std::size_t(w) * h, 0.0f);
     textured_.assign(std::size_t(w) * h, 0);
-    const double r2 = double(options_.window_radius) * options_.window_radius;
+    const int r = options_.window_radius;
+    const double r2 = double(r) * r;
 #pragma omp parallel for schedule(static)
-    for (int y = 0; y < h; ++y) {
-      for (int x = 0; x < w; ++x) {
+    for (int y = r; y < h - r; ++y) {
+      std::vector<double> wt(k);
+      for (int x = r; x < w - r; ++x) {
         const std::size_t i = std::size_t(y) * w + x;
         const float centre = ref_.gray.at<float>(y, x);
-        double sw = 0, s1 = 0, s2 = 0;
-        bool inside = true;
+        double sw = 0, s1 = 0;
         for (std::size_t j = 0; j < k; ++j) {
-          const int qx = x + offsets_[j].x(), qy = y + offsets_[j].y();
-          if (qx < 0 || qy < 0 || qx >= w || qy >= h) {
-            inside = false;
-            break;
-          }
-          const float v = ref_.gray.at<float>(qy, qx);
-          const double wt = std::exp(-std::abs(v - centre) / options_.sigma_color -
-                                     offsets_[j].squaredNorm() / (2.0 * r2));
-          weights_[i * k + j] = static_cast<float>(wt);
-          ref_values_[i * k + j] = v;
-          sw += wt;
-          s1 += wt * v;
-          s2 += wt * v * v;
+          const float v = ref_.gray.at<float>(y + offsets_[j].y(), x + offsets_[j].x());
+          wt[j] = std::exp(-std::abs(v - centre) / options_.sigma_color - offsets_[j].squaredNorm() / (2.0 * r2));
+          sw += wt[j];
+          s1 += wt[j] * v;
         }
-        if (!inside) continue;
         const double mean = s1 / sw;
-        const double var = std::max(0.0, s2 / sw - mean * mean);
+        double var = 0;
+        for (std::size_t j = 0; j < k; ++j) {
+          const double v = ref_.gray.at<float>(y + offsets_[j].y(), x + offsets_[j].x()) - mean;
+          weights_[i * k + j] = static_cast<float>(wt[j] / sw);
+          centred_[i * k + j] = static_cast<float>(wt[j] / sw * v);
+          var += wt[j] / sw * v * v;
+        }
+        ref_var_[i] = static_cast<float>(var);
         textured_[i] = std::sqrt(var) >= options_.min_texture_std;
       }
     }
+  }
+
+  // 1 - NCC of the reference window at (x, y) (weights wts, centred values
+  // centred, variance var_r) against source s through homography H (array
+  // coordinates in, pixel-centre coordinates out); 2 if any part of the
+  // warped window leaves the image or lies behind the camera.
+  float view_cost(int x, int y, const Eigen::Matrix3f& H, const MvsView& src, const float* wts,
+                  const float* centred, float var_r) const {
+    const int r = options_.window_radius, step = options_.window_step;
+    const float W = static_cast<float>(src.width() - 1), Hh = static_cast<float>(src.height() - 1);
+    // The homography's z is linear over the window: positive at the corners
+    // means positive everywhere, and the image of the window is then the
+    // convex hull of its corners' images, so checking the corners suffices.
+    const Eigen::Vector3f top_left = H * Eigen::Vector3f(x - r + 0.5f, y - r + 0.5f, 1.0f);
+    const Eigen::Vector3f dx = H.col(0) * float(step), dy = H.col(1) * float(step);
+    const int n = 2 * r / step;  // samples per window row - 1
+    for (int cy = 0; cy <= 1; ++cy) {
+      for (int cx = 0; cx <= 1; ++cx) {
+        const Eigen::Vector3f m = top_left + float(cx * n) * dx + float(cy * n) * dy;
+        if (!(m.z() > 1e-6f)) return 2.0f;
+        const float u = m.x() / m.z() - 0.5f, v = m.y() / m.z() - 0.5f;
+        if (!(u >= 0 && v >= 0 && u < W && v < Hh)) return 2.0f;
+      }
+    }
+    const float* data = src.gray.ptr<float>(0);
+    const std::size_t stride = src.gray.step1();
+    const int max_x = src.width() - 2, max_y = src.height() - 2;
+    // Source values relative to the reference centre keep the float sums
+    // of squares small (no cancellation when the windows match).
+    const float shift = ref_.gray.at<float>(y, x);
+    float ss = 0, sss = 0, cov = 0;
+    Eigen::Vector3f row = top_left;
+    std::size_t j = 0;
+    for (int iy = 0; iy <= n; ++iy, row += dy) {
+      Eigen::Vector3f m = row;
+      for (int ix = 0; ix <= n; ++ix, ++j, m += dx) {
+        const float iz = 1.0f / m.z();
+        const float u = m.x() * iz - 0.5f, v = m.y() * iz - 0.5f;
+        const int x0 = std::min(static_cast<int>(u), max_x), y0 = std::min(static_cast<int>(v), max_y);
+        const float fx = u - x0, fy = v - y0;
+        const float* p = data + std::size_t(y0) * stride + x0;
+        const float top = p[0] + fx * (p[1] - p[0]);
+        const float bottom = p[stride] + fx * (p[stride + 1] - p[stride]);
+        const float value = top + fy * (bottom - top) - shift;
+        ss += wts[j] * value;
+        sss += wts[j] * value * value;
+        cov += centred[j] * value;
+      }
+    }
+    const float var_s = sss - ss * ss;
+    if (!(var_s > 1e-10f) || !(var_r > 1e-10f)) return 2.0f;
+    return 1.0f - cov / std::sqrt(var_r * var_s);
   }
 
   // Aggregated cost of plane at pixel (x, y): mean of the best K source costs.
@@ -202,47 +252,15 @@ class PatchMatcher {
     const std::size_t i = std::size_t(y) * ref_.width() + x;
     if (!textured_[i] || !(plane.depth > 0)) return 2.0f;
     const std::size_t k = offsets_.size();
-    const float* wts = &weights_[i * k];
-    const float* rv = &ref_values_[i * k];
     const Eigen::Vector3d n = plane.normal.cast<double>();
-    const Eigen::Vector3d xp = ray(x, y) * plane.depth;
-    const double nd = n.dot(xp);
+    const double nd = n.dot(ray(x, y) * plane.depth);
     if (std::abs(nd) < 1e-12) return 2.0f;
+    const Eigen::Vector3d m = ref_.K_inv.transpose() * n / nd;
     float view_costs[32];
     const int nsrc = static_cast<int>(std::min<std::size_t>(sources_.size(), 32));
     for (int s = 0; s < nsrc; ++s) {
-      const MvsView& src = *sources_[s];
-      const Eigen::Matrix3d H = src.K * (relative_[s].R + relative_[s].t * n.transpose() / nd) * ref_.K_inv;
-      double sw = 0, sr = 0, ss = 0, srr = 0, sss = 0, srs = 0;
-      bool ok = true;
-      for (std::size_t j = 0; j < k; ++j) {
-        const Eigen::Vector3d q(x + offsets_[j].x() + 0.5, y + offsets_[j].y() + 0.5, 1.0);
-        const Eigen::Vector3d m = H * q;
-        if (m.z() <= 1e-9) {
-          ok = false;
-          break;
-        }
-        const double u = m.x() / m.z() - 0.5, v = m.y() / m.z() - 0.5;
-        if (u < 0 || v < 0 || u >= src.width() - 1 || v >= src.height() - 1) {
-          ok = false;
-          break;
-        }
-        const double sv = bilinear(src.gray, u, v);
-        const double wt = wts[j], r = rv[j];
-        sw += wt;
-        sr += wt * r;
-        ss += wt * sv;
-        srr += wt * r * r;
-        sss += wt * sv * sv;
-        srs += wt * r * sv;
-      }
-      float c = 2.0f;
-      if (ok && sw > 0) {
-        const double var_r = srr - sr * sr / sw, var_s = sss - ss * ss / sw;
-        const double cov = srs - sr * ss / sw;
-        if (var_r > 1e-10 && var_s > 1e-10) c = static_cast<float>(1.0 - cov / std::sqrt(var_r * var_s));
-      }
-      view_costs[s] = c;
+      const Eigen::Matrix3f H = (relative_[s].A + relative_[s].b * m.transpose()).cast<float>();
+      view_costs[s] = view_cost(x, y, H, *sources_[s], &weights_[i * k], &centred_[i * k], ref_var_[i]);
     }
     if (nsrc == 0) return 2.0f;
     const int best = std::min(options_.best_k, nsrc);
@@ -307,7 +325,7 @@ class PatchMatcher {
   std::vector<Relative> relative_;
   std::vector<Plane> planes_;
   std::vector<float> costs_;
-  std::vector<float> weights_, ref_values_;
+  std::vector<float> weights_, centred_, ref_var_;
   std::vector<char> textured_;
 };
 
