@@ -26,6 +26,9 @@ struct Plane {
   Eigen::Vector3f normal = Eigen::Vector3f(0, 0, -1);  // reference camera frame
 };
 
+// Largest window: radius 15 (the option's bound), every pixel.
+constexpr int kMaxWindow = 31 * 31;
+
 class PatchMatcher {
  public:
   PatchMatcher(const MvsView& ref, const std::vector<const MvsView*>& sources, double depth_min,
@@ -34,6 +37,8 @@ class PatchMatcher {
     for (int dy = -options.window_radius; dy <= options.window_radius; dy += options.window_step) {
       for (int dx = -options.window_radius; dx <= options.window_radius; dx += options.window_step) {
         offsets_.emplace_back(dx, dy);
+        offset_x_.push_back(float(dx));
+        offset_y_.push_back(float(dy));
       }
     }
     for (const MvsView* s : sources) {
@@ -196,51 +201,63 @@ class PatchMatcher {
   }
 
   // 1 - NCC of the reference window at (x, y) (weights wts, centred values
-  // centred, variance var_r) against source s through homography H (array
-  // coordinates in, pixel-centre coordinates out); 2 if any part of the
-  // warped window leaves the image or lies behind the camera.
+  // centred, variance var_r) against source s through homography H (pixel
+  // centre coordinates in and out); 2 if any part of the warped window leaves
+  // the image or lies behind the camera. Three passes over the window so the
+  // compiler vectorises the projection and the sums; only the bilinear
+  // lookups stay scalar.
   float view_cost(int x, int y, const Eigen::Matrix3f& H, const MvsView& src, const float* wts,
                   const float* centred, float var_r) const {
     const int r = options_.window_radius, step = options_.window_step;
     const float W = static_cast<float>(src.width() - 1), Hh = static_cast<float>(src.height() - 1);
+    const Eigen::Vector3f centre = H * Eigen::Vector3f(x + 0.5f, y + 0.5f, 1.0f);
     // The homography's z is linear over the window: positive at the corners
     // means positive everywhere, and the image of the window is then the
     // convex hull of its corners' images, so checking the corners suffices.
-    const Eigen::Vector3f top_left = H * Eigen::Vector3f(x - r + 0.5f, y - r + 0.5f, 1.0f);
-    const Eigen::Vector3f dx = H.col(0) * float(step), dy = H.col(1) * float(step);
-    const int n = 2 * r / step;  // samples per window row - 1
-    for (int cy = 0; cy <= 1; ++cy) {
-      for (int cx = 0; cx <= 1; ++cx) {
-        const Eigen::Vector3f m = top_left + float(cx * n) * dx + float(cy * n) * dy;
+    const float reach = float(2 * r / step * step - r);  // offset of the last sample
+    for (const float cy : {float(-r), reach}) {
+      for (const float cx : {float(-r), reach}) {
+        const Eigen::Vector3f m = centre + cx * H.col(0) + cy * H.col(1);
         if (!(m.z() > 1e-6f)) return 2.0f;
         const float u = m.x() / m.z() - 0.5f, v = m.y() / m.z() - 0.5f;
         if (!(u >= 0 && v >= 0 && u < W && v < Hh)) return 2.0f;
       }
     }
-    const float* data = src.gray.ptr<float>(0);
-    const std::size_t stride = src.gray.step1();
+    const int k = static_cast<int>(offsets_.size());
+    const float* ox = offset_x_.data();
+    const float* oy = offset_y_.data();
     const int max_x = src.width() - 2, max_y = src.height() - 2;
+    const int stride = static_cast<int>(src.gray.step1());
+    alignas(64) int index[kMaxWindow];
+    alignas(64) float fx[kMaxWindow], fy[kMaxWindow], value[kMaxWindow];
+    const float h00 = H(0, 0), h01 = H(0, 1), h10 = H(1, 0), h11 = H(1, 1), h20 = H(2, 0), h21 = H(2, 1);
+#pragma omp simd
+    for (int j = 0; j < k; ++j) {
+      const float mx = centre.x() + ox[j] * h00 + oy[j] * h01;
+      const float my = centre.y() + ox[j] * h10 + oy[j] * h11;
+      const float iz = 1.0f / (centre.z() + ox[j] * h20 + oy[j] * h21);
+      const float u = mx * iz - 0.5f, v = my * iz - 0.5f;
+      const int x0 = std::min(static_cast<int>(u), max_x), y0 = std::min(static_cast<int>(v), max_y);
+      fx[j] = u - static_cast<float>(x0);
+      fy[j] = v - static_cast<float>(y0);
+      index[j] = y0 * stride + x0;
+    }
+    const float* data = src.gray.ptr<float>(0);
     // Source values relative to the reference centre keep the float sums
     // of squares small (no cancellation when the windows match).
     const float shift = ref_.gray.at<float>(y, x);
+    for (int j = 0; j < k; ++j) {
+      const float* p = data + index[j];
+      const float top = p[0] + fx[j] * (p[1] - p[0]);
+      const float bottom = p[stride] + fx[j] * (p[stride + 1] - p[stride]);
+      value[j] = top + fy[j] * (bottom - top) - shift;
+    }
     float ss = 0, sss = 0, cov = 0;
-    Eigen::Vector3f row = top_left;
-    std::size_t j = 0;
-    for (int iy = 0; iy <= n; ++iy, row += dy) {
-      Eigen::Vector3f m = row;
-      for (int ix = 0; ix <= n; ++ix, ++j, m += dx) {
-        const float iz = 1.0f / m.z();
-        const float u = m.x() * iz - 0.5f, v = m.y() * iz - 0.5f;
-        const int x0 = std::min(static_cast<int>(u), max_x), y0 = std::min(static_cast<int>(v), max_y);
-        const float fx = u - x0, fy = v - y0;
-        const float* p = data + std::size_t(y0) * stride + x0;
-        const float top = p[0] + fx * (p[1] - p[0]);
-        const float bottom = p[stride] + fx * (p[stride + 1] - p[stride]);
-        const float value = top + fy * (bottom - top) - shift;
-        ss += wts[j] * value;
-        sss += wts[j] * value * value;
-        cov += centred[j] * value;
-      }
+#pragma omp simd reduction(+ : ss, sss, cov)
+    for (int j = 0; j < k; ++j) {
+      ss += wts[j] * value[j];
+      sss += wts[j] * value[j] * value[j];
+      cov += centred[j] * value[j];
     }
     const float var_s = sss - ss * ss;
     if (!(var_s > 1e-10f) || !(var_r > 1e-10f)) return 2.0f;
@@ -270,8 +287,29 @@ class PatchMatcher {
     return sum / best;
   }
 
-  void try_plane(int x, int y, std::size_t i, const Plane& candidate) {
-    if (!(candidate.depth > 0) || !std::isfinite(candidate.depth)) return;
+  // Planes already scored at one pixel during one update. Neighbours on the
+  // same surface propagate (nearly) the plane the pixel already has; scoring
+  // it again cannot change the result, and skipping it saves most of the
+  // propagation cost once the sweeps have converged.
+  struct Tried {
+    Plane planes[16];
+    int count = 0;
+    bool contains(const Plane& p) const {
+      for (int j = 0; j < count; ++j) {
+        if (std::abs(planes[j].depth - p.depth) <= 1e-5f * p.depth && planes[j].normal.dot(p.normal) >= 0.99999f) {
+          return true;
+        }
+      }
+      return false;
+    }
+    void add(const Plane& p) {
+      if (count < 16) planes[count++] = p;
+    }
+  };
+
+  void try_plane(int x, int y, std::size_t i, const Plane& candidate, Tried& tried) {
+    if (!(candidate.depth > 0) || !std::isfinite(candidate.depth) || tried.contains(candidate)) return;
+    tried.add(candidate);
     const float c = cost(x, y, candidate);
     if (c < costs_[i]) {
       costs_[i] = c;
@@ -283,6 +321,8 @@ class PatchMatcher {
     const int w = ref_.width(), h = ref_.height();
     const std::size_t i = std::size_t(y) * w + x;
     if (!textured_[i]) return;
+    Tried tried;
+    tried.add(planes_[i]);
     // Propagation from the neighbours of the other colour (distance 1 and 3).
     static constexpr int kNeighbours[8][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}, {-3, 0}, {3, 0}, {0, -3}, {0, 3}};
     for (const auto& o : kNeighbours) {
@@ -297,7 +337,7 @@ class PatchMatcher {
       if (std::abs(denom) < 1e-9) continue;
       candidate.depth = static_cast<float>(n.dot(xn) / denom);
       if (candidate.depth < 0.5 / inv_max_ || candidate.depth > 2.0 / inv_min_) continue;
-      try_plane(x, y, i, candidate);
+      try_plane(x, y, i, candidate, tried);
     }
     // Random refinement: perturb depth and normal, shrinking per iteration.
     const std::uint64_t seed = (std::uint64_t(i) * 131 + iteration) * 1000003ull;
@@ -307,14 +347,14 @@ class PatchMatcher {
     perturbed.depth = static_cast<float>(current.depth + (random_unit(seed) * 2 - 1) * range);
     const Eigen::Vector3d dn(random_unit(seed + 1) - 0.5, random_unit(seed + 2) - 0.5, random_unit(seed + 3) - 0.5);
     perturbed.normal = facing_camera(current.normal.cast<double>() + 0.6 * scale * dn, x, y);
-    try_plane(x, y, i, perturbed);
+    try_plane(x, y, i, perturbed, tried);
     Plane depth_only = current;
     depth_only.depth = perturbed.depth;
-    try_plane(x, y, i, depth_only);
+    try_plane(x, y, i, depth_only, tried);
     Plane normal_only = current;
     normal_only.normal = perturbed.normal;
-    try_plane(x, y, i, normal_only);
-    try_plane(x, y, i, random_plane(x, y, seed + 5));
+    try_plane(x, y, i, normal_only, tried);
+    try_plane(x, y, i, random_plane(x, y, seed + 5), tried);
   }
 
   const MvsView& ref_;
@@ -322,6 +362,7 @@ class PatchMatcher {
   const MvsOptions& options_;
   double inv_min_, inv_max_;
   std::vector<Eigen::Vector2i> offsets_;
+  std::vector<float> offset_x_, offset_y_;
   std::vector<Relative> relative_;
   std::vector<Plane> planes_;
   std::vector<float> costs_;
