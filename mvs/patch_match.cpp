@@ -44,11 +44,12 @@ class PatchMatcher {
     for (const MvsView* s : sources) {
       const Eigen::Matrix3d r_rel = s->R * ref.R.transpose();
       const Eigen::Vector3d t_rel = s->t - r_rel * ref.t;
-      relative_.push_back({s->K * r_rel * ref.K_inv, s->K * t_rel});
+      relative_.push_back({(s->K * r_rel * ref.K_inv).cast<float>(), (s->K * t_rel).cast<float>()});
     }
     const int w = ref.width(), h = ref.height();
     planes_.resize(std::size_t(w) * h);
     costs_.assign(std::size_t(w) * h, 2.0f);
+    changed_.assign(std::size_t(w) * h, -1);
     prepare_windows();
   }
 
@@ -93,7 +94,7 @@ class PatchMatcher {
       reporter.throw_if_cancelled();
 #pragma omp parallel for schedule(dynamic, 2)
       for (int y = 0; y < h; ++y) {
-        for (int x = (y + colour) % 2; x < w; x += 2) update(x, y, iteration, scale);
+        for (int x = (y + colour) % 2; x < w; x += 2) update(x, y, iteration, colour, scale);
       }
     }
   }
@@ -130,8 +131,8 @@ class PatchMatcher {
   // K_s (R + t n^T / d) K_ref^-1 = A + b m^T with m = K_ref^-T n / d; A and b
   // depend only on the view pair.
   struct Relative {
-    Eigen::Matrix3d A;
-    Eigen::Vector3d b;
+    Eigen::Matrix3f A;
+    Eigen::Vector3f b;
   };
 
   // Viewing ray of pixel (x, y) with z = 1.
@@ -173,6 +174,9 @@ class PatchMatcher {
     textured_.assign(std::size_t(w) * h, 0);
     const int r = options_.window_radius;
     const double r2 = double(r) * r;
+    std::vector<float> spatial(k);
+    for (std::size_t j = 0; j < k; ++j) spatial[j] = static_cast<float>(-offsets_[j].squaredNorm() / (2.0 * r2));
+    const float inv_sigma = static_cast<float>(1.0 / options_.sigma_color);
 #pragma omp parallel for schedule(static)
     for (int y = r; y < h - r; ++y) {
       std::vector<double> wt(k);
@@ -182,7 +186,7 @@ class PatchMatcher {
         double sw = 0, s1 = 0;
         for (std::size_t j = 0; j < k; ++j) {
           const float v = ref_.gray.at<float>(y + offsets_[j].y(), x + offsets_[j].x());
-          wt[j] = std::exp(-std::abs(v - centre) / options_.sigma_color - offsets_[j].squaredNorm() / (2.0 * r2));
+          wt[j] = std::exp(spatial[j] - std::abs(v - centre) * inv_sigma);
           sw += wt[j];
           s1 += wt[j] * v;
         }
@@ -265,25 +269,35 @@ class PatchMatcher {
   }
 
   // Aggregated cost of plane at pixel (x, y): mean of the best K source costs.
-  float cost(int x, int y, const Plane& plane) const {
+  // Stops early, returning a lower bound >= to_beat, once the views still to
+  // be scored (each at best 0) cannot bring the mean of the best K below it.
+  float cost(int x, int y, const Plane& plane, float to_beat = 3.0f) const {
     const std::size_t i = std::size_t(y) * ref_.width() + x;
     if (!textured_[i] || !(plane.depth > 0)) return 2.0f;
     const std::size_t k = offsets_.size();
     const Eigen::Vector3d n = plane.normal.cast<double>();
     const double nd = n.dot(ray(x, y) * plane.depth);
     if (std::abs(nd) < 1e-12) return 2.0f;
-    const Eigen::Vector3d m = ref_.K_inv.transpose() * n / nd;
-    float view_costs[32];
+    const Eigen::Vector3f m = (ref_.K_inv.transpose() * n / nd).cast<float>();
     const int nsrc = static_cast<int>(std::min<std::size_t>(sources_.size(), 32));
-    for (int s = 0; s < nsrc; ++s) {
-      const Eigen::Matrix3f H = (relative_[s].A + relative_[s].b * m.transpose()).cast<float>();
-      view_costs[s] = view_cost(x, y, H, *sources_[s], &weights_[i * k], &centred_[i * k], ref_var_[i]);
-    }
     if (nsrc == 0) return 2.0f;
     const int best = std::min(options_.best_k, nsrc);
-    std::partial_sort(view_costs, view_costs + best, view_costs + nsrc);
+    float sorted[32];  // the view costs so far, ascending
+    for (int s = 0; s < nsrc; ++s) {
+      const Eigen::Matrix3f H = relative_[s].A + relative_[s].b * m.transpose();
+      const float c = view_cost(x, y, H, *sources_[s], &weights_[i * k], &centred_[i * k], ref_var_[i]);
+      int j = s;
+      for (; j > 0 && sorted[j - 1] > c; --j) sorted[j] = sorted[j - 1];
+      sorted[j] = c;
+      const int known = best - (nsrc - 1 - s);  // best-K members that must be among the scored views
+      if (known > 0 && s + 1 < nsrc) {
+        float bound = 0;
+        for (int b = 0; b < known; ++b) bound += sorted[b];
+        if (bound / best >= to_beat) return bound / best;
+      }
+    }
     float sum = 0;
-    for (int s = 0; s < best; ++s) sum += view_costs[s];
+    for (int s = 0; s < best; ++s) sum += sorted[s];
     return sum / best;
   }
 
@@ -307,28 +321,37 @@ class PatchMatcher {
     }
   };
 
-  void try_plane(int x, int y, std::size_t i, const Plane& candidate, Tried& tried) {
-    if (!(candidate.depth > 0) || !std::isfinite(candidate.depth) || tried.contains(candidate)) return;
+  // Scores candidate at pixel i and keeps it if it is better; true if kept.
+  bool try_plane(int x, int y, std::size_t i, const Plane& candidate, Tried& tried) {
+    if (!(candidate.depth > 0) || !std::isfinite(candidate.depth) || tried.contains(candidate)) return false;
     tried.add(candidate);
-    const float c = cost(x, y, candidate);
-    if (c < costs_[i]) {
-      costs_[i] = c;
-      planes_[i] = candidate;
-    }
+    const float c = cost(x, y, candidate, costs_[i]);
+    if (!(c < costs_[i])) return false;
+    costs_[i] = c;
+    planes_[i] = candidate;
+    return true;
   }
 
-  void update(int x, int y, int iteration, double scale) {
+  void update(int x, int y, int iteration, int colour, double scale) {
     const int w = ref_.width(), h = ref_.height();
     const std::size_t i = std::size_t(y) * w + x;
     if (!textured_[i]) return;
     Tried tried;
     tried.add(planes_[i]);
+    bool changed = false;
+    // This pixel scored every neighbour's plane in its previous update and
+    // its own cost has only fallen since; a neighbour that has not changed
+    // since then offers nothing new. Colour 0 last ran before the previous
+    // sweep's colour-1 pass, colour 1 before this sweep's colour-0 pass.
+    const int unchanged_before = colour == 0 ? iteration - 1 : iteration;
     // Propagation from the neighbours of the other colour (distance 1 and 3).
     static constexpr int kNeighbours[8][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}, {-3, 0}, {3, 0}, {0, -3}, {0, 3}};
     for (const auto& o : kNeighbours) {
       const int nx = x + o[0], ny = y + o[1];
       if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-      const Plane& neighbour = planes_[std::size_t(ny) * w + nx];
+      const std::size_t ni = std::size_t(ny) * w + nx;
+      if (iteration > 0 && changed_[ni] < unchanged_before) continue;
+      const Plane& neighbour = planes_[ni];
       // The neighbour's plane, re-intersected with this pixel's ray.
       Plane candidate = neighbour;
       const Eigen::Vector3d n = neighbour.normal.cast<double>();
@@ -337,7 +360,7 @@ class PatchMatcher {
       if (std::abs(denom) < 1e-9) continue;
       candidate.depth = static_cast<float>(n.dot(xn) / denom);
       if (candidate.depth < 0.5 / inv_max_ || candidate.depth > 2.0 / inv_min_) continue;
-      try_plane(x, y, i, candidate, tried);
+      changed |= try_plane(x, y, i, candidate, tried);
     }
     // Random refinement: perturb depth and normal, shrinking per iteration.
     const std::uint64_t seed = (std::uint64_t(i) * 131 + iteration) * 1000003ull;
@@ -347,14 +370,15 @@ class PatchMatcher {
     perturbed.depth = static_cast<float>(current.depth + (random_unit(seed) * 2 - 1) * range);
     const Eigen::Vector3d dn(random_unit(seed + 1) - 0.5, random_unit(seed + 2) - 0.5, random_unit(seed + 3) - 0.5);
     perturbed.normal = facing_camera(current.normal.cast<double>() + 0.6 * scale * dn, x, y);
-    try_plane(x, y, i, perturbed, tried);
+    changed |= try_plane(x, y, i, perturbed, tried);
     Plane depth_only = current;
     depth_only.depth = perturbed.depth;
-    try_plane(x, y, i, depth_only, tried);
+    changed |= try_plane(x, y, i, depth_only, tried);
     Plane normal_only = current;
     normal_only.normal = perturbed.normal;
-    try_plane(x, y, i, normal_only, tried);
-    try_plane(x, y, i, random_plane(x, y, seed + 5), tried);
+    changed |= try_plane(x, y, i, normal_only, tried);
+    changed |= try_plane(x, y, i, random_plane(x, y, seed + 5), tried);
+    if (changed) changed_[i] = static_cast<std::int8_t>(iteration);
   }
 
   const MvsView& ref_;
@@ -366,6 +390,7 @@ class PatchMatcher {
   std::vector<Relative> relative_;
   std::vector<Plane> planes_;
   std::vector<float> costs_;
+  std::vector<std::int8_t> changed_;  // sweep in which the pixel's plane last changed, -1: never
   std::vector<float> weights_, centred_, ref_var_;
   std::vector<char> textured_;
 };
