@@ -21,19 +21,13 @@ double random_unit(std::uint64_t seed) {
   return static_cast<double>(seed >> 11) * (1.0 / 9007199254740992.0);
 }
 
-float bilinear(const cv::Mat& image, double u, double v) {
-  // u, v in array coordinates (pixel centres at integers).
-  const int x0 = static_cast<int>(std::floor(u)), y0 = static_cast<int>(std::floor(v));
-  const float fx = static_cast<float>(u - x0), fy = static_cast<float>(v - y0);
-  const float* r0 = image.ptr<float>(y0);
-  const float* r1 = image.ptr<float>(y0 + 1);
-  return (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) + fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
-}
-
 struct Plane {
   float depth = 0.0f;
   Eigen::Vector3f normal = Eigen::Vector3f(0, 0, -1);  // reference camera frame
 };
+
+// Largest window: radius 15 (the option's bound), every pixel.
+constexpr int kMaxWindow = 31 * 31;
 
 class PatchMatcher {
  public:
@@ -43,15 +37,19 @@ class PatchMatcher {
     for (int dy = -options.window_radius; dy <= options.window_radius; dy += options.window_step) {
       for (int dx = -options.window_radius; dx <= options.window_radius; dx += options.window_step) {
         offsets_.emplace_back(dx, dy);
+        offset_x_.push_back(float(dx));
+        offset_y_.push_back(float(dy));
       }
     }
     for (const MvsView* s : sources) {
       const Eigen::Matrix3d r_rel = s->R * ref.R.transpose();
-      relative_.push_back({r_rel, s->t - r_rel * ref.t});
+      const Eigen::Vector3d t_rel = s->t - r_rel * ref.t;
+      relative_.push_back({(s->K * r_rel * ref.K_inv).cast<float>(), (s->K * t_rel).cast<float>()});
     }
     const int w = ref.width(), h = ref.height();
     planes_.resize(std::size_t(w) * h);
     costs_.assign(std::size_t(w) * h, 2.0f);
+    changed_.assign(std::size_t(w) * h, -1);
     prepare_windows();
   }
 
@@ -96,7 +94,7 @@ class PatchMatcher {
       reporter.throw_if_cancelled();
 #pragma omp parallel for schedule(dynamic, 2)
       for (int y = 0; y < h; ++y) {
-        for (int x = (y + colour) % 2; x < w; x += 2) update(x, y, iteration, scale);
+        for (int x = (y + colour) % 2; x < w; x += 2) update(x, y, iteration, colour, scale);
       }
     }
   }
@@ -129,9 +127,12 @@ class PatchMatcher {
   }
 
  private:
+  // The plane-induced homography from the reference into a source view is
+  // K_s (R + t n^T / d) K_ref^-1 = A + b m^T with m = K_ref^-T n / d; A and b
+  // depend only on the view pair.
   struct Relative {
-    Eigen::Matrix3d R;
-    Eigen::Vector3d t;
+    Eigen::Matrix3f A;
+    Eigen::Vector3f b;
   };
 
   // Viewing ray of pixel (x, y) with z = 1.
@@ -160,117 +161,197 @@ class PatchMatcher {
     return n.normalized().cast<float>();
   }
 
+  // Everything of the bilaterally weighted NCC that depends on the reference
+  // window only, once per pixel: weights normalised to sum 1, the weighted
+  // and centred reference values w_j (r_j - mean_r) (the covariance with any
+  // source window is then a single dot product) and the weighted variance.
   void prepare_windows() {
     const int w = ref_.width(), h = ref_.height();
     const std::size_t k = offsets_.size();
     weights_.assign(std::size_t(w) * h * k, 0.0f);
-    ref_values_.assign(std::size_t(w) * h * k, 0.0f);
+    centred_.assign(std::size_t(w) * h * k, 0.0f);
+    ref_var_.assign(std::size_t(w) * h, 0.0f);
     textured_.assign(std::size_t(w) * h, 0);
-    const double r2 = double(options_.window_radius) * options_.window_radius;
+    const int r = options_.window_radius;
+    const double r2 = double(r) * r;
+    std::vector<float> spatial(k);
+    for (std::size_t j = 0; j < k; ++j) spatial[j] = static_cast<float>(-offsets_[j].squaredNorm() / (2.0 * r2));
+    const float inv_sigma = static_cast<float>(1.0 / options_.sigma_color);
 #pragma omp parallel for schedule(static)
-    for (int y = 0; y < h; ++y) {
-      for (int x = 0; x < w; ++x) {
+    for (int y = r; y < h - r; ++y) {
+      std::vector<double> wt(k);
+      for (int x = r; x < w - r; ++x) {
         const std::size_t i = std::size_t(y) * w + x;
         const float centre = ref_.gray.at<float>(y, x);
-        double sw = 0, s1 = 0, s2 = 0;
-        bool inside = true;
+        double sw = 0, s1 = 0;
         for (std::size_t j = 0; j < k; ++j) {
-          const int qx = x + offsets_[j].x(), qy = y + offsets_[j].y();
-          if (qx < 0 || qy < 0 || qx >= w || qy >= h) {
-            inside = false;
-            break;
-          }
-          const float v = ref_.gray.at<float>(qy, qx);
-          const double wt = std::exp(-std::abs(v - centre) / options_.sigma_color -
-                                     offsets_[j].squaredNorm() / (2.0 * r2));
-          weights_[i * k + j] = static_cast<float>(wt);
-          ref_values_[i * k + j] = v;
-          sw += wt;
-          s1 += wt * v;
-          s2 += wt * v * v;
+          const float v = ref_.gray.at<float>(y + offsets_[j].y(), x + offsets_[j].x());
+          wt[j] = std::exp(spatial[j] - std::abs(v - centre) * inv_sigma);
+          sw += wt[j];
+          s1 += wt[j] * v;
         }
-        if (!inside) continue;
         const double mean = s1 / sw;
-        const double var = std::max(0.0, s2 / sw - mean * mean);
+        double var = 0;
+        for (std::size_t j = 0; j < k; ++j) {
+          const double v = ref_.gray.at<float>(y + offsets_[j].y(), x + offsets_[j].x()) - mean;
+          weights_[i * k + j] = static_cast<float>(wt[j] / sw);
+          centred_[i * k + j] = static_cast<float>(wt[j] / sw * v);
+          var += wt[j] / sw * v * v;
+        }
+        ref_var_[i] = static_cast<float>(var);
         textured_[i] = std::sqrt(var) >= options_.min_texture_std;
       }
     }
   }
 
+  // 1 - NCC of the reference window at (x, y) (weights wts, centred values
+  // centred, variance var_r) against source s through homography H (pixel
+  // centre coordinates in and out); 2 if any part of the warped window leaves
+  // the image or lies behind the camera. Three passes over the window so the
+  // compiler vectorises the projection and the sums; only the bilinear
+  // lookups stay scalar.
+  float view_cost(int x, int y, const Eigen::Matrix3f& H, const MvsView& src, const float* wts,
+                  const float* centred, float var_r) const {
+    const int r = options_.window_radius, step = options_.window_step;
+    const float W = static_cast<float>(src.width() - 1), Hh = static_cast<float>(src.height() - 1);
+    const Eigen::Vector3f centre = H * Eigen::Vector3f(x + 0.5f, y + 0.5f, 1.0f);
+    // The homography's z is linear over the window: positive at the corners
+    // means positive everywhere, and the image of the window is then the
+    // convex hull of its corners' images, so checking the corners suffices.
+    const float reach = float(2 * r / step * step - r);  // offset of the last sample
+    for (const float cy : {float(-r), reach}) {
+      for (const float cx : {float(-r), reach}) {
+        const Eigen::Vector3f m = centre + cx * H.col(0) + cy * H.col(1);
+        if (!(m.z() > 1e-6f)) return 2.0f;
+        const float u = m.x() / m.z() - 0.5f, v = m.y() / m.z() - 0.5f;
+        if (!(u >= 0 && v >= 0 && u < W && v < Hh)) return 2.0f;
+      }
+    }
+    const int k = static_cast<int>(offsets_.size());
+    const float* ox = offset_x_.data();
+    const float* oy = offset_y_.data();
+    const int max_x = src.width() - 2, max_y = src.height() - 2;
+    const int stride = static_cast<int>(src.gray.step1());
+    alignas(64) int index[kMaxWindow];
+    alignas(64) float fx[kMaxWindow], fy[kMaxWindow], value[kMaxWindow];
+    const float h00 = H(0, 0), h01 = H(0, 1), h10 = H(1, 0), h11 = H(1, 1), h20 = H(2, 0), h21 = H(2, 1);
+#pragma omp simd
+    for (int j = 0; j < k; ++j) {
+      const float mx = centre.x() + ox[j] * h00 + oy[j] * h01;
+      const float my = centre.y() + ox[j] * h10 + oy[j] * h11;
+      const float iz = 1.0f / (centre.z() + ox[j] * h20 + oy[j] * h21);
+      const float u = mx * iz - 0.5f, v = my * iz - 0.5f;
+      const int x0 = std::min(static_cast<int>(u), max_x), y0 = std::min(static_cast<int>(v), max_y);
+      fx[j] = u - static_cast<float>(x0);
+      fy[j] = v - static_cast<float>(y0);
+      index[j] = y0 * stride + x0;
+    }
+    const float* data = src.gray.ptr<float>(0);
+    // Source values relative to the reference centre keep the float sums
+    // of squares small (no cancellation when the windows match).
+    const float shift = ref_.gray.at<float>(y, x);
+    for (int j = 0; j < k; ++j) {
+      const float* p = data + index[j];
+      const float top = p[0] + fx[j] * (p[1] - p[0]);
+      const float bottom = p[stride] + fx[j] * (p[stride + 1] - p[stride]);
+      value[j] = top + fy[j] * (bottom - top) - shift;
+    }
+    float ss = 0, sss = 0, cov = 0;
+#pragma omp simd reduction(+ : ss, sss, cov)
+    for (int j = 0; j < k; ++j) {
+      ss += wts[j] * value[j];
+      sss += wts[j] * value[j] * value[j];
+      cov += centred[j] * value[j];
+    }
+    const float var_s = sss - ss * ss;
+    if (!(var_s > 1e-10f) || !(var_r > 1e-10f)) return 2.0f;
+    return 1.0f - cov / std::sqrt(var_r * var_s);
+  }
+
   // Aggregated cost of plane at pixel (x, y): mean of the best K source costs.
-  float cost(int x, int y, const Plane& plane) const {
+  // Stops early, returning a lower bound >= to_beat, once the views still to
+  // be scored (each at best 0) cannot bring the mean of the best K below it.
+  float cost(int x, int y, const Plane& plane, float to_beat = 3.0f) const {
     const std::size_t i = std::size_t(y) * ref_.width() + x;
     if (!textured_[i] || !(plane.depth > 0)) return 2.0f;
     const std::size_t k = offsets_.size();
-    const float* wts = &weights_[i * k];
-    const float* rv = &ref_values_[i * k];
     const Eigen::Vector3d n = plane.normal.cast<double>();
-    const Eigen::Vector3d xp = ray(x, y) * plane.depth;
-    const double nd = n.dot(xp);
+    const double nd = n.dot(ray(x, y) * plane.depth);
     if (std::abs(nd) < 1e-12) return 2.0f;
-    float view_costs[32];
+    const Eigen::Vector3f m = (ref_.K_inv.transpose() * n / nd).cast<float>();
     const int nsrc = static_cast<int>(std::min<std::size_t>(sources_.size(), 32));
-    for (int s = 0; s < nsrc; ++s) {
-      const MvsView& src = *sources_[s];
-      const Eigen::Matrix3d H = src.K * (relative_[s].R + relative_[s].t * n.transpose() / nd) * ref_.K_inv;
-      double sw = 0, sr = 0, ss = 0, srr = 0, sss = 0, srs = 0;
-      bool ok = true;
-      for (std::size_t j = 0; j < k; ++j) {
-        const Eigen::Vector3d q(x + offsets_[j].x() + 0.5, y + offsets_[j].y() + 0.5, 1.0);
-        const Eigen::Vector3d m = H * q;
-        if (m.z() <= 1e-9) {
-          ok = false;
-          break;
-        }
-        const double u = m.x() / m.z() - 0.5, v = m.y() / m.z() - 0.5;
-        if (u < 0 || v < 0 || u >= src.width() - 1 || v >= src.height() - 1) {
-          ok = false;
-          break;
-        }
-        const double sv = bilinear(src.gray, u, v);
-        const double wt = wts[j], r = rv[j];
-        sw += wt;
-        sr += wt * r;
-        ss += wt * sv;
-        srr += wt * r * r;
-        sss += wt * sv * sv;
-        srs += wt * r * sv;
-      }
-      float c = 2.0f;
-      if (ok && sw > 0) {
-        const double var_r = srr - sr * sr / sw, var_s = sss - ss * ss / sw;
-        const double cov = srs - sr * ss / sw;
-        if (var_r > 1e-10 && var_s > 1e-10) c = static_cast<float>(1.0 - cov / std::sqrt(var_r * var_s));
-      }
-      view_costs[s] = c;
-    }
     if (nsrc == 0) return 2.0f;
     const int best = std::min(options_.best_k, nsrc);
-    std::partial_sort(view_costs, view_costs + best, view_costs + nsrc);
+    float sorted[32];  // the view costs so far, ascending
+    for (int s = 0; s < nsrc; ++s) {
+      const Eigen::Matrix3f H = relative_[s].A + relative_[s].b * m.transpose();
+      const float c = view_cost(x, y, H, *sources_[s], &weights_[i * k], &centred_[i * k], ref_var_[i]);
+      int j = s;
+      for (; j > 0 && sorted[j - 1] > c; --j) sorted[j] = sorted[j - 1];
+      sorted[j] = c;
+      const int known = best - (nsrc - 1 - s);  // best-K members that must be among the scored views
+      if (known > 0 && s + 1 < nsrc) {
+        float bound = 0;
+        for (int b = 0; b < known; ++b) bound += sorted[b];
+        if (bound / best >= to_beat) return bound / best;
+      }
+    }
     float sum = 0;
-    for (int s = 0; s < best; ++s) sum += view_costs[s];
+    for (int s = 0; s < best; ++s) sum += sorted[s];
     return sum / best;
   }
 
-  void try_plane(int x, int y, std::size_t i, const Plane& candidate) {
-    if (!(candidate.depth > 0) || !std::isfinite(candidate.depth)) return;
-    const float c = cost(x, y, candidate);
-    if (c < costs_[i]) {
-      costs_[i] = c;
-      planes_[i] = candidate;
+  // Planes already scored at one pixel during one update. Neighbours on the
+  // same surface propagate (nearly) the plane the pixel already has; scoring
+  // it again cannot change the result, and skipping it saves most of the
+  // propagation cost once the sweeps have converged.
+  struct Tried {
+    Plane planes[16];
+    int count = 0;
+    bool contains(const Plane& p) const {
+      for (int j = 0; j < count; ++j) {
+        if (std::abs(planes[j].depth - p.depth) <= 1e-5f * p.depth && planes[j].normal.dot(p.normal) >= 0.99999f) {
+          return true;
+        }
+      }
+      return false;
     }
+    void add(const Plane& p) {
+      if (count < 16) planes[count++] = p;
+    }
+  };
+
+  // Scores candidate at pixel i and keeps it if it is better; true if kept.
+  bool try_plane(int x, int y, std::size_t i, const Plane& candidate, Tried& tried) {
+    if (!(candidate.depth > 0) || !std::isfinite(candidate.depth) || tried.contains(candidate)) return false;
+    tried.add(candidate);
+    const float c = cost(x, y, candidate, costs_[i]);
+    if (!(c < costs_[i])) return false;
+    costs_[i] = c;
+    planes_[i] = candidate;
+    return true;
   }
 
-  void update(int x, int y, int iteration, double scale) {
+  void update(int x, int y, int iteration, int colour, double scale) {
     const int w = ref_.width(), h = ref_.height();
     const std::size_t i = std::size_t(y) * w + x;
     if (!textured_[i]) return;
+    Tried tried;
+    tried.add(planes_[i]);
+    bool changed = false;
+    // This pixel scored every neighbour's plane in its previous update and
+    // its own cost has only fallen since; a neighbour that has not changed
+    // since then offers nothing new. Colour 0 last ran before the previous
+    // sweep's colour-1 pass, colour 1 before this sweep's colour-0 pass.
+    const int unchanged_before = colour == 0 ? iteration - 1 : iteration;
     // Propagation from the neighbours of the other colour (distance 1 and 3).
     static constexpr int kNeighbours[8][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}, {-3, 0}, {3, 0}, {0, -3}, {0, 3}};
     for (const auto& o : kNeighbours) {
       const int nx = x + o[0], ny = y + o[1];
       if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-      const Plane& neighbour = planes_[std::size_t(ny) * w + nx];
+      const std::size_t ni = std::size_t(ny) * w + nx;
+      if (iteration > 0 && changed_[ni] < unchanged_before) continue;
+      const Plane& neighbour = planes_[ni];
       // The neighbour's plane, re-intersected with this pixel's ray.
       Plane candidate = neighbour;
       const Eigen::Vector3d n = neighbour.normal.cast<double>();
@@ -279,7 +360,7 @@ class PatchMatcher {
       if (std::abs(denom) < 1e-9) continue;
       candidate.depth = static_cast<float>(n.dot(xn) / denom);
       if (candidate.depth < 0.5 / inv_max_ || candidate.depth > 2.0 / inv_min_) continue;
-      try_plane(x, y, i, candidate);
+      changed |= try_plane(x, y, i, candidate, tried);
     }
     // Random refinement: perturb depth and normal, shrinking per iteration.
     const std::uint64_t seed = (std::uint64_t(i) * 131 + iteration) * 1000003ull;
@@ -289,14 +370,15 @@ class PatchMatcher {
     perturbed.depth = static_cast<float>(current.depth + (random_unit(seed) * 2 - 1) * range);
     const Eigen::Vector3d dn(random_unit(seed + 1) - 0.5, random_unit(seed + 2) - 0.5, random_unit(seed + 3) - 0.5);
     perturbed.normal = facing_camera(current.normal.cast<double>() + 0.6 * scale * dn, x, y);
-    try_plane(x, y, i, perturbed);
+    changed |= try_plane(x, y, i, perturbed, tried);
     Plane depth_only = current;
     depth_only.depth = perturbed.depth;
-    try_plane(x, y, i, depth_only);
+    changed |= try_plane(x, y, i, depth_only, tried);
     Plane normal_only = current;
     normal_only.normal = perturbed.normal;
-    try_plane(x, y, i, normal_only);
-    try_plane(x, y, i, random_plane(x, y, seed + 5));
+    changed |= try_plane(x, y, i, normal_only, tried);
+    changed |= try_plane(x, y, i, random_plane(x, y, seed + 5), tried);
+    if (changed) changed_[i] = static_cast<std::int8_t>(iteration);
   }
 
   const MvsView& ref_;
@@ -304,10 +386,12 @@ class PatchMatcher {
   const MvsOptions& options_;
   double inv_min_, inv_max_;
   std::vector<Eigen::Vector2i> offsets_;
+  std::vector<float> offset_x_, offset_y_;
   std::vector<Relative> relative_;
   std::vector<Plane> planes_;
   std::vector<float> costs_;
-  std::vector<float> weights_, ref_values_;
+  std::vector<std::int8_t> changed_;  // sweep in which the pixel's plane last changed, -1: never
+  std::vector<float> weights_, centred_, ref_var_;
   std::vector<char> textured_;
 };
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <opencv2/imgcodecs.hpp>
 #include <unordered_set>
 
@@ -164,6 +165,59 @@ TEST(RunMvs, MissingImageIsAClearError) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("view_003.png"), std::string::npos);
   }
+}
+
+// A disc of the surface painted flat grey in every image (the pixels whose
+// true surface point lies within a ball): a textureless region inside a
+// textured scene must yield no points inside it, where the unpainted scene
+// does. Windows straddling the disc's rim may still match, so only the inner
+// half of the ball is counted.
+TEST(RunMvs, TexturelessPatchInTexturedSceneGivesNoPointsThere) {
+  const auto& s = synthetic_workspace();
+  hos::testing::TempDir dir;
+  std::filesystem::copy(s.dir->path() / "scene", dir.path() / "scene", std::filesystem::copy_options::recursive);
+  std::vector<const ImageRecord*> images;
+  for (const auto& [id, image] : s.truth.model.images) images.push_back(&image);
+  const auto surface_point = [&](std::size_t v, int x, int y) -> std::optional<Eigen::Vector3d> {
+    const float d = s.truth.views[v].depth.at<float>(y, x);
+    if (!(d > 0)) return std::nullopt;
+    const Camera& camera = s.truth.model.camera_of(*images[v]);
+    return images[v]->world_from_cam(camera.unproject({x + 0.5, y + 0.5}) * d);
+  };
+  const cv::Mat& depth0 = s.truth.views[0].depth;
+  const auto centre = surface_point(0, depth0.cols / 2, depth0.rows / 2);
+  ASSERT_TRUE(centre.has_value()) << "view 0 must see a surface at its centre";
+  const double radius = 0.08 * s.diagonal;
+  std::size_t painted = 0;
+  for (std::size_t v = 0; v < images.size(); ++v) {
+    const auto path = dir.path() / "scene" / "images" / images[v]->name;
+    cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);
+    ASSERT_FALSE(image.empty()) << path;
+    for (int y = 0; y < image.rows; ++y) {
+      for (int x = 0; x < image.cols; ++x) {
+        const auto p = surface_point(v, x, y);
+        if (p && (*p - *centre).norm() < radius) {
+          image.at<cv::Vec3b>(y, x) = cv::Vec3b(128, 128, 128);
+          ++painted;
+        }
+      }
+    }
+    cv::imwrite(path.string(), image);
+  }
+  ASSERT_GT(painted, 2000u);  // several views see a patch wider than the matching window
+  const auto inside = [&](const PointCloud& points) {
+    std::size_t n = 0;
+    for (const auto& p : points.positions) n += (p.cast<double>() - *centre).norm() < 0.5 * radius;
+    return n;
+  };
+  const std::size_t textured = inside(mvs_result().points);
+  const MvsResult result = run_mvs(load_undistorted_workspace(dir.path() / "scene"), MvsOptions{}, null_reporter());
+  const std::size_t flat = inside(result.points);
+  std::cout << painted << " pixels painted; points in the inner ball: " << textured << " textured, " << flat
+            << " flat; points elsewhere: " << result.points.size() - flat << "\n";
+  ASSERT_GT(textured, 100u);  // the region has points when it has texture
+  EXPECT_LE(flat, textured / 20) << "textureless region still produced points";
+  EXPECT_GT(result.points.size(), mvs_result().points.size() / 2);  // the rest of the scene is unharmed
 }
 
 TEST(RunMvs, TexturelessViewGivesNoPointsInsteadOfNoise) {

@@ -1,0 +1,74 @@
+// Sanity check of dense points from a photo set with calibrated cameras but
+// no ground-truth surface (the Middlebury multi-view sets): aligns the sfm
+// model to the calibrated cameras by a similarity over the camera centres
+// (Umeyama 1991) and counts the points inside the object's bounding box.
+//
+//   hos-mvs-box-check SPARSE_DIR POINTS.ply PAR_FILE xmin ymin zmin xmax ymax zmax
+//
+// PAR_FILE: "count" then per image "name K(9) R(9) t(3)", x ~ K [R | t].
+#include <Eigen/Geometry>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <map>
+
+#include "core/colmap_io.h"
+#include "core/ply_io.h"
+
+int main(int argc, char** argv) {
+  if (argc != 10) {
+    std::cerr << "usage: hos-mvs-box-check SPARSE_DIR POINTS.ply PAR_FILE xmin ymin zmin xmax ymax zmax\n";
+    return 2;
+  }
+  try {
+    const hos::SparseModel model = hos::read_colmap_model(argv[1]);
+    const hos::PointCloud cloud = hos::read_point_cloud_ply(argv[2]);
+    std::ifstream par(argv[3]);
+    int count = 0;
+    if (!(par >> count)) throw std::runtime_error(std::string(argv[3]) + ": cannot read the image count");
+    std::map<std::string, Eigen::Vector3d> true_centres;
+    for (int i = 0; i < count; ++i) {
+      std::string name;
+      double k[9], r[9], t[3];
+      par >> name;
+      for (double& v : k) par >> v;
+      for (double& v : r) par >> v;
+      for (double& v : t) par >> v;
+      if (!par) throw std::runtime_error(std::string(argv[3]) + ": truncated at image " + std::to_string(i));
+      const Eigen::Matrix3d R = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(r);
+      true_centres[name] = -R.transpose() * Eigen::Vector3d(t[0], t[1], t[2]);
+    }
+    std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> pairs;
+    for (const auto& [id, image] : model.images) {
+      const auto it = true_centres.find(image.name);
+      if (it != true_centres.end()) pairs.emplace_back(image.center(), it->second);
+    }
+    if (pairs.size() < 3) throw std::runtime_error("fewer than 3 images shared with the calibration");
+    Eigen::Matrix3Xd from(3, pairs.size()), to(3, pairs.size());
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+      from.col(i) = pairs[i].first;
+      to.col(i) = pairs[i].second;
+    }
+    const Eigen::Matrix4d similarity = Eigen::umeyama(from, to, true);
+    double centre_error = 0;
+    for (const auto& [a, b] : pairs) centre_error = std::max(centre_error, ((similarity * a.homogeneous()).head<3>() - b).norm());
+    const Eigen::Vector3d lo(std::atof(argv[4]), std::atof(argv[5]), std::atof(argv[6]));
+    const Eigen::Vector3d hi(std::atof(argv[7]), std::atof(argv[8]), std::atof(argv[9]));
+    const double diagonal = (hi - lo).norm();
+    std::cout << pairs.size() << " cameras aligned, largest centre error " << centre_error / diagonal * 100
+              << "% of the box diagonal\n";
+    for (const double margin : {0.0, 0.01, 0.05}) {
+      std::size_t inside = 0;
+      for (const auto& p : cloud.positions) {
+        const Eigen::Vector3d q = (similarity * p.cast<double>().homogeneous()).head<3>();
+        inside += (q.array() >= lo.array() - margin * diagonal).all() && (q.array() <= hi.array() + margin * diagonal).all();
+      }
+      std::cout << "inside the box + " << margin * 100 << "% of its diagonal: " << inside << " of " << cloud.size()
+                << " (" << 100.0 * inside / std::max<std::size_t>(1, cloud.size()) << "%)\n";
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "hos-mvs-box-check: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,107 @@
+// mvs/fusion.* alone, on synthetic depth maps whose agreement is known
+// exactly: four cameras side by side look at the plane z = 5; neighbouring
+// cameras are 0.1 apart, so a surface point moves by exactly 2 pixels from
+// one view to the next and every point of the plane is seen by a known set
+// of views.
+#include "mvs/fusion.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+namespace hos {
+namespace {
+
+constexpr int kWidth = 64, kHeight = 48, kViews = 4, kShift = 2;  // pixels between neighbouring views
+constexpr double kDepth = 5.0;
+
+FusionView plane_view(int j) {
+  FusionView v;
+  v.K << 100, 0, kWidth / 2.0, 0, 100, kHeight / 2.0, 0, 0, 1;
+  v.K_inv = v.K.inverse();
+  v.t = -Eigen::Vector3d(0.1 * j, 0, 0);  // R = I, centre (0.1 j, 0, 0)
+  v.map.depth = cv::Mat(kHeight, kWidth, CV_32F, cv::Scalar(kDepth));
+  v.map.normal = cv::Mat(kHeight, kWidth, CV_32FC3, cv::Scalar(0, 0, -1));
+  v.map.cost = cv::Mat(kHeight, kWidth, CV_32F, cv::Scalar(0.1));
+  v.color = cv::Mat(kHeight, kWidth, CV_8UC3, cv::Scalar(0, 0, 40 * j));  // BGR: red = 40 j
+  return v;
+}
+
+std::vector<FusionView> plane_views() {
+  std::vector<FusionView> views;
+  for (int j = 0; j < kViews; ++j) views.push_back(plane_view(j));
+  return views;
+}
+
+// Column u of view 0 (possibly outside it) is column u - kShift j of view j.
+// Expected points: one per row and per column seen by enough agreeing views,
+// with that many views as confidence.
+std::map<int, int> expected_confidence(const std::vector<bool>& agreeing, int min_views) {
+  std::map<int, int> confidence;
+  for (int u = -kShift * kViews; u < kWidth + kShift * kViews; ++u) {
+    int seen = 0;
+    for (int j = 0; j < kViews; ++j) seen += agreeing[j] && u - kShift * j >= 0 && u - kShift * j < kWidth;
+    if (seen >= min_views) confidence[u] = seen;
+  }
+  return confidence;
+}
+
+void expect_fused(const PointCloud& cloud, const std::map<int, int>& expected) {
+  ASSERT_EQ(cloud.size(), expected.size() * kHeight);
+  std::map<int, int> columns;  // column of view 0 -> points
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Eigen::Vector3d p = cloud.positions[i].cast<double>();
+    EXPECT_NEAR(p.z(), kDepth, 1e-5);
+    EXPECT_NEAR(cloud.normals[i].cast<double>().dot(Eigen::Vector3d(0, 0, -1)), 1.0, 1e-6);
+    // Back into view 0's columns: x = f X / Z + cx - 0.5 at the pixel centre.
+    const int u = static_cast<int>(std::lround(100.0 * p.x() / p.z() + kWidth / 2.0 - 0.5));
+    ++columns[u];
+    ASSERT_TRUE(expected.count(u)) << "column " << u;
+    EXPECT_EQ(cloud.confidence[i], expected.at(u)) << "column " << u;
+  }
+  for (const auto& [u, count] : columns) EXPECT_EQ(count, kHeight) << "column " << u;  // each point once
+}
+
+TEST(Fusion, AgreeingPlaneIsFusedOncePerPointWithItsViewCount) {
+  MvsOptions options;  // min_consistent_views = 2: three views must see a point
+  const PointCloud cloud = fuse_depth_maps(plane_views(), options, null_reporter());
+  expect_fused(cloud, expected_confidence({true, true, true, true}, 3));
+  // Colours are the mean over the agreeing views: red 40 j averaged.
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (cloud.confidence[i] == 4) {
+      EXPECT_EQ(cloud.colors[i][0], 60);
+    }
+  }
+}
+
+TEST(Fusion, StricterConsistencyKeepsOnlyPointsSeenByMoreViews) {
+  MvsOptions options;
+  options.min_consistent_views = 3;
+  expect_fused(fuse_depth_maps(plane_views(), options, null_reporter()),
+               expected_confidence({true, true, true, true}, 4));
+}
+
+TEST(Fusion, ViewWithWrongDepthDoesNotCount) {
+  auto views = plane_views();
+  views[3].map.depth.setTo(kDepth * 1.05);  // 5% off; max_depth_error is 1%
+  expect_fused(fuse_depth_maps(views, MvsOptions{}, null_reporter()),
+               expected_confidence({true, true, true, false}, 3));
+}
+
+TEST(Fusion, ViewWithWrongNormalsDoesNotCount) {
+  auto views = plane_views();
+  const double a = 30.0 * M_PI / 180.0;  // max_normal_error_deg is 20
+  views[1].map.normal.setTo(cv::Scalar(std::sin(a), 0, -std::cos(a)));
+  expect_fused(fuse_depth_maps(views, MvsOptions{}, null_reporter()),
+               expected_confidence({true, false, true, true}, 3));
+}
+
+TEST(Fusion, PixelsWithoutDepthAreIgnored) {
+  auto views = plane_views();
+  for (auto& v : views) v.map.depth.setTo(0);
+  EXPECT_EQ(fuse_depth_maps(views, MvsOptions{}, null_reporter()).size(), 0u);
+}
+
+}  // namespace
+}  // namespace hos
