@@ -416,32 +416,34 @@ void restrict_to_coarse(const GridGeometry& fine, const T* r, const GridGeometry
 
 template <typename T>
 void prolongate_add(const GridGeometry& coarse, const T* ec, const GridGeometry& fine, T* x) {
-  const Eigen::Vector3i df = fine.dims;
-  const auto value = [&](int i, int j, int k) -> double {
-    return coarse.contains(i, j, k) ? ec[coarse.index(i, j, k)] : 0.0;
-  };
-#pragma omp parallel for collapse(2) schedule(static)
-  for (int k = 0; k < df.z(); ++k) {
-    for (int j = 0; j < df.y(); ++j) {
-      const AxisWeights wz = axis_weights(k), wy = axis_weights(j);
-      for (int i = 0; i < df.x(); ++i) {
-        const AxisWeights wx = axis_weights(i);
-        double s = 0.0;
+  const Eigen::Vector3i df = fine.dims, dc = coarse.dims;
+#pragma omp parallel
+  {
+    // The coarse values interpolated in y and z for one fine row, padded by a
+    // zero each side (the ghost nodes).
+    std::vector<double> line(dc.x() + 2);
+#pragma omp for collapse(2) schedule(static)
+    for (int k = 0; k < df.z(); ++k) {
+      for (int j = 0; j < df.y(); ++j) {
+        const AxisWeights wz = axis_weights(k), wy = axis_weights(j);
+        std::fill(line.begin(), line.end(), 0.0);
         for (int cz = 0; cz < 2; ++cz) {
           const double az = cz ? wz.w1 : wz.w0;
-          if (az == 0.0) continue;
+          const int kc = cz ? wz.c1 : wz.c0;
+          if (az == 0.0 || kc < 0 || kc >= dc.z()) continue;
           for (int cy = 0; cy < 2; ++cy) {
             const double ay = cy ? wy.w1 : wy.w0;
-            if (ay == 0.0) continue;
-            for (int cx = 0; cx < 2; ++cx) {
-              const double ax = cx ? wx.w1 : wx.w0;
-              if (ax == 0.0) continue;
-              s += az * ay * ax *
-                   value(cx ? wx.c1 : wx.c0, cy ? wy.c1 : wy.c0, cz ? wz.c1 : wz.c0);
-            }
+            const int jc = cy ? wy.c1 : wy.c0;
+            if (ay == 0.0 || jc < 0 || jc >= dc.y()) continue;
+            const T* src = ec + coarse.index(0, jc, kc);
+            for (int i = 0; i < dc.x(); ++i) line[i + 1] += az * ay * src[i];
           }
         }
-        x[fine.index(i, j, k)] += static_cast<T>(s);
+        // Fine i odd sits on coarse (i - 1) / 2, even i halfway between i/2 - 1 and i/2.
+        T* dst = x + fine.index(0, j, k);
+        for (int i = 0; i < df.x(); ++i) {
+          dst[i] += static_cast<T>(i % 2 == 1 ? line[(i - 1) / 2 + 1] : 0.5 * (line[i / 2] + line[i / 2 + 1]));
+        }
       }
     }
   }
