@@ -290,7 +290,7 @@ void EnergyOperator::for_each_row(const T* x, RowFn&& row_fn) const {
 }
 
 void EnergyOperator::apply(const std::vector<double>& x, std::vector<double>& y) const {
-  y.resize(x.size());
+  if (y.size() != x.size()) assign_large(y, x.size());
   apply(x.data(), y.data());
 }
 
@@ -356,7 +356,8 @@ double EnergyOperator::l1_diagonal(std::int64_t node) const {
 
 std::vector<double> EnergyOperator::l1_diagonals() const {
   const std::int64_t n = geometry_.num_nodes();
-  std::vector<double> l1(n);
+  std::vector<double> l1;
+  assign_large(l1, n);
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i) l1[i] = l1_diagonal(i);
   screening_.add_l1(l1);
@@ -456,7 +457,7 @@ template void prolongate_add<double>(const GridGeometry&, const double*, const G
 
 void restrict_to_coarse(const GridGeometry& fine, const std::vector<double>& r,
                         const GridGeometry& coarse, std::vector<double>& rc) {
-  rc.assign(coarse.num_nodes(), 0.0);
+  assign_large(rc, coarse.num_nodes());
   restrict_to_coarse(fine, r.data(), coarse, rc.data());
 }
 

@@ -1,5 +1,6 @@
 #include "recon/multigrid.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -36,11 +37,12 @@ MultigridPreconditioner::MultigridPreconditioner(const EnergyOperator& fine, int
   }
   for (auto& op : ops) {
     const std::vector<double> l1 = op.l1_diagonals();
-    Level level{std::move(op), std::vector<float>(l1.size()), {}, {}, {}};
+    Level level{std::move(op), {}, {}, {}, {}};
+    assign_large(level.inv_l1, l1.size());
     for (std::size_t i = 0; i < l1.size(); ++i) level.inv_l1[i] = static_cast<float>(1.0 / l1[i]);
-    level.b.resize(l1.size());
-    level.x.resize(l1.size());
-    level.scratch.resize(l1.size());
+    assign_large(level.b, l1.size());
+    assign_large(level.x, l1.size());
+    assign_large(level.scratch, l1.size());
     levels_.push_back(std::move(level));
   }
 }
@@ -81,7 +83,7 @@ void MultigridPreconditioner::apply(const std::vector<double>& r, std::vector<do
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i) l.b[i] = static_cast<float>(r[i]);
   v_cycle(0);
-  z.resize(r.size());
+  if (z.size() != r.size()) assign_large(z, r.size());
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i) z[i] = l.x[i];
 }
@@ -105,7 +107,6 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
     if (options.multigrid) {
       multigrid.apply(r, z);
     } else {
-      z.resize(n);
 #pragma omp parallel for schedule(static)
       for (std::int64_t i = 0; i < nn; ++i) z[i] = r[i] * inv_l1[i];
     }
@@ -119,10 +120,11 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
     report.converged = true;
     return report;
   }
-  std::vector<double> r(n), z, p, ap(n);
+  std::vector<double> r, z, p, ap;
+  for (auto* v : {&r, &z, &p, &ap}) assign_large(*v, n);
   op.residual(b.data(), x.data(), r.data());
   precondition(r, z);
-  p = z;
+  std::copy(z.begin(), z.end(), p.begin());
   double rz = dot(r, z);
   report.relative_residual = std::sqrt(dot(r, r)) / b_norm;
   for (int it = 0; it < options.max_iterations && report.relative_residual > options.tolerance;

@@ -56,17 +56,19 @@ double coarse_isovalue(const EnergyOperator& fine, const std::vector<double>& rh
                        const std::vector<Eigen::Vector3f>& points, const SolverOptions& solver,
                        Reporter& reporter, std::vector<double>& guess) {
   std::vector<EnergyOperator> ops{fine};
-  std::vector<std::vector<double>> rhs_levels{rhs};
+  std::vector<double> coarse_rhs;
   while (ops.size() < 3 && ops.back().geometry().can_coarsen(3)) {
     ops.push_back(ops.back().coarsened());
     std::vector<double> rc;
-    restrict_to_coarse(ops[ops.size() - 2].geometry(), rhs_levels.back(), ops.back().geometry(), rc);
-    rhs_levels.push_back(std::move(rc));
+    restrict_to_coarse(ops[ops.size() - 2].geometry(), ops.size() == 2 ? rhs : coarse_rhs,
+                       ops.back().geometry(), rc);
+    coarse_rhs = std::move(rc);
   }
+  if (ops.size() == 1) coarse_rhs = rhs;
   std::vector<double> x;
   SolverOptions so = solver;
   so.tolerance = std::max(solver.tolerance, 1e-4);
-  const SolveReport report = solve_linear_system(ops.back(), rhs_levels.back(), x, so, reporter);
+  const SolveReport report = solve_linear_system(ops.back(), coarse_rhs, x, so, reporter);
   reporter.debug(format_message("recon: coarse unscreened solve, ", report.iterations,
                                 " CG iterations"));
   ScalarGrid coarse(ops.back().geometry());
@@ -75,7 +77,8 @@ double coarse_isovalue(const EnergyOperator& fine, const std::vector<double>& rh
   for (const auto& p : points) iso += coarse.sample(p.cast<double>());
   iso /= static_cast<double>(points.size());
   for (std::size_t l = ops.size() - 1; l > 0; --l) {
-    std::vector<double> finer(ops[l - 1].geometry().num_nodes(), 0.0);
+    std::vector<double> finer;
+    assign_large(finer, ops[l - 1].geometry().num_nodes());
     prolongate_add(ops[l].geometry(), x, ops[l - 1].geometry(), finer);
     x = std::move(finer);
   }

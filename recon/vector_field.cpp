@@ -54,7 +54,7 @@ VectorGrid splat_normals(const GridGeometry& geometry, const std::vector<Eigen::
                          const std::vector<Eigen::Vector3f>& normals,
                          const std::vector<float>& weights) {
   VectorGrid field{geometry, {}};
-  for (auto& c : field.components) c.assign(geometry.num_nodes(), 0.0);
+  for (auto& c : field.components) assign_large(c, geometry.num_nodes());
   for (std::size_t p = 0; p < points.size(); ++p) {
     const Eigen::Vector3d n = normals[p].cast<double>() * (weights.empty() ? 1.0 : weights[p]);
     const TrilinearStencil s = trilinear_stencil(geometry, points[p].cast<double>());
@@ -84,7 +84,8 @@ void box_filter(VectorGrid& field, int passes) {
 
 std::vector<double> splat_density(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
                                   const std::vector<float>& weights) {
-  std::vector<double> density(geometry.num_nodes(), 0.0);
+  std::vector<double> density;
+  assign_large(density, geometry.num_nodes());
   for (std::size_t p = 0; p < points.size(); ++p) {
     const double w = weights.empty() ? 1.0 : weights[p];
     const TrilinearStencil s = trilinear_stencil(geometry, points[p].cast<double>());
