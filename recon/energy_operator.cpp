@@ -244,7 +244,7 @@ void EnergyOperator::for_each_row(const T* x, RowFn&& row_fn) const {
   const bool tv = !tv_node_weights_.empty();
   const double tv_scale = tv_weight_ / (g.spacing * g.spacing);
   const std::int64_t strides[3] = {1, d.x(), std::int64_t{d.x()} * d.y()};
-#pragma omp parallel
+#pragma omp parallel if (worth_threads(g.num_nodes()))
   {
     std::vector<T> row_buffer(nx);
 #pragma omp for collapse(2) schedule(static)
@@ -394,7 +394,7 @@ template <typename T>
 void restrict_to_coarse(const GridGeometry& fine, const T* r, const GridGeometry& coarse, T* rc) {
   const Eigen::Vector3i dc = coarse.dims;
   const std::int64_t sy = fine.dims.x(), sz = std::int64_t{fine.dims.x()} * fine.dims.y();
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (worth_threads(fine.num_nodes()))
   for (int k = 0; k < dc.z(); ++k) {
     for (int j = 0; j < dc.y(); ++j) {
       for (int i = 0; i < dc.x(); ++i) {
@@ -418,7 +418,7 @@ void restrict_to_coarse(const GridGeometry& fine, const T* r, const GridGeometry
 template <typename T>
 void prolongate_add(const GridGeometry& coarse, const T* ec, const GridGeometry& fine, T* x) {
   const Eigen::Vector3i df = fine.dims, dc = coarse.dims;
-#pragma omp parallel
+#pragma omp parallel if (worth_threads(fine.num_nodes()))
   {
     // The coarse values interpolated in y and z for one fine row, padded by a
     // zero each side (the ghost nodes).

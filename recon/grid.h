@@ -47,6 +47,11 @@ int admissible_dims(int n, int levels);
 void assign_large(std::vector<double>& v, std::size_t n, double value = 0.0);
 void assign_large(std::vector<float>& v, std::size_t n, float value = 0.0f);
 
+// True if a loop over this many nodes is worth splitting across threads: on
+// the small coarse levels a thread barrier costs more than the work (and much
+// more when other processes share the cores).
+inline bool worth_threads(std::int64_t nodes) { return nodes >= (std::int64_t{1} << 17); }
+
 // A scalar field on the grid nodes.
 struct ScalarGrid {
   GridGeometry geometry;

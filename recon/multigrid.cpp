@@ -11,7 +11,7 @@ namespace {
 double dot(const std::vector<double>& a, const std::vector<double>& b) {
   double s = 0.0;
   const std::int64_t n = static_cast<std::int64_t>(a.size());
-#pragma omp parallel for reduction(+ : s) schedule(static)
+#pragma omp parallel for reduction(+ : s) schedule(static) if (worth_threads(n))
   for (std::int64_t i = 0; i < n; ++i) s += a[i] * b[i];
   return s;
 }
@@ -19,7 +19,7 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 // y = a * x + y
 void axpy(double a, const std::vector<double>& x, std::vector<double>& y) {
   const std::int64_t n = static_cast<std::int64_t>(x.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_threads(n))
   for (std::int64_t i = 0; i < n; ++i) y[i] += a * x[i];
 }
 
@@ -52,7 +52,7 @@ void MultigridPreconditioner::smooth(const Level& l, int sweeps, bool from_zero)
   int s = 0;
   if (from_zero && sweeps > 0) {
     // The first sweep from x = 0 needs no operator application.
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_threads(n))
     for (std::int64_t i = 0; i < n; ++i) l.x[i] = l.b[i] * l.inv_l1[i];
     s = 1;
   }
@@ -155,7 +155,7 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
     const double rz_new = dot(r, z);
     const double beta = (rz_new - r_z_old) / rz;
     rz = rz_new;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_threads(nn))
     for (std::int64_t i = 0; i < nn; ++i) p[i] = z[i] + beta * p[i];
   }
   report.converged = report.relative_residual <= options.tolerance;
