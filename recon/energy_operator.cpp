@@ -1,5 +1,6 @@
 #include "recon/energy_operator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -125,93 +126,218 @@ EnergyOperator::EnergyOperator(const GridGeometry& geometry, SmoothnessEnergy en
   stencil_abs_sum_ = stencil_.abs_sum();
 }
 
-void EnergyOperator::apply(const std::vector<double>& x, std::vector<double>& y) const {
+ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vector3f>& points,
+                             double weight)
+    : geometry_(g), weight_(weight) {
+  for (int q = 0; q < 27; ++q) offsets_[q] = g.index(q % 3 - 1, (q / 3) % 3 - 1, q / 9 - 1);
+  struct Sample {
+    std::int64_t cell;  // lower corner on the grid padded by one node each side: a sort key
+    Eigen::Vector3i corner;
+    Eigen::Vector3d frac;
+  };
+  const Eigen::Vector3i d = g.dims;
+  std::vector<Sample> samples(points.size());
+#pragma omp parallel for schedule(static)
+  for (std::size_t s = 0; s < points.size(); ++s) {
+    const TrilinearStencil st = trilinear_stencil(g, points[s].cast<double>());
+    const Eigen::Vector3i c = st.corner.cwiseMax(-1).cwiseMin(d);
+    samples[s] = {(std::int64_t{c.z() + 1} * (d.y() + 2) + c.y() + 1) * (d.x() + 2) + c.x() + 1,
+                  st.corner, st.frac};
+  }
+  // Sorted by cell, each corner's node index ascends, so the compact index of
+  // every corner is found by a forward walk instead of a search.
+  std::sort(samples.begin(), samples.end(),
+            [](const Sample& a, const Sample& b) { return a.cell < b.cell; });
+  std::vector<std::array<std::int64_t, 8>> node(samples.size());
+  for (std::size_t s = 0; s < samples.size(); ++s) {
+    for (int c = 0; c < 8; ++c) {
+      const Eigen::Vector3i p = samples[s].corner + Eigen::Vector3i(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+      node[s][c] = g.contains(p.x(), p.y(), p.z()) ? g.index(p.x(), p.y(), p.z()) : -1;
+      if (node[s][c] >= 0) nodes_.push_back(node[s][c]);
+    }
+  }
+  std::sort(nodes_.begin(), nodes_.end());
+  nodes_.erase(std::unique(nodes_.begin(), nodes_.end()), nodes_.end());
+  std::array<std::size_t, 8> walk{};
+  for (auto& corners : node) {
+    for (int c = 0; c < 8; ++c) {
+      if (corners[c] < 0) continue;
+      while (nodes_[walk[c]] < corners[c]) ++walk[c];
+      corners[c] = static_cast<std::int64_t>(walk[c]);
+    }
+  }
+  coefficients_.assign(nodes_.size(), std::array<float, 27>{});
+  for (std::size_t s = 0; s < samples.size(); ++s) {
+    const TrilinearStencil st{samples[s].corner, samples[s].frac};
+    std::array<double, 8> w;
+    for (int c = 0; c < 8; ++c) w[c] = weight * st.weight(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+    for (int a = 0; a < 8; ++a) {
+      if (node[s][a] < 0) continue;
+      auto& row = coefficients_[node[s][a]];
+      for (int b = 0; b < 8; ++b) {
+        if (node[s][b] < 0) continue;
+        const int q = ((b & 1) - (a & 1) + 1) + 3 * (((b >> 1) & 1) - ((a >> 1) & 1) + 1) +
+                      9 * (((b >> 2) & 1) - ((a >> 2) & 1) + 1);
+        row[q] += static_cast<float>(w[a] * st.weight(b & 1, (b >> 1) & 1, (b >> 2) & 1));
+      }
+    }
+  }
+  const std::int64_t rows = std::int64_t{d.y()} * d.z();
+  row_begin_.resize(rows + 1);
+  std::size_t e = 0;
+  for (std::int64_t r = 0; r <= rows; ++r) {
+    while (e < nodes_.size() && nodes_[e] < r * d.x()) ++e;
+    row_begin_[r] = static_cast<std::int64_t>(e);
+  }
+}
+
+void ScreeningTerm::scale(double factor) {
+  weight_ *= factor;
+  for (auto& row : coefficients_) {
+    for (float& c : row) c = static_cast<float>(c * factor);
+  }
+}
+
+double ScreeningTerm::mean_row_sum() const {
+  double sum = 0.0;
+  for (const auto& row : coefficients_) {
+    for (float c : row) sum += c;
+  }
+  return nodes_.empty() ? 0.0 : sum / static_cast<double>(nodes_.size());
+}
+
+void ScreeningTerm::add_target(double target, std::vector<double>& rhs) const {
+  for (std::size_t e = 0; e < nodes_.size(); ++e) {
+    double sum = 0.0;
+    for (float c : coefficients_[e]) sum += c;
+    rhs[nodes_[e]] += target * sum;
+  }
+}
+
+void ScreeningTerm::add_l1(std::vector<double>& l1) const {
+  add_target(1.0, l1);  // every coefficient is >= 0
+}
+
+template <typename T>
+void ScreeningTerm::add_row(std::int64_t row, const T* x, T* y_row) const {
+  const std::int64_t start = row * geometry_.dims.x();
+  for (std::int64_t e = row_begin_[row]; e < row_begin_[row + 1]; ++e) {
+    const std::int64_t node = nodes_[e];
+    const auto& c = coefficients_[e];
+    T s = 0;
+    // A nonzero coefficient couples two corners of one cell, both inside.
+    for (int q = 0; q < 27; ++q) {
+      if (c[q] != 0.0f) s += static_cast<T>(c[q]) * x[node + offsets_[q]];
+    }
+    y_row[node - start] += s;
+  }
+}
+
+template <typename T, typename RowFn>
+void EnergyOperator::for_each_row(const T* x, RowFn&& row_fn) const {
   const GridGeometry& g = geometry_;
   const Eigen::Vector3i d = g.dims;
-  y.resize(x.size());
-  const std::size_t n = stencil_.offsets.size();
-  const double* c = stencil_.coefficients.data();
-  const std::int64_t* lo = linear_offsets_.data();
+  const int nx = d.x();
+  const std::size_t nt = stencil_.offsets.size();
+  std::vector<T> coef(nt);
+  for (std::size_t t = 0; t < nt; ++t) coef[t] = static_cast<T>(stencil_.coefficients[t]);
   const bool tv = !tv_node_weights_.empty();
   const double tv_scale = tv_weight_ / (g.spacing * g.spacing);
   const std::int64_t strides[3] = {1, d.x(), std::int64_t{d.x()} * d.y()};
-#pragma omp parallel for collapse(2) schedule(static)
-  for (int k = 0; k < d.z(); ++k) {
-    for (int j = 0; j < d.y(); ++j) {
-      const bool row_inside = k >= 2 && k < d.z() - 2 && j >= 2 && j < d.y() - 2;
-      for (int i = 0; i < d.x(); ++i) {
-        const std::int64_t idx = g.index(i, j, k);
-        double s = 0.0;
-        if (row_inside && i >= 2 && i < d.x() - 2) {
-          for (std::size_t t = 0; t < n; ++t) s += c[t] * x[idx + lo[t]];
-        } else {
-          for (std::size_t t = 0; t < n; ++t) {
-            const Eigen::Vector3i& o = stencil_.offsets[t];
-            if (g.contains(i + o.x(), j + o.y(), k + o.z())) s += c[t] * x[idx + lo[t]];
-          }
+#pragma omp parallel if (worth_threads(g.num_nodes()))
+  {
+    std::vector<T> row_buffer(nx);
+#pragma omp for collapse(2) schedule(static)
+    for (int k = 0; k < d.z(); ++k) {
+      for (int j = 0; j < d.y(); ++j) {
+        T* __restrict row = row_buffer.data();
+        std::fill(row, row + nx, T(0));
+        // One pass per stencil term along the row: contiguous, vectorisable.
+        for (std::size_t t = 0; t < nt; ++t) {
+          const Eigen::Vector3i& o = stencil_.offsets[t];
+          const int jj = j + o.y(), kk = k + o.z();
+          if (jj < 0 || jj >= d.y() || kk < 0 || kk >= d.z()) continue;
+          const T c = coef[t];
+          const T* __restrict src = x + g.index(0, jj, kk);
+          const int ox = o.x();
+          const int i0 = std::max(0, -ox), i1 = std::min(nx, nx - ox);
+          for (int i = i0; i < i1; ++i) row[i] += c * src[i + ox];
         }
+        const std::int64_t start = g.index(0, j, k);
         if (tv) {
           // -div(w grad x) with edge weights (w_i + w_j) / 2; ghosts are zero.
-          const Eigen::Vector3i p(i, j, k);
-          const double wi = tv_node_weights_[idx];
-          double t = 0.0;
-          for (int a = 0; a < 3; ++a) {
-            for (int sgn : {-1, 1}) {
-              const bool inside = sgn > 0 ? p[a] < d[a] - 1 : p[a] > 0;
-              const std::int64_t nb = idx + sgn * strides[a];
-              const double wj = inside ? tv_node_weights_[nb] : wi;
-              t += 0.5 * (wi + wj) * (x[idx] - (inside ? x[nb] : 0.0));
+          for (int i = 0; i < nx; ++i) {
+            const Eigen::Vector3i p(i, j, k);
+            const std::int64_t idx = start + i;
+            const double wi = tv_node_weights_[idx];
+            double t = 0.0;
+            for (int a = 0; a < 3; ++a) {
+              for (int sgn : {-1, 1}) {
+                const bool inside = sgn > 0 ? p[a] < d[a] - 1 : p[a] > 0;
+                const std::int64_t nb = idx + sgn * strides[a];
+                const double wj = inside ? tv_node_weights_[nb] : wi;
+                t += 0.5 * (wi + wj) * (x[idx] - (inside ? x[nb] : T(0)));
+              }
             }
+            row[i] += static_cast<T>(tv_scale * t);
           }
-          s += tv_scale * t;
         }
-        y[idx] = s;
+        if (!screening_.empty()) screening_.add_row(std::int64_t{k} * d.y() + j, x, row);
+        row_fn(start, static_cast<const T*>(row));
       }
     }
-  }
-  if (screening_) {
-    // Exact S^T S x on the finest level: interpolate at the samples, splat back.
-    const auto& sc = *screening_;
-    const std::int64_t n_nodes = g.num_nodes();
-    std::int64_t corner_offsets[8];
-    for (int c = 0; c < 8; ++c) corner_offsets[c] = g.index(c & 1, (c >> 1) & 1, (c >> 2) & 1);
-    for (std::size_t i = 0; i < sc.corner.size(); ++i) {
-      double v = 0.0;
-      for (int c = 0; c < 8; ++c) {
-        const std::int64_t node = sc.corner[i] + corner_offsets[c];
-        if (sc.weights[i][c] != 0.0f && node >= 0 && node < n_nodes) v += sc.weights[i][c] * x[node];
-      }
-      v *= sc.weight;
-      for (int c = 0; c < 8; ++c) {
-        const std::int64_t node = sc.corner[i] + corner_offsets[c];
-        if (sc.weights[i][c] != 0.0f && node >= 0 && node < n_nodes) y[node] += sc.weights[i][c] * v;
-      }
-    }
-  } else if (!screening_diagonal_.empty()) {
-    const std::int64_t n_nodes = g.num_nodes();
-#pragma omp parallel for schedule(static)
-    for (std::int64_t i = 0; i < n_nodes; ++i) y[i] += screening_diagonal_[i] * x[i];
   }
 }
 
-void EnergyOperator::set_screening(const Screening* screening) {
-  screening_ = screening;
-  screening_diagonal_.assign(geometry_.num_nodes(), 0.0);
-  if (!screening) return;
-  for (std::size_t i = 0; i < screening->corner.size(); ++i) {
-    for (int c = 0; c < 8; ++c) {
-      const std::int64_t node = screening->corner[i] + geometry_.index(c & 1, (c >> 1) & 1, (c >> 2) & 1);
-      if (node >= 0 && node < geometry_.num_nodes()) screening_diagonal_[node] += screening->weight * screening->weights[i][c];
+void EnergyOperator::apply(const std::vector<double>& x, std::vector<double>& y) const {
+  if (y.size() != x.size()) assign_large(y, x.size());
+  apply(x.data(), y.data());
+}
+
+template <typename T>
+void EnergyOperator::apply(const T* x, T* y) const {
+  const int nx = geometry_.dims.x();
+  for_each_row(x, [&](std::int64_t start, const T* ax) { std::copy(ax, ax + nx, y + start); });
+}
+
+template <typename T>
+void EnergyOperator::residual(const T* b, const T* x, T* r) const {
+  const int nx = geometry_.dims.x();
+  for_each_row(x, [&](std::int64_t start, const T* ax) {
+    for (int i = 0; i < nx; ++i) r[start + i] = b[start + i] - ax[i];
+  });
+}
+
+template <typename T>
+void EnergyOperator::jacobi(const T* b, const T* x, const T* inv_l1, T* out) const {
+  const int nx = geometry_.dims.x();
+  for_each_row(x, [&](std::int64_t start, const T* ax) {
+    for (int i = 0; i < nx; ++i) {
+      const std::int64_t n = start + i;
+      out[n] = x[n] + (b[n] - ax[i]) * inv_l1[n];
     }
-  }
+  });
+}
+
+template void EnergyOperator::apply<float>(const float*, float*) const;
+template void EnergyOperator::apply<double>(const double*, double*) const;
+template void EnergyOperator::residual<float>(const float*, const float*, float*) const;
+template void EnergyOperator::residual<double>(const double*, const double*, double*) const;
+template void EnergyOperator::jacobi<float>(const float*, const float*, const float*, float*) const;
+template void EnergyOperator::jacobi<double>(const double*, const double*, const double*, double*) const;
+
+void EnergyOperator::scale_screening(double factor) { screening_.scale(factor); }
+
+void EnergyOperator::set_screening(std::shared_ptr<const std::vector<Eigen::Vector3f>> points,
+                                   double weight) {
+  screening_points_ = std::move(points);
+  screening_ = screening_points_ && weight > 0.0 ? ScreeningTerm(geometry_, *screening_points_, weight)
+                                                 : ScreeningTerm();
 }
 
 double EnergyOperator::l1_diagonal(std::int64_t node) const {
-  const double screen = screening_diagonal_.empty() ? 0.0 : screening_diagonal_[node];
-  if (tv_node_weights_.empty()) return stencil_abs_sum_ + screen;
-  // Each TV edge contributes its weight twice to the row's absolute sum; the
-  // neighbour weights are bounded by the node's own plus the largest nearby,
-  // so use the node weight and its neighbours' directly.
+  if (tv_node_weights_.empty()) return stencil_abs_sum_;
+  // Each TV edge contributes its weight twice to the row's absolute sum.
   const GridGeometry& g = geometry_;
   const Eigen::Vector3i d = g.dims;
   const int i = static_cast<int>(node % d.x());
@@ -225,7 +351,17 @@ double EnergyOperator::l1_diagonal(std::int64_t node) const {
     edges += 0.5 * (wi + (p[a] > 0 ? tv_node_weights_[node - strides[a]] : wi));
     edges += 0.5 * (wi + (p[a] < d[a] - 1 ? tv_node_weights_[node + strides[a]] : wi));
   }
-  return stencil_abs_sum_ + 2.0 * tv_weight_ / (g.spacing * g.spacing) * edges + screen;
+  return stencil_abs_sum_ + 2.0 * tv_weight_ / (g.spacing * g.spacing) * edges;
+}
+
+std::vector<double> EnergyOperator::l1_diagonals() const {
+  const std::int64_t n = geometry_.num_nodes();
+  std::vector<double> l1;
+  assign_large(l1, n);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) l1[i] = l1_diagonal(i);
+  screening_.add_l1(l1);
+  return l1;
 }
 
 EnergyOperator EnergyOperator::coarsened() const {
@@ -235,11 +371,7 @@ EnergyOperator EnergyOperator::coarsened() const {
     restrict_to_coarse(geometry_, tv_node_weights_, coarse, weights);
   }
   EnergyOperator op(coarse, energy_, hessian_weight_, std::move(weights), tv_weight_);
-  if (!screening_diagonal_.empty()) {
-    // The coarse operator keeps the screening as a diagonal term (R D P).
-    restrict_to_coarse(geometry_, screening_diagonal_, coarse, op.screening_diagonal_);
-    for (double& v : op.screening_diagonal_) v *= 8.0;
-  }
+  if (!screening_.empty()) op.set_screening(screening_points_, screening_.weight() / 8.0);
   return op;
 }
 
@@ -258,61 +390,80 @@ AxisWeights axis_weights(int j) {
 
 }  // namespace
 
-void restrict_to_coarse(const GridGeometry& fine, const std::vector<double>& r,
-                        const GridGeometry& coarse, std::vector<double>& rc) {
-  rc.assign(coarse.num_nodes(), 0.0);
+template <typename T>
+void restrict_to_coarse(const GridGeometry& fine, const T* r, const GridGeometry& coarse, T* rc) {
   const Eigen::Vector3i dc = coarse.dims;
-#pragma omp parallel for collapse(2) schedule(static)
+  const std::int64_t sy = fine.dims.x(), sz = std::int64_t{fine.dims.x()} * fine.dims.y();
+#pragma omp parallel for collapse(2) schedule(static) if (worth_threads(fine.num_nodes()))
   for (int k = 0; k < dc.z(); ++k) {
     for (int j = 0; j < dc.y(); ++j) {
       for (int i = 0; i < dc.x(); ++i) {
+        // Coarse node (i, j, k) sits on fine node (2i+1, 2j+1, 2k+1); its 27
+        // fine neighbours are inside the fine grid by construction.
+        const std::int64_t c = fine.index(2 * i + 1, 2 * j + 1, 2 * k + 1);
         double s = 0.0;
         for (int oz = -1; oz <= 1; ++oz) {
           for (int oy = -1; oy <= 1; ++oy) {
-            for (int ox = -1; ox <= 1; ++ox) {
-              const int fi = 2 * i + 1 + ox, fj = 2 * j + 1 + oy, fk = 2 * k + 1 + oz;
-              const double w = (ox ? 0.5 : 1.0) * (oy ? 0.5 : 1.0) * (oz ? 0.5 : 1.0);
-              s += w * r[fine.index(fi, fj, fk)];
-            }
+            const T* p = r + c + oz * sz + oy * sy;
+            const double w = (oy ? 0.5 : 1.0) * (oz ? 0.5 : 1.0);
+            s += w * (0.5 * p[-1] + p[0] + 0.5 * p[1]);
           }
         }
-        rc[coarse.index(i, j, k)] = s / 8.0;
+        rc[coarse.index(i, j, k)] = static_cast<T>(s / 8.0);
       }
     }
   }
 }
 
-void prolongate_add(const GridGeometry& coarse, const std::vector<double>& ec,
-                    const GridGeometry& fine, std::vector<double>& x) {
-  const Eigen::Vector3i df = fine.dims;
-  const auto value = [&](int i, int j, int k) {
-    return coarse.contains(i, j, k) ? ec[coarse.index(i, j, k)] : 0.0;
-  };
-#pragma omp parallel for collapse(2) schedule(static)
-  for (int k = 0; k < df.z(); ++k) {
-    for (int j = 0; j < df.y(); ++j) {
-      const AxisWeights wz = axis_weights(k), wy = axis_weights(j);
-      for (int i = 0; i < df.x(); ++i) {
-        const AxisWeights wx = axis_weights(i);
-        double s = 0.0;
+template <typename T>
+void prolongate_add(const GridGeometry& coarse, const T* ec, const GridGeometry& fine, T* x) {
+  const Eigen::Vector3i df = fine.dims, dc = coarse.dims;
+#pragma omp parallel if (worth_threads(fine.num_nodes()))
+  {
+    // The coarse values interpolated in y and z for one fine row, padded by a
+    // zero each side (the ghost nodes).
+    std::vector<double> line(dc.x() + 2);
+#pragma omp for collapse(2) schedule(static)
+    for (int k = 0; k < df.z(); ++k) {
+      for (int j = 0; j < df.y(); ++j) {
+        const AxisWeights wz = axis_weights(k), wy = axis_weights(j);
+        std::fill(line.begin(), line.end(), 0.0);
         for (int cz = 0; cz < 2; ++cz) {
           const double az = cz ? wz.w1 : wz.w0;
-          if (az == 0.0) continue;
+          const int kc = cz ? wz.c1 : wz.c0;
+          if (az == 0.0 || kc < 0 || kc >= dc.z()) continue;
           for (int cy = 0; cy < 2; ++cy) {
             const double ay = cy ? wy.w1 : wy.w0;
-            if (ay == 0.0) continue;
-            for (int cx = 0; cx < 2; ++cx) {
-              const double ax = cx ? wx.w1 : wx.w0;
-              if (ax == 0.0) continue;
-              s += az * ay * ax *
-                   value(cx ? wx.c1 : wx.c0, cy ? wy.c1 : wy.c0, cz ? wz.c1 : wz.c0);
-            }
+            const int jc = cy ? wy.c1 : wy.c0;
+            if (ay == 0.0 || jc < 0 || jc >= dc.y()) continue;
+            const T* src = ec + coarse.index(0, jc, kc);
+            for (int i = 0; i < dc.x(); ++i) line[i + 1] += az * ay * src[i];
           }
         }
-        x[fine.index(i, j, k)] += s;
+        // Fine i odd sits on coarse (i - 1) / 2, even i halfway between i/2 - 1 and i/2.
+        T* dst = x + fine.index(0, j, k);
+        for (int i = 0; i < df.x(); ++i) {
+          dst[i] += static_cast<T>(i % 2 == 1 ? line[(i - 1) / 2 + 1] : 0.5 * (line[i / 2] + line[i / 2 + 1]));
+        }
       }
     }
   }
+}
+
+template void restrict_to_coarse<float>(const GridGeometry&, const float*, const GridGeometry&, float*);
+template void restrict_to_coarse<double>(const GridGeometry&, const double*, const GridGeometry&, double*);
+template void prolongate_add<float>(const GridGeometry&, const float*, const GridGeometry&, float*);
+template void prolongate_add<double>(const GridGeometry&, const double*, const GridGeometry&, double*);
+
+void restrict_to_coarse(const GridGeometry& fine, const std::vector<double>& r,
+                        const GridGeometry& coarse, std::vector<double>& rc) {
+  assign_large(rc, coarse.num_nodes());
+  restrict_to_coarse(fine, r.data(), coarse, rc.data());
+}
+
+void prolongate_add(const GridGeometry& coarse, const std::vector<double>& ec,
+                    const GridGeometry& fine, std::vector<double>& x) {
+  prolongate_add(coarse, ec.data(), fine, x.data());
 }
 
 }  // namespace hos::recon

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <vector>
 
 #include "recon/grid.h"
@@ -32,12 +33,37 @@ Stencil energy_stencil(SmoothnessEnergy energy, double spacing, double hessian_w
 
 // Optional screening term weight * sum_i (f(p_i) - target)^2 over the samples
 // (f(p_i) trilinear): it pins the level set to the samples where orientations
-// are too coarse to place it (one orientation per scan). On coarse multigrid
-// levels it is approximated by its diagonal (the splatted sample density).
-struct Screening {
-  std::vector<std::int64_t> corner;   // per sample: node index of its cell's lower corner
-  std::vector<std::array<float, 8>> weights;  // trilinear weights of the 8 corners
-  double weight = 0.0;
+// are too coarse to place it (one orientation per scan). Every multigrid level
+// rediscretises it from the sample positions at its own spacing, with the
+// weight divided by 8 per level (the Galerkin scaling of R S^T S P with the
+// restriction R = P^T / 8), and stores S^T S as a 27-point stencil on the
+// nodes it touches, so the operator stays a row-local sweep.
+class ScreeningTerm {
+ public:
+  ScreeningTerm() = default;
+  ScreeningTerm(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+                double weight);
+  bool empty() const { return nodes_.empty(); }
+  double weight() const { return weight_; }
+  // Adds weight * target * S^T 1 (the target's share of the right-hand side).
+  void add_target(double target, std::vector<double>& rhs) const;
+  // Multiplies the weight by factor.
+  void scale(double factor);
+  // Mean l1 row sum over the touched nodes (weight * mean splatted density).
+  double mean_row_sum() const;
+  // Adds its l1 row sums (weight * splatted density) to per-node sums.
+  void add_l1(std::vector<double>& l1) const;
+  // y_row[i] += (S^T S x)[row start + i] for the touched nodes of one row.
+  template <typename T>
+  void add_row(std::int64_t row, const T* x, T* y_row) const;
+
+ private:
+  GridGeometry geometry_;
+  double weight_ = 0.0;
+  std::vector<std::int64_t> nodes_;        // touched nodes, ascending
+  std::vector<std::int64_t> row_begin_;    // per grid row (j, k): first entry in nodes_
+  std::vector<std::array<float, 27>> coefficients_;  // per touched node, offsets (-1..1)^3
+  std::array<std::int64_t, 27> offsets_{};
 };
 
 class EnergyOperator {
@@ -47,16 +73,34 @@ class EnergyOperator {
                  std::vector<double> tv_node_weights = {}, double tv_weight = 0.0);
 
   const GridGeometry& geometry() const { return geometry_; }
-  // Adds the screening term (finest level); see Screening.
-  void set_screening(const Screening* screening);
+  // Adds the screening term over these samples (kept for the coarse levels).
+  void set_screening(std::shared_ptr<const std::vector<Eigen::Vector3f>> points, double weight);
+  const ScreeningTerm& screening() const { return screening_; }
+  void scale_screening(double factor);
   // y = A x.
   void apply(const std::vector<double>& x, std::vector<double>& y) const;
-  // Per-node l1 row sums (>= |a_ii| + sum |a_ij|): the l1-Jacobi smoother.
-  double l1_diagonal(std::int64_t node) const;
-  // The same energy rediscretized on the coarsened grid (weights restricted).
+  // The same on raw arrays of num_nodes() values (float for the preconditioner).
+  template <typename T>
+  void apply(const T* x, T* y) const;
+  // r = b - A x.
+  template <typename T>
+  void residual(const T* b, const T* x, T* r) const;
+  // One l1-Jacobi sweep: out = x + (b - A x) / l1 (out must not alias x).
+  template <typename T>
+  void jacobi(const T* b, const T* x, const T* inv_l1, T* out) const;
+  // Per-node l1 row sums (>= |a_ii| + sum |a_ij|) of every term: the l1-Jacobi smoother.
+  std::vector<double> l1_diagonals() const;
+  // The same energy rediscretized on the coarsened grid (weights restricted,
+  // screening rediscretised).
   EnergyOperator coarsened() const;
 
  private:
+  // Calls row_fn(row start node, A x on that row) for every grid row, in parallel.
+  template <typename T, typename RowFn>
+  void for_each_row(const T* x, RowFn&& row_fn) const;
+  // The l1 row sum of one node without the screening term.
+  double l1_diagonal(std::int64_t node) const;
+
   GridGeometry geometry_;
   SmoothnessEnergy energy_;
   double hessian_weight_;
@@ -64,8 +108,8 @@ class EnergyOperator {
   std::vector<std::int64_t> linear_offsets_;
   std::vector<double> tv_node_weights_;
   double tv_weight_;
-  const Screening* screening_ = nullptr;
-  std::vector<double> screening_diagonal_;  // weight * density per node
+  std::shared_ptr<const std::vector<Eigen::Vector3f>> screening_points_;
+  ScreeningTerm screening_;
   double stencil_abs_sum_;
 };
 
@@ -75,5 +119,10 @@ void restrict_to_coarse(const GridGeometry& fine, const std::vector<double>& r,
                         const GridGeometry& coarse, std::vector<double>& rc);
 void prolongate_add(const GridGeometry& coarse, const std::vector<double>& ec,
                     const GridGeometry& fine, std::vector<double>& x);
+// The same on raw arrays (float or double) sized for the grids.
+template <typename T>
+void restrict_to_coarse(const GridGeometry& fine, const T* r, const GridGeometry& coarse, T* rc);
+template <typename T>
+void prolongate_add(const GridGeometry& coarse, const T* ec, const GridGeometry& fine, T* x);
 
 }  // namespace hos::recon

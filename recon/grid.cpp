@@ -1,6 +1,9 @@
 #include "recon/grid.h"
 
+#include <sys/mman.h>
+
 #include <cmath>
+#include <cstdint>
 
 namespace hos::recon {
 
@@ -24,6 +27,27 @@ int admissible_dims(int n, int levels) {
   const int m = (n + 1 + step - 1) / step;
   return m * step - 1;
 }
+
+namespace {
+
+template <typename T>
+void assign_large_impl(std::vector<T>& v, std::size_t n, T value) {
+  constexpr std::size_t kHuge = std::size_t{2} << 20;
+  if (n * sizeof(T) >= 4 * kHuge && v.capacity() < n) {
+    std::vector<T>().swap(v);
+    v.reserve(n);
+    // Advise the 2 MB aligned interior before anything touches it.
+    const auto begin = (reinterpret_cast<std::uintptr_t>(v.data()) + kHuge - 1) / kHuge * kHuge;
+    const auto end = (reinterpret_cast<std::uintptr_t>(v.data() + n)) / kHuge * kHuge;
+    if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+  }
+  v.assign(n, value);
+}
+
+}  // namespace
+
+void assign_large(std::vector<double>& v, std::size_t n, double value) { assign_large_impl(v, n, value); }
+void assign_large(std::vector<float>& v, std::size_t n, float value) { assign_large_impl(v, n, value); }
 
 TrilinearStencil trilinear_stencil(const GridGeometry& g, const Eigen::Vector3d& x) {
   const Eigen::Vector3d u = g.to_grid(x);

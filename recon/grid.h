@@ -41,12 +41,23 @@ struct GridGeometry {
 // Smallest admissible node count >= n for a grid that coarsens levels - 1 times.
 int admissible_dims(int n, int levels);
 
+// v = n copies of value, with the storage of a large v backed by transparent
+// huge pages where the system allows: first-touch page faults of the grid-sized
+// arrays cost more than the arithmetic on them otherwise.
+void assign_large(std::vector<double>& v, std::size_t n, double value = 0.0);
+void assign_large(std::vector<float>& v, std::size_t n, float value = 0.0f);
+
+// True if a loop over this many nodes is worth splitting across threads: on
+// the small coarse levels a thread barrier costs more than the work (and much
+// more when other processes share the cores).
+inline bool worth_threads(std::int64_t nodes) { return nodes >= (std::int64_t{1} << 17); }
+
 // A scalar field on the grid nodes.
 struct ScalarGrid {
   GridGeometry geometry;
   std::vector<double> values;
 
-  explicit ScalarGrid(const GridGeometry& g = {}) : geometry(g), values(g.num_nodes(), 0.0) {}
+  explicit ScalarGrid(const GridGeometry& g = {}) : geometry(g) { assign_large(values, g.num_nodes()); }
   double at(int i, int j, int k) const {
     return geometry.contains(i, j, k) ? values[geometry.index(i, j, k)] : 0.0;
   }

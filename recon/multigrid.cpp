@@ -1,5 +1,6 @@
 #include "recon/multigrid.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -10,7 +11,7 @@ namespace {
 double dot(const std::vector<double>& a, const std::vector<double>& b) {
   double s = 0.0;
   const std::int64_t n = static_cast<std::int64_t>(a.size());
-#pragma omp parallel for reduction(+ : s) schedule(static)
+#pragma omp parallel for reduction(+ : s) schedule(static) if (worth_threads(n))
   for (std::int64_t i = 0; i < n; ++i) s += a[i] * b[i];
   return s;
 }
@@ -18,7 +19,7 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 // y = a * x + y
 void axpy(double a, const std::vector<double>& x, std::vector<double>& y) {
   const std::int64_t n = static_cast<std::int64_t>(x.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_threads(n))
   for (std::int64_t i = 0; i < n; ++i) y[i] += a * x[i];
 }
 
@@ -29,54 +30,62 @@ constexpr int kCoarsestSweeps = 40;
 MultigridPreconditioner::MultigridPreconditioner(const EnergyOperator& fine, int max_levels,
                                                  int smoothing_steps)
     : smoothing_steps_(smoothing_steps) {
-  operators_.push_back(fine);
-  while ((max_levels <= 0 || num_levels() < max_levels) &&
-         operators_.back().geometry().can_coarsen(3)) {
-    operators_.push_back(operators_.back().coarsened());
+  std::vector<EnergyOperator> ops{fine};
+  while ((max_levels <= 0 || static_cast<int>(ops.size()) < max_levels) &&
+         ops.back().geometry().can_coarsen(3)) {
+    ops.push_back(ops.back().coarsened());
   }
-  for (const auto& op : operators_) {
-    std::vector<double> d(op.geometry().num_nodes());
-    for (std::int64_t i = 0; i < static_cast<std::int64_t>(d.size()); ++i) {
-      d[i] = op.l1_diagonal(i);
-    }
-    l1_diagonals_.push_back(std::move(d));
-  }
-}
-
-void MultigridPreconditioner::smooth(int level, const std::vector<double>& b,
-                                     std::vector<double>& x, int sweeps) const {
-  const EnergyOperator& op = operators_[level];
-  const auto& diag = l1_diagonals_[level];
-  std::vector<double> ax;
-  const std::int64_t n = static_cast<std::int64_t>(x.size());
-  for (int s = 0; s < sweeps; ++s) {
-    op.apply(x, ax);
-#pragma omp parallel for schedule(static)
-    for (std::int64_t i = 0; i < n; ++i) x[i] += (b[i] - ax[i]) / diag[i];
+  for (auto& op : ops) {
+    const std::vector<double> l1 = op.l1_diagonals();
+    Level level{std::move(op), {}, {}, {}, {}};
+    assign_large(level.inv_l1, l1.size());
+    for (std::size_t i = 0; i < l1.size(); ++i) level.inv_l1[i] = static_cast<float>(1.0 / l1[i]);
+    assign_large(level.b, l1.size());
+    assign_large(level.x, l1.size());
+    assign_large(level.scratch, l1.size());
+    levels_.push_back(std::move(level));
   }
 }
 
-void MultigridPreconditioner::v_cycle(int level, const std::vector<double>& b,
-                                      std::vector<double>& x) const {
-  x.assign(b.size(), 0.0);
+void MultigridPreconditioner::smooth(const Level& l, int sweeps, bool from_zero) const {
+  const std::int64_t n = static_cast<std::int64_t>(l.x.size());
+  int s = 0;
+  if (from_zero && sweeps > 0) {
+    // The first sweep from x = 0 needs no operator application.
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+    for (std::int64_t i = 0; i < n; ++i) l.x[i] = l.b[i] * l.inv_l1[i];
+    s = 1;
+  }
+  for (; s < sweeps; ++s) {
+    l.op.jacobi(l.b.data(), l.x.data(), l.inv_l1.data(), l.scratch.data());
+    l.x.swap(l.scratch);
+  }
+}
+
+void MultigridPreconditioner::v_cycle(int level) const {
+  const Level& l = levels_[level];
   if (level == num_levels() - 1) {
-    smooth(level, b, x, kCoarsestSweeps);
+    smooth(l, kCoarsestSweeps, true);
     return;
   }
-  smooth(level, b, x, smoothing_steps_);
-  const EnergyOperator& op = operators_[level];
-  std::vector<double> r;
-  op.apply(x, r);
-  for (std::size_t i = 0; i < r.size(); ++i) r[i] = b[i] - r[i];
-  std::vector<double> rc, ec;
-  restrict_to_coarse(op.geometry(), r, operators_[level + 1].geometry(), rc);
-  v_cycle(level + 1, rc, ec);
-  prolongate_add(operators_[level + 1].geometry(), ec, op.geometry(), x);
-  smooth(level, b, x, smoothing_steps_);
+  smooth(l, smoothing_steps_, true);
+  l.op.residual(l.b.data(), l.x.data(), l.scratch.data());
+  const Level& c = levels_[level + 1];
+  restrict_to_coarse(l.op.geometry(), l.scratch.data(), c.op.geometry(), c.b.data());
+  v_cycle(level + 1);
+  prolongate_add(c.op.geometry(), c.x.data(), l.op.geometry(), l.x.data());
+  smooth(l, smoothing_steps_, false);
 }
 
 void MultigridPreconditioner::apply(const std::vector<double>& r, std::vector<double>& z) const {
-  v_cycle(0, r, z);
+  const Level& l = levels_.front();
+  const std::int64_t n = static_cast<std::int64_t>(r.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) l.b[i] = static_cast<float>(r[i]);
+  v_cycle(0);
+  if (z.size() != r.size()) assign_large(z, r.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) z[i] = l.x[i];
 }
 
 SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<double>& b,
@@ -84,16 +93,22 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
                                 Reporter& reporter) {
   SolveReport report;
   const std::size_t n = b.size();
+  const std::int64_t nn = static_cast<std::int64_t>(n);
   x.resize(n, 0.0);
   const MultigridPreconditioner multigrid(op, options.multigrid ? options.max_levels : 1,
                                           options.smoothing_steps);
   report.levels = multigrid.num_levels();
+  std::vector<double> inv_l1;
+  if (!options.multigrid) {
+    inv_l1 = op.l1_diagonals();
+    for (double& v : inv_l1) v = 1.0 / v;
+  }
   const auto precondition = [&](const std::vector<double>& r, std::vector<double>& z) {
     if (options.multigrid) {
       multigrid.apply(r, z);
     } else {
-      z.resize(n);
-      for (std::size_t i = 0; i < n; ++i) z[i] = r[i] / op.l1_diagonal(static_cast<std::int64_t>(i));
+#pragma omp parallel for schedule(static)
+      for (std::int64_t i = 0; i < nn; ++i) z[i] = r[i] * inv_l1[i];
     }
   };
 
@@ -106,16 +121,16 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
     return report;
   }
   std::vector<double> r, z, p, ap;
-  op.apply(x, r);
-  for (std::size_t i = 0; i < n; ++i) r[i] = b[i] - r[i];
+  for (auto* v : {&r, &z, &p, &ap}) assign_large(*v, n);
+  op.residual(b.data(), x.data(), r.data());
   precondition(r, z);
-  p = z;
+  std::copy(z.begin(), z.end(), p.begin());
   double rz = dot(r, z);
   report.relative_residual = std::sqrt(dot(r, r)) / b_norm;
   for (int it = 0; it < options.max_iterations && report.relative_residual > options.tolerance;
        ++it) {
     reporter.throw_if_cancelled();
-    op.apply(p, ap);
+    op.apply(p.data(), ap.data());
     const double pap = dot(p, ap);
     if (!(pap > 0.0) || !std::isfinite(pap)) {
       throw NumericalError("recon", "conjugate gradients lost positive definiteness (p'Ap = " +
@@ -133,12 +148,14 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
     reporter.debug(format_message("recon: CG iteration ", it + 1, " relative residual ",
                                   report.relative_residual));
     if (report.relative_residual <= options.tolerance) break;
+    // Flexible (Polak-Ribiere) beta = r' (z_new - z_old) / r_old' z_old: it
+    // keeps CG convergent with the slightly nonlinear single-precision V-cycle.
+    const double r_z_old = dot(r, z);
     precondition(r, z);
     const double rz_new = dot(r, z);
-    const double beta = rz_new / rz;
+    const double beta = (rz_new - r_z_old) / rz;
     rz = rz_new;
-    const std::int64_t nn = static_cast<std::int64_t>(n);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_threads(nn))
     for (std::int64_t i = 0; i < nn; ++i) p[i] = z[i] + beta * p[i];
   }
   report.converged = report.relative_residual <= options.tolerance;

@@ -24,20 +24,32 @@ struct SolveReport {
   std::vector<double> residual_history;  // relative residual after each iteration
 };
 
+// The V-cycle runs in single precision (the outer CG keeps double vectors and
+// the exact operator): a preconditioner only needs to be an approximate
+// inverse, and float halves the memory traffic of every sweep. Its rounding
+// makes it slightly nonlinear, which flexible CG (see solve_linear_system)
+// tolerates. apply() uses internal work arrays, so one preconditioner must not
+// be applied from two threads at once.
 class MultigridPreconditioner {
  public:
   // Builds up to max_levels levels (0 = while every axis keeps >= 3 nodes).
   MultigridPreconditioner(const EnergyOperator& fine, int max_levels, int smoothing_steps);
-  int num_levels() const { return static_cast<int>(operators_.size()); }
+  int num_levels() const { return static_cast<int>(levels_.size()); }
   // z = M^-1 r by one V-cycle from a zero initial guess.
   void apply(const std::vector<double>& r, std::vector<double>& z) const;
 
  private:
-  void v_cycle(int level, const std::vector<double>& b, std::vector<double>& x) const;
-  void smooth(int level, const std::vector<double>& b, std::vector<double>& x, int sweeps) const;
+  struct Level {
+    EnergyOperator op;
+    std::vector<float> inv_l1;     // 1 / l1 row sums
+    mutable std::vector<float> b, x, scratch;
+  };
+  // Levels_[level].x = approximately A^-1 levels_[level].b.
+  void v_cycle(int level) const;
+  // Sweeps of l1-Jacobi on a level; from_zero: x starts at zero.
+  void smooth(const Level& l, int sweeps, bool from_zero) const;
 
-  std::vector<EnergyOperator> operators_;
-  std::vector<std::vector<double>> l1_diagonals_;
+  std::vector<Level> levels_;
   int smoothing_steps_;
 };
 

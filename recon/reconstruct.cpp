@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <memory>
 
 #include "core/error.h"
 #include <array>
@@ -46,6 +47,43 @@ std::vector<double> tv_weights(const ScalarGrid& f, double eps) {
     }
   }
   return w;
+}
+
+// The isovalue (eq. 12) of the unscreened solution, estimated on the grid
+// coarsened up to twice; guess receives that coarse solution prolongated to the
+// fine grid (a starting point for the fine solve).
+double coarse_isovalue(const EnergyOperator& fine, const std::vector<double>& rhs,
+                       const std::vector<Eigen::Vector3f>& points, const SolverOptions& solver,
+                       Reporter& reporter, std::vector<double>& guess) {
+  std::vector<EnergyOperator> ops{fine};
+  std::vector<double> coarse_rhs;
+  while (ops.size() < 3 && ops.back().geometry().can_coarsen(3)) {
+    ops.push_back(ops.back().coarsened());
+    std::vector<double> rc;
+    restrict_to_coarse(ops[ops.size() - 2].geometry(), ops.size() == 2 ? rhs : coarse_rhs,
+                       ops.back().geometry(), rc);
+    coarse_rhs = std::move(rc);
+  }
+  if (ops.size() == 1) coarse_rhs = rhs;
+  std::vector<double> x;
+  SolverOptions so = solver;
+  so.tolerance = std::max(solver.tolerance, 1e-4);
+  const SolveReport report = solve_linear_system(ops.back(), coarse_rhs, x, so, reporter);
+  reporter.debug(format_message("recon: coarse unscreened solve, ", report.iterations,
+                                " CG iterations"));
+  ScalarGrid coarse(ops.back().geometry());
+  coarse.values = x;
+  double iso = 0.0;
+  for (const auto& p : points) iso += coarse.sample(p.cast<double>());
+  iso /= static_cast<double>(points.size());
+  for (std::size_t l = ops.size() - 1; l > 0; --l) {
+    std::vector<double> finer;
+    assign_large(finer, ops[l - 1].geometry().num_nodes());
+    prolongate_add(ops[l].geometry(), x, ops[l - 1].geometry(), finer);
+    x = std::move(finer);
+  }
+  guess = std::move(x);
+  return iso;
 }
 
 }  // namespace
@@ -174,43 +212,19 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
     const double weight =
         options.energy == SmoothnessEnergy::kMembrane ? options.lambda : options.lambda * ell * ell;
     EnergyOperator op(grid, options.energy, weight);
-    run(op, solver);
     if (options.screening > 0.0) {
-      // Screened solve: pull f at the samples towards the isovalue of the
-      // unscreened solution (eq. 12), warm-started from it.
-      Screening screening;
-      std::vector<double> density(grid.num_nodes(), 0.0);
-      for (const auto& p : points) {
-        const TrilinearStencil st = trilinear_stencil(grid, p.cast<double>());
-        std::array<float, 8> w{};
-        for (int c = 0; c < 8; ++c) {
-          const int i = st.corner.x() + (c & 1), j = st.corner.y() + ((c >> 1) & 1), k = st.corner.z() + ((c >> 2) & 1);
-          if (!grid.contains(i, j, k)) continue;
-          w[c] = static_cast<float>(st.weight(c & 1, (c >> 1) & 1, (c >> 2) & 1));
-          density[grid.index(i, j, k)] += w[c];
-        }
-        screening.corner.push_back(grid.index(st.corner.x(), st.corner.y(), st.corner.z()));
-        screening.weights.push_back(w);
-      }
-      double sum = 0.0, count = 0.0;
-      for (double d : density) {
-        if (d > 0) sum += d, count += 1.0;
-      }
+      // One screened solve. The target of the pinning is the isovalue (eq. 12)
+      // of the unscreened solution, estimated on a grid coarsened twice (1/64
+      // of the nodes), whose prolongation also starts the fine solve.
+      const double target = coarse_isovalue(op, rhs.values, points, solver, reporter, f.values);
+      op.set_screening(std::make_shared<const std::vector<Eigen::Vector3f>>(points), 1.0);
       // Weighted so that at a typical surface node the term is screening
       // times the Laplacian's scale 1 / h^2, at any resolution and density.
-      screening.weight = options.screening / (grid.spacing * grid.spacing * (sum / std::max(count, 1.0)));
-      double iso = 0.0;
-      for (const auto& p : points) iso += f.sample(p.cast<double>());
-      iso /= static_cast<double>(points.size());
-      for (std::size_t s = 0; s < points.size(); ++s) {
-        for (int c = 0; c < 8; ++c) {
-          const std::int64_t node = screening.corner[s] + grid.index(c & 1, (c >> 1) & 1, (c >> 2) & 1);
-          if (screening.weights[s][c] != 0.0f) rhs.values[node] += screening.weight * iso * screening.weights[s][c];
-        }
-      }
-      op.set_screening(&screening);
-      run(op, solver);
+      op.scale_screening(options.screening /
+                         (grid.spacing * grid.spacing * std::max(op.screening().mean_row_sum(), 1e-12)));
+      op.screening().add_target(target, rhs.values);
     }
+    run(op, solver);
   }
   for (double v : f.values) {
     if (!std::isfinite(v)) throw NumericalError("recon", "the implicit function is not finite");

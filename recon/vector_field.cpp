@@ -1,31 +1,51 @@
 #include "recon/vector_field.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace hos::recon {
 namespace {
 
-// out is scratch space of v's size, reused across calls: allocating (and
-// page-faulting) a grid-sized buffer per pass dominated the filter's time.
-void box_filter_axis(const GridGeometry& g, std::vector<double>& v, std::vector<double>& out, int axis) {
-  const Eigen::Vector3i d = g.dims;
-  out.resize(v.size());
-  const std::int64_t stride = axis == 0 ? 1 : axis == 1 ? d.x() : std::int64_t{d.x()} * d.y();
-  const int n = d[axis];
-#pragma omp parallel for collapse(2) schedule(static)
-  for (int k = 0; k < d.z(); ++k) {
-    for (int j = 0; j < d.y(); ++j) {
-      for (int i = 0; i < d.x(); ++i) {
-        const Eigen::Vector3i p(i, j, k);
-        const std::int64_t idx = g.index(i, j, k);
-        double s = v[idx];
-        if (p[axis] > 0) s += v[idx - stride];
-        if (p[axis] < n - 1) s += v[idx + stride];
-        out[idx] = s / 3.0;
-      }
+// One pass of [1 1 1] / 3 along lines of n values, each line's t-th value at
+// in + t * m (m interleaved lines, contiguous): vectorises along the lines.
+// Values beyond the line's ends are zero.
+void box_pass(const double* __restrict in, double* __restrict out, int n, int m) {
+  constexpr double third = 1.0 / 3.0;
+  for (int t = 0; t < n; ++t) {
+    const double* c = in + std::int64_t{t} * m;
+    double* o = out + std::int64_t{t} * m;
+    const bool lo = t > 0, hi = t < n - 1;
+    for (int q = 0; q < m; ++q) {
+      o[q] = (c[q] + (lo ? c[q - m] : 0.0) + (hi ? c[q + m] : 0.0)) * third;
     }
   }
-  v.swap(out);
+}
+
+// All passes along one axis while the lines stay in cache: the 1-D filters
+// along different axes commute, so x, y, z passes may be grouped per axis.
+void box_filter_axis(const GridGeometry& g, std::vector<double>& v, int axis, int passes) {
+  const Eigen::Vector3i d = g.dims;
+  const std::int64_t plane = std::int64_t{d.x()} * d.y();
+  // A slab: n values along the axis times m interleaved lines.
+  const int n = d[axis];
+  const int m = axis == 0 ? 1 : d.x();
+  const int slabs = axis == 0 ? d.y() * d.z() : axis == 1 ? d.z() : d.y();
+  const std::int64_t stride = axis == 0 ? 1 : axis == 1 ? d.x() : plane;
+#pragma omp parallel
+  {
+    std::vector<double> a(std::int64_t{n} * m), b(a.size());
+#pragma omp for schedule(static)
+    for (int s = 0; s < slabs; ++s) {
+      // First value of the slab: row s (x), plane s (y) or row s of plane 0 (z).
+      double* base = v.data() + (axis == 0 ? std::int64_t{s} * d.x() : axis == 1 ? s * plane : std::int64_t{s} * d.x());
+      for (int t = 0; t < n; ++t) std::copy(base + t * stride, base + t * stride + m, a.data() + std::int64_t{t} * m);
+      for (int p = 0; p < passes; ++p) {
+        box_pass(a.data(), b.data(), n, m);
+        a.swap(b);
+      }
+      for (int t = 0; t < n; ++t) std::copy(a.data() + std::int64_t{t} * m, a.data() + std::int64_t{t + 1} * m, base + t * stride);
+    }
+  }
 }
 
 }  // namespace
@@ -34,7 +54,7 @@ VectorGrid splat_normals(const GridGeometry& geometry, const std::vector<Eigen::
                          const std::vector<Eigen::Vector3f>& normals,
                          const std::vector<float>& weights) {
   VectorGrid field{geometry, {}};
-  for (auto& c : field.components) c.assign(geometry.num_nodes(), 0.0);
+  for (auto& c : field.components) assign_large(c, geometry.num_nodes());
   for (std::size_t p = 0; p < points.size(); ++p) {
     const Eigen::Vector3d n = normals[p].cast<double>() * (weights.empty() ? 1.0 : weights[p]);
     const TrilinearStencil s = trilinear_stencil(geometry, points[p].cast<double>());
@@ -54,10 +74,8 @@ VectorGrid splat_normals(const GridGeometry& geometry, const std::vector<Eigen::
 }
 
 void box_filter(const GridGeometry& geometry, std::vector<double>& values, int passes) {
-  std::vector<double> scratch;
-  for (int pass = 0; pass < passes; ++pass) {
-    for (int axis = 0; axis < 3; ++axis) box_filter_axis(geometry, values, scratch, axis);
-  }
+  if (passes <= 0) return;
+  for (int axis = 0; axis < 3; ++axis) box_filter_axis(geometry, values, axis, passes);
 }
 
 void box_filter(VectorGrid& field, int passes) {
@@ -66,7 +84,8 @@ void box_filter(VectorGrid& field, int passes) {
 
 std::vector<double> splat_density(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
                                   const std::vector<float>& weights) {
-  std::vector<double> density(geometry.num_nodes(), 0.0);
+  std::vector<double> density;
+  assign_large(density, geometry.num_nodes());
   for (std::size_t p = 0; p < points.size(); ++p) {
     const double w = weights.empty() ? 1.0 : weights[p];
     const TrilinearStencil s = trilinear_stencil(geometry, points[p].cast<double>());

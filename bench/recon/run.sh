@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Side-by-side: hos-recon (grid 256 / 512) against COLMAP's Screened Poisson
 # (poisson_mesher, depth 8 / 9) on the same oriented points, in one run.
-# Prints a markdown table: wall time, peak memory, triangles, accuracy.
+# Prints a markdown table: wall time, CPU time (user + sys: steadier than wall
+# time when other jobs share the cores), peak memory, triangles, accuracy, and
+# the load average before each input.
 # COLMAP runs with PoissonMeshing.trim 0: its default density trim (10)
 # removed every face of these inputs; hos-recon trims by distance instead.
 #   bench/recon/run.sh [--large] [--data DIR]   (DIR holds stanford_bunny/)
@@ -28,12 +30,13 @@ if [ -n "$data" ] && [ -f "$data/stanford_bunny/data/bun.conf" ]; then
   inputs+=(bunny)
 fi
 
-# Runs a command under /usr/bin/time; prints "seconds peak_MB".
+# Runs a command under /usr/bin/time; prints "seconds cpu_seconds peak_MB".
 timed() {
-  /usr/bin/time -f "%e %M" -o "$work/time.txt" "$@" > "$work/cmd.log" 2>&1 || {
-    echo "failed: $*" >&2; tail -5 "$work/cmd.log" >&2; echo "fail fail"; return; }
-  awk '{printf "%s %.0f\n", $1, $2/1024}' "$work/time.txt"
+  /usr/bin/time -f "%e %U %S %M" -o "$work/time.txt" "$@" > "$work/cmd.log" 2>&1 || {
+    echo "failed: $*" >&2; tail -5 "$work/cmd.log" >&2; echo "fail fail fail"; return; }
+  awk '{printf "%s %.1f %.0f\n", $1, $2 + $3, $4/1024}' "$work/time.txt"
 }
+load() { awk '{print $1}' /proc/loadavg; }
 
 accuracy() {  # mesh input_points name
   if [ "$3" = bunny ]; then
@@ -51,17 +54,19 @@ accuracy() {  # mesh input_points name
 
 faces() { "$bin/hos-recon-bench" sphere-error --mesh "$1" | awk '{print $6}'; }
 
-echo "| input | method | resolution | time (s) | peak memory (MB) | triangles | accuracy vs truth |"
-echo "|---|---|---|---|---|---|---|"
+echo "| input | method | resolution | time (s) | CPU (s) | peak memory (MB) | triangles | accuracy vs truth | load |"
+echo "|---|---|---|---|---|---|---|---|---|"
 for name in "${inputs[@]}"; do
   for pair in "${pairs[@]}"; do
     set -- $pair
     res=$1 depth=$2
-    read -r t m < <(timed "$bin/hos-recon" --input "$work/$name.ply" --output "$work/hos.ply" --resolution "$res" --progress none)
-    echo "| $name | hos-recon (energy 4) | grid $res | $t | $m | $(faces "$work/hos.ply") | $(accuracy "$work/hos.ply" "$work/$name.ply" "$name") |"
-    read -r t m < <(timed env QT_QPA_PLATFORM=offscreen colmap poisson_mesher --input_path "$work/$name.ply" --output_path "$work/poisson.ply" --PoissonMeshing.depth "$depth" --PoissonMeshing.trim 0)
+    l=$(load)
+    read -r t c m < <(timed "$bin/hos-recon" --input "$work/$name.ply" --output "$work/hos.ply" --resolution "$res" --progress none)
+    echo "| $name | hos-recon (energy 4) | grid $res | $t | $c | $m | $(faces "$work/hos.ply") | $(accuracy "$work/hos.ply" "$work/$name.ply" "$name") | $l |"
+    l=$(load)
+    read -r t c m < <(timed env QT_QPA_PLATFORM=offscreen colmap poisson_mesher --input_path "$work/$name.ply" --output_path "$work/poisson.ply" --PoissonMeshing.depth "$depth" --PoissonMeshing.trim 0)
     if [ -f "$work/poisson.ply" ]; then
-      echo "| $name | COLMAP poisson_mesher | depth $depth | $t | $m | $(faces "$work/poisson.ply") | $(accuracy "$work/poisson.ply" "$work/$name.ply" "$name") |"
+      echo "| $name | COLMAP poisson_mesher | depth $depth | $t | $c | $m | $(faces "$work/poisson.ply") | $(accuracy "$work/poisson.ply" "$work/$name.ply" "$name") | $l |"
       rm -f "$work/poisson.ply"
     fi
   done
