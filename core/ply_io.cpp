@@ -16,6 +16,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/huge_pages.h"
 
 namespace hos {
 namespace fs = std::filesystem;
@@ -383,19 +384,6 @@ std::uint8_t to_color_byte(double v, PlyType type) {
   return static_cast<std::uint8_t>(std::min(255.0, std::round(v)));
 }
 
-// Asks for transparent huge pages on the 2 MiB-aligned interior of a large,
-// not yet touched array: first-touch page faults otherwise dominate loading a
-// big cloud (one fault per 4 KiB of output).
-template <typename T>
-void advise_huge_pages(std::vector<T>& values) {
-  constexpr std::uintptr_t kHuge = std::uintptr_t{1} << 21;
-  const auto begin = reinterpret_cast<std::uintptr_t>(values.data());
-  const auto end = begin + values.size() * sizeof(T);
-  const std::uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1);
-  const std::uintptr_t last = end & ~(kHuge - 1);
-  if (last > first) ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
-}
-
 // Stores decoded vertex rows into pre-sized arrays, one slot per row, so that
 // binary rows can be decoded in parallel; rows with non-finite positions are
 // flagged and removed afterwards by compact() (dropped and counted, never
@@ -405,9 +393,12 @@ class VertexSink {
   VertexSink(const PlyElement& element, const VertexLayout& layout, PointCloud& cloud)
       : element_(element), layout_(layout), cloud_(cloud), finite_(element.count, 1) {
     const std::size_t n = element.count;
+    // Huge pages before the first touch: page faults of the output arrays
+    // were the largest cost of reading a big cloud.
     const auto allocate = [n](auto& values) {
-      values.resize(n);
+      values.reserve(n);
       advise_huge_pages(values);
+      values.resize(n);
     };
     allocate(cloud.positions);
     if (layout.normal[0] >= 0) allocate(cloud.normals);

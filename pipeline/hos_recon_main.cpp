@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
   hos::register_options(option_set, options);
   hos::CommonStageFlags flags;
   std::string input_path, output_path, scans_path, view_dir, scanner_pos;
-  int energy = 0, resolution = 0;
+  int energy = 0, resolution = 0, max_memory_mb = -1;
   double lambda = -1.0, voxel_size = 0.0;
   bool no_trim = false, print_config = false, ascii = false;
 
@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
   app.add_option("--lambda", lambda, "smoothness weight (= recon.lambda)");
   app.add_option("--resolution", resolution, "grid cells along the longest side (= recon.resolution)");
   app.add_option("--voxel-size", voxel_size, "grid spacing in scene units (= recon.voxel_size)");
+  app.add_option("--max-memory", max_memory_mb, "memory budget in MB; 0 = 3/4 of the RAM (= recon.max_memory_mb)");
   app.add_flag("--no-trim", no_trim, "keep surface far from the samples (= recon.trim.enabled=false)");
   app.add_option("--view-dir", view_dir, "orient all points towards this direction x,y,z");
   app.add_option("--scanner-pos", scanner_pos, "orient every point towards this position x,y,z");
@@ -66,6 +67,7 @@ int main(int argc, char** argv) {
   if (energy > 0) flags.assignments.push_back("energy=" + std::to_string(energy));
   if (lambda >= 0.0) flags.assignments.push_back("lambda=" + std::to_string(lambda));
   if (resolution > 0) flags.assignments.push_back("resolution=" + std::to_string(resolution));
+  if (max_memory_mb >= 0) flags.assignments.push_back("max_memory_mb=" + std::to_string(max_memory_mb));
   if (voxel_size > 0.0) flags.assignments.push_back("voxel_size=" + std::to_string(voxel_size));
   if (no_trim) flags.assignments.push_back("trim.enabled=false");
 

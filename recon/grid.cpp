@@ -1,6 +1,6 @@
 #include "recon/grid.h"
 
-#include <sys/mman.h>
+#include "core/huge_pages.h"
 
 #include <cmath>
 #include <cstdint>
@@ -36,10 +36,7 @@ void assign_large_impl(std::vector<T>& v, std::size_t n, T value) {
   if (n * sizeof(T) >= 4 * kHuge && v.capacity() < n) {
     std::vector<T>().swap(v);
     v.reserve(n);
-    // Advise the 2 MB aligned interior before anything touches it.
-    const auto begin = (reinterpret_cast<std::uintptr_t>(v.data()) + kHuge - 1) / kHuge * kHuge;
-    const auto end = (reinterpret_cast<std::uintptr_t>(v.data() + n)) / kHuge * kHuge;
-    if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+    advise_huge_pages(v);  // before anything touches it
   }
   v.assign(n, value);
 }

@@ -21,6 +21,7 @@ void ReconOptions::validate() const {
     throw ConfigError("recon.direction_filter_passes", "must be in [0, 100]");
   }
   if (solver.max_iterations < 1) throw ConfigError("recon.solver.max_iterations", "must be >= 1");
+  if (max_memory_mb < 0) throw ConfigError("recon.max_memory_mb", "must be >= 0 (0 = 3/4 of the RAM)");
   if (trim.distance_voxels <= 0.0) throw ConfigError("recon.trim.distance_voxels", "must be > 0");
 }
 
@@ -62,6 +63,8 @@ void register_options(OptionSet& set, ReconOptions& o) {
   set.add("trim.min_component_fraction", o.trim.min_component_fraction,
           "drop pieces smaller than this fraction of the largest", 0.0, 1.0);
   set.add("threads", o.threads, "OpenMP threads (0 = all cores)", 0, 1024);
+  set.add("max_memory_mb", o.max_memory_mb,
+          "memory budget (MB): larger grids are refused before allocating (0 = 3/4 of the RAM)", 0, 1 << 30);
 }
 
 }  // namespace hos::recon

@@ -61,6 +61,9 @@ struct ReconOptions {
   SolverOptions solver;
   TrimOptions trim;
   int threads = 0;  // OpenMP threads; 0 = all cores
+  // Memory budget in MB; a grid whose estimated peak exceeds it is refused
+  // before anything is allocated (see memory_budget.h). 0 = 3/4 of the RAM.
+  int max_memory_mb = 0;
 
   // Throws ConfigError naming the offending option.
   void validate() const;

@@ -1,5 +1,7 @@
 #include "recon/reconstruct.h"
 
+#include "recon/memory_budget.h"
+
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -9,6 +11,7 @@
 
 #include "recon/energy_operator.h"
 #include "recon/isosurface.h"
+#include "recon/memory_budget.h"
 #include "recon/multigrid.h"
 #include "recon/trim.h"
 #include "recon/vector_field.h"
@@ -154,7 +157,9 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
 
   const auto t_field = Clock::now();
   reporter.begin("orientation field", 0);
-  const GridGeometry grid = make_domain(bounding_box(points), options);
+  const BoundingBox box = bounding_box(points);
+  check_memory_budget(box, points.size(), options);  // before anything grid-sized exists
+  const GridGeometry grid = make_domain(box, options);
   stats.grid_dims = grid.dims;
   stats.voxel_size = grid.spacing;
   reporter.info(format_message("recon: grid ", grid.dims.x(), "x", grid.dims.y(), "x",

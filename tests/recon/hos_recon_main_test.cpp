@@ -71,6 +71,15 @@ TEST(HosRecon, BadInputsGetAClearMessageAndExitCode) {
   EXPECT_EQ(run_recon("--input " + (dir / "one.ply").string() + out + " --set recon.lamda=1", dir),
             kExitUsage);
   EXPECT_NE(log_of(dir).find("lambda"), std::string::npos) << "closest valid key";
+
+  // A grid beyond the memory budget is refused up front, naming what fits.
+  write_point_cloud_ply(dir / "sphere.ply", testing::sample_sphere(2000, 1.0, 0.0, 2));
+  EXPECT_EQ(run_recon("--input " + (dir / "sphere.ply").string() + " --output " + (dir / "big.ply").string() +
+                          " --resolution 1024 --max-memory 200",
+                      dir),
+            kExitUsage);
+  EXPECT_NE(log_of(dir).find("largest resolution that fits"), std::string::npos) << log_of(dir);
+  EXPECT_FALSE(std::filesystem::exists(dir / "big.ply"));
   EXPECT_FALSE(std::filesystem::exists(dir / "mesh.ply.tmp"));
 }
 
