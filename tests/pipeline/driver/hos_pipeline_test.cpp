@@ -22,22 +22,10 @@ namespace hos {
 namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using testing::read_text;
 using testing::shell_quote;
 
-std::string read_text(const fs::path& file) {
-  std::ifstream in(file);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-fs::path exe(const std::string& name) { return testing::bin_dir() / name; }
-
-std::string missing_executables(const std::vector<std::string>& names) {
-  std::string missing;
-  for (const auto& n : names) {
-    if (!fs::exists(exe(n))) missing += " " + n;
-  }
-  return missing;
-}
+fs::path exe(const std::string& name) { return testing::executable(name); }
 
 // Stages that ran, from the driver's "running <stage>" lines.
 std::vector<std::string> stages_run(const std::string& output) {
@@ -175,15 +163,11 @@ class StopDuringMvs : public Reporter {
 
 TEST_F(HosPipelineTest, SyntheticSceneEndToEndWithResume) {
   const std::string missing =
-      missing_executables({"hos-synth", "hos-sfm", "hos-mvs", "hos-recon", "hos-texture"});
+      testing::missing_executables({"hos-synth", "hos-sfm", "hos-mvs", "hos-recon", "hos-texture"});
   if (!missing.empty()) GTEST_SKIP() << "not built:" << missing;
   if (find_executable("colmap").empty()) GTEST_SKIP() << "colmap is not installed";
   const fs::path scene = dir_ / "scene";
-  ASSERT_EQ(testing::run_command(shell_quote(exe("hos-synth").string()) + " --output " + shell_quote(scene.string()) +
-                                     " --views 16 --width 640 --height 480 --seed 1 --holdout 2",
-                                 dir_ / "synth.log"),
-            0)
-      << log("synth.log");
+  ASSERT_EQ(testing::make_synth_scene(scene, 16, 2, dir_ / "synth.log"), 0) << log("synth.log");
   const fs::path out = dir_ / "out.glb";
   const fs::path ws = dir_ / "out_workspace";
   const std::string base = shell_quote((scene / "images").string()) + " " + shell_quote(out.string()) + " --preset default";
