@@ -8,13 +8,16 @@
 #include <atomic>
 #include <chrono>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <thread>
 
 #include "core/exit_codes.h"
 #include "core/reporter.h"
+#include "pipeline/driver/file_hash.h"
 #include "pipeline/driver/run_record.h"
+#include "pipeline/driver/stage_paths.h"
 #include "pipeline/sfm/subprocess.h"
 #include "tests/support/test_support.h"
 
@@ -81,6 +84,19 @@ std::optional<double> find_number(const nlohmann::json& j, const std::vector<std
     }
   }
   return std::nullopt;
+}
+
+// Content fingerprints of what mvs and the later stages wrote, and of the
+// result, by name: equal maps mean byte-identical outputs.
+std::map<std::string, std::string> outputs_after_mvs(const fs::path& workspace, const fs::path& result) {
+  const StagePaths paths(workspace);
+  std::map<std::string, std::string> out;
+  for (const fs::path& file : {paths.points, paths.mesh, paths.textured_model, result}) {
+    Fingerprint fingerprint;
+    fingerprint.add_file_contents(file);
+    out[file.filename().string()] = fingerprint.hex();
+  }
+  return out;
 }
 
 class HosPipelineTest : public ::testing::Test {
@@ -240,9 +256,12 @@ TEST_F(HosPipelineTest, SyntheticSceneEndToEndWithResume) {
   // 6. A changed recon option re-runs recon and texture only.
   ASSERT_EQ(pipeline(base + " --set recon.lambda=0.25", "run4"), 0) << log("run4");
   EXPECT_THAT(stages_run(log("run4")), ::testing::ElementsAre("recon", "texture"));
+  const auto uninterrupted = outputs_after_mvs(ws, out);
 
   // 7. Interrupted during mvs (SIGTERM to the driver): exit 130 with the
-  // resume hint; the same command then finishes without redoing sfm.
+  // resume hint; the same command then finishes without redoing sfm, and its
+  // result is byte for byte the uninterrupted one of step 6 (the stages are
+  // deterministic for a given input, config and thread count).
   const std::string sfm_finished = load_run_record(ws / "run.json").stages.at("sfm").finished_at;
   StopDuringMvs stopper(ws / "run.json");
   ProcessOptions interrupted;
@@ -260,6 +279,7 @@ TEST_F(HosPipelineTest, SyntheticSceneEndToEndWithResume) {
   EXPECT_THAT(stages_run(log("run5")), ::testing::ElementsAre("mvs", "recon", "texture"));
   EXPECT_EQ(load_run_record(ws / "run.json").stages.at("sfm").finished_at, sfm_finished);
   EXPECT_TRUE(fs::exists(out));
+  EXPECT_EQ(outputs_after_mvs(ws, out), uninterrupted);
 }
 
 }  // namespace
