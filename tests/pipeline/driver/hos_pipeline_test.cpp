@@ -206,10 +206,10 @@ TEST_F(HosPipelineTest, SyntheticSceneEndToEndWithResume) {
 
   // 3. Accuracy and completeness against the true surface the cameras saw,
   // after aligning the recovered cameras to the true ones, and novel views.
-  // Bounds (measured at 16 views, 640x480, default preset: F 0.87 at 1%, 0.94
-  // at 2% of the diagonal; held-out PSNR 22.3 dB). The issue asks F >= 0.9 at
-  // 1%: reached only at recon.resolution 192 (0.899); the test holds what the
-  // default reaches, with a margin.
+  // Measured at 16 views, 640x480, default preset (three runs): F 0.92-0.93
+  // at 1% and 0.97 at 2% of the diagonal, held-out PSNR 22.9-23.4 dB. The
+  // bounds leave 0.02-0.03 for COLMAP, whose model differs from run to run
+  // (its descriptor matching is not repeatable); 0.9 at 1% is the issue's target.
   if (fs::exists(exe("hos-eval"))) {
     const std::string align = " --align-model " + shell_quote((ws / "sfm" / "undistorted" / "sparse").string()) +
                               " --truth-model " + shell_quote((scene / "sparse").string());
@@ -225,8 +225,8 @@ TEST_F(HosPipelineTest, SyntheticSceneEndToEndWithResume) {
     ASSERT_EQ(j["thresholds"].size(), 2u) << j.dump(2);
     const double f1 = j["thresholds"][0]["f_score"].get<double>(), f2 = j["thresholds"][1]["f_score"].get<double>();
     std::cout << "F-score at 1% / 2% of the diagonal: " << f1 << " / " << f2 << "\n";
-    EXPECT_GE(f1, 0.8) << j.dump(2);
-    EXPECT_GE(f2, 0.9) << j.dump(2);
+    EXPECT_GE(f1, 0.9) << j.dump(2);
+    EXPECT_GE(f2, 0.94) << j.dump(2);
 
     const fs::path render_json = dir_ / "render.json";
     ASSERT_EQ(testing::run_command(shell_quote(exe("hos-eval").string()) + " render --glb " + shell_quote(out.string()) +
