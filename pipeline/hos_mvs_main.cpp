@@ -15,7 +15,6 @@ int main(int argc, char** argv) {
   hos::CommonStageFlags flags;
   std::string workspace_path, output_path, depth_maps;
   int max_image_size = 0;
-  bool print_config = false;
 
   CLI::App app{"hos-mvs: CPU PatchMatch multi-view stereo; writes dense oriented points"};
   app.add_option("--workspace", workspace_path, "undistorted workspace (images/ + sparse/ PINHOLE model)");
@@ -23,16 +22,7 @@ int main(int argc, char** argv) {
   app.add_option("--max-image-size", max_image_size, "longest image side for matching (= mvs.max_image_size)");
   app.add_option("--depth-maps", depth_maps, "also write every depth and normal map into this folder");
   hos::add_common_stage_flags(app, flags, "mvs");
-  app.add_flag("--print-config", print_config, "print the mvs options with their documentation and exit");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? hos::kExitSuccess : hos::kExitUsage;
-  }
-  if (print_config) {
-    std::cout << option_set.documented_yaml();
-    return hos::kExitSuccess;
-  }
+  if (const auto code = hos::parse_stage_command_line(app, argc, argv, flags, option_set)) return *code;
   if (workspace_path.empty() || output_path.empty()) {
     std::cerr << "hos-mvs: error: --workspace and --output are required (see --help)\n";
     return hos::kExitUsage;

@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
   std::string input_path, output_path, scans_path, view_dir, scanner_pos;
   int energy = 0, resolution = 0, max_memory_mb = -1;
   double lambda = -1.0, voxel_size = 0.0;
-  bool no_trim = false, print_config = false, ascii = false;
+  bool no_trim = false, ascii = false;
 
   CLI::App app{"hos-recon: surface reconstruction with higher-order smoothness (Pan & Skala)"};
   app.add_option("--input", input_path, "oriented points PLY (x y z nx ny nz [confidence])");
@@ -49,16 +49,7 @@ int main(int argc, char** argv) {
   app.add_option("--scanner-pos", scanner_pos, "orient every point towards this position x,y,z");
   app.add_flag("--ascii", ascii, "write an ASCII PLY");
   hos::add_common_stage_flags(app, flags, "recon");
-  app.add_flag("--print-config", print_config, "print the recon options with their documentation and exit");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? hos::kExitSuccess : hos::kExitUsage;
-  }
-  if (print_config) {
-    std::cout << option_set.documented_yaml();
-    return hos::kExitSuccess;
-  }
+  if (const auto code = hos::parse_stage_command_line(app, argc, argv, flags, option_set)) return *code;
   if ((input_path.empty() == scans_path.empty()) || output_path.empty()) {
     std::cerr << "hos-recon: error: give --output and exactly one of --input or --scans (see --help)\n";
     return hos::kExitUsage;

@@ -19,7 +19,6 @@ int main(int argc, char** argv) {
   std::string mesh_path, workspace_path, output_path, report_path;
   int max_faces = -1, atlas_size = -1;
   std::string image_format;
-  bool print_config = false;
 
   CLI::App app{"hos-texture: view selection, seam leveling and texture atlas; writes a .glb"};
   app.add_option("--mesh", mesh_path, "mesh PLY (model coordinates of the workspace)");
@@ -30,16 +29,7 @@ int main(int argc, char** argv) {
   app.add_option("--atlas-size", atlas_size, "maximum atlas size in pixels (= texture.atlas_size)");
   app.add_option("--image-format", image_format, "png|jpeg (= texture.image_format)");
   hos::add_common_stage_flags(app, flags, "texture");
-  app.add_flag("--print-config", print_config, "print the texture options with their documentation and exit");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? hos::kExitSuccess : hos::kExitUsage;
-  }
-  if (print_config) {
-    std::cout << option_set.documented_yaml();
-    return hos::kExitSuccess;
-  }
+  if (const auto code = hos::parse_stage_command_line(app, argc, argv, flags, option_set)) return *code;
   if (mesh_path.empty() || workspace_path.empty() || output_path.empty()) {
     std::cerr << "hos-texture: error: --mesh, --workspace and --output are required (see --help)\n";
     return hos::kExitUsage;

@@ -103,6 +103,22 @@ void add_common_stage_flags(CLI::App& app, CommonStageFlags& flags, const std::s
   app.add_option("--progress", flags.progress, "auto|bar|plain|json|none");
   app.add_option("--log", flags.log_file, "log file (every message, debug included)");
   app.add_flag("--verbose", flags.verbose, "show debug messages");
+  app.add_flag("--print-config", flags.print_config,
+               "print the " + section + " options with their documentation and exit");
+}
+
+std::optional<int> parse_stage_command_line(CLI::App& app, int argc, char** argv, const CommonStageFlags& flags,
+                                            const OptionSet& options) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? kExitSuccess : kExitUsage;
+  }
+  if (flags.print_config) {
+    std::cout << options.documented_yaml();
+    return kExitSuccess;
+  }
+  return std::nullopt;
 }
 
 }  // namespace hos

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,11 +24,18 @@ struct CommonStageFlags {
   std::string progress = "auto";         // --progress auto|bar|plain|json|none
   std::string log_file;                  // --log FILE: every message, debug included
   bool verbose = false;                  // --verbose: debug messages on the terminal
+  bool print_config = false;             // --print-config: the section's options, documented
 };
 
-// Adds --config, --set, --progress, --log and --verbose to a stage's command
-// line, documented for its YAML section.
+// Adds --config, --set, --progress, --log, --verbose and --print-config to a
+// stage's command line, documented for its YAML section.
 void add_common_stage_flags(CLI::App& app, CommonStageFlags& flags, const std::string& section);
+
+// Parses the command line. Returns the exit code when main is done already
+// (--help, a usage error, or --print-config, which prints options' documented
+// YAML), nothing when the stage should run.
+std::optional<int> parse_stage_command_line(CLI::App& app, int argc, char** argv, const CommonStageFlags& flags,
+                                            const OptionSet& options);
 
 // Applies --config (the file's `section:` map) and then every --set to the
 // option set. "--set recon.lambda=0.2" and "--set lambda=0.2" are the same

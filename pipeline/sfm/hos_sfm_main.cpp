@@ -15,23 +15,13 @@ int main(int argc, char** argv) {
   hos::register_options(option_set, options);
   hos::SfmInput input;
   hos::CommonStageFlags flags;
-  bool print_config = false;
 
   CLI::App app{"hos-sfm: cameras from photos with COLMAP; writes WS/sfm/undistorted (images + PINHOLE model)"};
   app.add_option("--images", input.images, "folder of photos (or the images of --sparse)");
   app.add_option("--workspace", input.workspace, "workspace folder; the stage writes WS/sfm/");
   app.add_option("--sparse", input.existing_model, "existing COLMAP sparse model of --images: skip SfM");
   hos::add_common_stage_flags(app, flags, "sfm");
-  app.add_flag("--print-config", print_config, "print the sfm options with their documentation and exit");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? hos::kExitSuccess : hos::kExitUsage;
-  }
-  if (print_config) {
-    std::cout << option_set.documented_yaml();
-    return hos::kExitSuccess;
-  }
+  if (const auto code = hos::parse_stage_command_line(app, argc, argv, flags, option_set)) return *code;
   if (input.images.empty() || input.workspace.empty()) {
     std::cerr << "hos-sfm: error: --images and --workspace are required (see --help)\n";
     return hos::kExitUsage;

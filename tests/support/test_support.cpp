@@ -4,6 +4,8 @@
 #include <unistd.h>
 
 #include <cstdlib>
+#include <fstream>
+#include <iterator>
 #include <random>
 #include <stdexcept>
 
@@ -34,6 +36,16 @@ fs::path bin_dir() {
   return dir ? fs::path(dir) : fs::current_path() / "bin";
 }
 
+fs::path executable(const std::string& name) { return bin_dir() / name; }
+
+std::string missing_executables(const std::vector<std::string>& names) {
+  std::string missing;
+  for (const auto& name : names) {
+    if (!fs::exists(executable(name))) missing += " " + name;
+  }
+  return missing;
+}
+
 fs::path source_dir() {
   const char* dir = std::getenv("HOS_SOURCE_DIR");
   return dir ? fs::path(dir) : fs::current_path();
@@ -57,6 +69,18 @@ int run_command(const std::string& command, const fs::path& log_path) {
   const int status = std::system(full.c_str());
   if (status == -1) return -1;
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+std::string read_text(const fs::path& file) {
+  std::ifstream in(file);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+int make_synth_scene(const fs::path& folder, int views, int holdout, const fs::path& log_path) {
+  return run_command(shell_quote(executable("hos-synth").string()) + " --output " + shell_quote(folder.string()) +
+                         " --views " + std::to_string(views) + " --width 640 --height 480 --seed 1 --holdout " +
+                         std::to_string(holdout),
+                     log_path);
 }
 
 }  // namespace hos::testing

@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace hos::testing {
 
@@ -23,6 +24,11 @@ class TempDir {
 
 // Folder of the built executables (HOS_BIN_DIR, set by ctest).
 std::filesystem::path bin_dir();
+// A built executable: bin_dir() / name.
+std::filesystem::path executable(const std::string& name);
+// The names of the executables that are not built, each after a space
+// ("" when all are), for GTEST_SKIP messages.
+std::string missing_executables(const std::vector<std::string>& names);
 // Root of the source tree (HOS_SOURCE_DIR, set by ctest).
 std::filesystem::path source_dir();
 // Runs a shell command; returns its exit status (not the raw wait status).
@@ -30,5 +36,12 @@ std::filesystem::path source_dir();
 int run_command(const std::string& command, const std::filesystem::path& log_path = {});
 // Quotes a string for /bin/sh.
 std::string shell_quote(const std::string& s);
+// The whole content of a text file ("" if it cannot be read).
+std::string read_text(const std::filesystem::path& file);
+// Renders the default hos-synth scene (640x480, seed 1) into folder with
+// `views` views plus `holdout` held-out ones; returns hos-synth's exit status
+// (its output goes to log_path).
+int make_synth_scene(const std::filesystem::path& folder, int views, int holdout,
+                     const std::filesystem::path& log_path);
 
 }  // namespace hos::testing

@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "render/rasterizer.h"
+#include "tests/support/textured_render.h"
 #include "tests/texture/scene_fixtures.h"
 #include "texture/texture_mesh.h"
 
@@ -20,22 +21,6 @@ RenderObject truth_object(const TriangleMesh& mesh) {
   RenderObject object;
   object.mesh = mesh;
   object.material.procedural = [](const Eigen::Vector3f& x) { return testing::sphere_albedo(x); };
-  return object;
-}
-
-// The textured mesh as the renderer's UV-textured material.
-RenderObject textured_object(const TexturedMesh& textured) {
-  RenderObject object;
-  object.mesh.vertices = textured.positions;
-  object.material.textures = textured.atlases;
-  for (std::size_t page = 0; page < textured.indices.size(); ++page) {
-    const auto& idx = textured.indices[page];
-    for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
-      object.mesh.faces.emplace_back(idx[i], idx[i + 1], idx[i + 2]);
-      for (int c = 0; c < 3; ++c) object.material.corner_uvs.push_back(textured.uvs[idx[i + c]]);
-      object.material.face_texture.push_back(static_cast<int>(page));
-    }
-  }
   return object;
 }
 
@@ -55,7 +40,7 @@ TEST(RenderRoundTrip, HeldOutViewsOfTheRendererMatch) {
     views.push_back(rendered_view(truth, 30.0 * i + 5.0, i % 2 ? 35.0 : -30.0, options));
   }
   const TextureResult result = texture_mesh(mesh, views, TextureOptions{}, null_reporter());
-  const std::vector<RenderObject> textured = {textured_object(result.mesh)};
+  const std::vector<RenderObject> textured = {testing::as_render_object(result.mesh)};
   RenderOptions unlit = options;
   unlit.lighting.unlit = true;  // the texture already holds the shaded colour
   for (const auto& [azimuth, elevation] : {std::pair{20.0, 10.0}, {200.0, -20.0}, {110.0, 60.0}}) {

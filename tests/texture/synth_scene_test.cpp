@@ -11,6 +11,7 @@
 #include "render/rasterizer.h"
 #include "synth/dataset.h"
 #include "synth/scene.h"
+#include "tests/support/textured_render.h"
 #include "texture/texture_mesh.h"
 
 namespace hos {
@@ -26,21 +27,6 @@ TriangleMesh merged_objects(const Scene& scene) {
     for (const auto& f : part.faces) mesh.faces.push_back(f + Eigen::Vector3i::Constant(offset));
   }
   return mesh;
-}
-
-RenderObject as_render_object(const TexturedMesh& textured) {
-  RenderObject object;
-  object.mesh.vertices = textured.positions;
-  object.material.textures = textured.atlases;
-  for (std::size_t page = 0; page < textured.indices.size(); ++page) {
-    const auto& idx = textured.indices[page];
-    for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
-      object.mesh.faces.emplace_back(idx[i], idx[i + 1], idx[i + 2]);
-      for (int c = 0; c < 3; ++c) object.material.corner_uvs.push_back(textured.uvs[idx[i + c]]);
-      object.material.face_texture.push_back(static_cast<int>(page));
-    }
-  }
-  return object;
 }
 
 TEST(SynthScene, HeldOutViewsPsnrOnTheObject) {
@@ -62,7 +48,7 @@ TEST(SynthScene, HeldOutViewsPsnrOnTheObject) {
   }
   const TriangleMesh mesh = merged_objects(scene);
   const TextureResult result = texture_mesh(mesh, views, TextureOptions{}, null_reporter());
-  const std::vector<RenderObject> textured = {as_render_object(result.mesh)};
+  const std::vector<RenderObject> textured = {testing::as_render_object(result.mesh)};
   RenderOptions unlit;
   unlit.lighting.unlit = true;  // the photos' shading is baked into the texture
   k = 0;

@@ -21,18 +21,14 @@ namespace hos {
 namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using testing::read_text;
 using testing::shell_quote;
-
-std::string read_text(const fs::path& file) {
-  std::ifstream in(file);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
 
 bool have_colmap() { return !find_executable("colmap").empty(); }
 
 // Runs hos-sfm; returns the exit code, output in log.
 int run_sfm_exe(const std::string& args, const fs::path& log, const std::string& env = "") {
-  const std::string command = env + " " + shell_quote((testing::bin_dir() / "hos-sfm").string()) +
+  const std::string command = env + " " + shell_quote(testing::executable("hos-sfm").string()) +
                               " --progress plain " + args;
   return testing::run_command(command, log);
 }
@@ -67,17 +63,13 @@ double rotation_angle_deg(const Eigen::Matrix3d& r) {
 class SfmTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (!fs::exists(testing::bin_dir() / "hos-sfm")) GTEST_SKIP() << "hos-sfm is not built";
+    if (!fs::exists(testing::executable("hos-sfm"))) GTEST_SKIP() << "hos-sfm is not built";
   }
   // A hos-synth scene (skips the test if hos-synth is not built).
   fs::path synth_scene(int views) {
-    const fs::path synth = testing::bin_dir() / "hos-synth";
-    if (!fs::exists(synth)) return {};
+    if (!testing::missing_executables({"hos-synth"}).empty()) return {};
     const fs::path scene = dir_ / "scene";
-    const int code = testing::run_command(shell_quote(synth.string()) + " --output " + shell_quote(scene.string()) +
-                                              " --views " + std::to_string(views) +
-                                              " --width 640 --height 480 --seed 1",
-                                          dir_ / "synth.log");
+    const int code = testing::make_synth_scene(scene, views, 0, dir_ / "synth.log");
     EXPECT_EQ(code, 0) << read_text(dir_ / "synth.log");
     return code == 0 ? scene : fs::path();
   }
