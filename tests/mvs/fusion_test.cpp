@@ -63,8 +63,15 @@ void expect_fused(const PointCloud& cloud, const std::map<int, int>& expected) {
   for (const auto& [u, count] : columns) EXPECT_EQ(count, kHeight) << "column " << u;  // each point once
 }
 
+// The tests state their threshold: a point needs the reference and two more views.
+MvsOptions three_views_must_agree() {
+  MvsOptions options;
+  options.min_consistent_views = 2;
+  return options;
+}
+
 TEST(Fusion, AgreeingPlaneIsFusedOncePerPointWithItsViewCount) {
-  MvsOptions options;  // min_consistent_views = 2: three views must see a point
+  const MvsOptions options = three_views_must_agree();
   const PointCloud cloud = fuse_depth_maps(plane_views(), options, null_reporter());
   expect_fused(cloud, expected_confidence({true, true, true, true}, 3));
   // Colours are the mean over the agreeing views: red 40 j averaged.
@@ -85,7 +92,7 @@ TEST(Fusion, StricterConsistencyKeepsOnlyPointsSeenByMoreViews) {
 TEST(Fusion, ViewWithWrongDepthDoesNotCount) {
   auto views = plane_views();
   views[3].map.depth.setTo(kDepth * 1.05);  // 5% off; max_depth_error is 1%
-  expect_fused(fuse_depth_maps(views, MvsOptions{}, null_reporter()),
+  expect_fused(fuse_depth_maps(views, three_views_must_agree(), null_reporter()),
                expected_confidence({true, true, true, false}, 3));
 }
 
@@ -93,14 +100,14 @@ TEST(Fusion, ViewWithWrongNormalsDoesNotCount) {
   auto views = plane_views();
   const double a = 30.0 * M_PI / 180.0;  // max_normal_error_deg is 20
   views[1].map.normal.setTo(cv::Scalar(std::sin(a), 0, -std::cos(a)));
-  expect_fused(fuse_depth_maps(views, MvsOptions{}, null_reporter()),
+  expect_fused(fuse_depth_maps(views, three_views_must_agree(), null_reporter()),
                expected_confidence({true, false, true, true}, 3));
 }
 
 TEST(Fusion, PixelsWithoutDepthAreIgnored) {
   auto views = plane_views();
   for (auto& v : views) v.map.depth.setTo(0);
-  EXPECT_EQ(fuse_depth_maps(views, MvsOptions{}, null_reporter()).size(), 0u);
+  EXPECT_EQ(fuse_depth_maps(views, three_views_must_agree(), null_reporter()).size(), 0u);
 }
 
 }  // namespace
