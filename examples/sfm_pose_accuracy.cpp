@@ -23,53 +23,13 @@
 
 #include "core/colmap_io.h"
 #include "core/error.h"
+#include "core/reference_cameras.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Pose {
-  Eigen::Matrix3d cam_from_world;
-  Eigen::Vector3d centre;
-};
-
-std::map<std::string, Pose> read_strecha(const fs::path& folder) {
-  std::map<std::string, Pose> poses;
-  for (const auto& entry : fs::directory_iterator(folder)) {
-    const std::string file = entry.path().filename().string();
-    const std::string suffix = ".camera";
-    if (file.size() <= suffix.size() || file.substr(file.size() - suffix.size()) != suffix) continue;
-    std::ifstream in(entry.path());
-    double v[9 + 3 + 9 + 3];
-    for (double& x : v) in >> x;
-    if (!in) throw hos::InputError(entry.path().string(), "not a Strecha .camera file");
-    Eigen::Matrix3d world_from_cam;
-    for (int i = 0; i < 9; ++i) world_from_cam(i / 3, i % 3) = v[12 + i];
-    poses[file.substr(0, file.size() - suffix.size())] = {world_from_cam.transpose(),
-                                                           Eigen::Vector3d(v[21], v[22], v[23])};
-  }
-  return poses;
-}
-
-std::map<std::string, Pose> read_middlebury(const fs::path& file) {
-  std::ifstream in(file);
-  int count = 0;
-  if (!(in >> count)) throw hos::InputError(file.string(), "not a Middlebury _par.txt file");
-  std::map<std::string, Pose> poses;
-  for (int n = 0; n < count; ++n) {
-    std::string name;
-    double k[9], r[9], t[3];
-    in >> name;
-    for (double& x : k) in >> x;
-    for (double& x : r) in >> x;
-    for (double& x : t) in >> x;
-    if (!in) throw hos::InputError(file.string(), "truncated at camera " + std::to_string(n + 1));
-    Eigen::Matrix3d rotation;
-    for (int i = 0; i < 9; ++i) rotation(i / 3, i % 3) = r[i];
-    poses[name] = {rotation, -rotation.transpose() * Eigen::Vector3d(t[0], t[1], t[2])};
-  }
-  return poses;
-}
+using Pose = hos::ReferencePose;
 
 std::map<std::string, Pose> read_colmap_truth(const fs::path& folder) {
   std::map<std::string, Pose> poses;
@@ -94,9 +54,9 @@ int main(int argc, char** argv) {
   try {
     const hos::SparseModel model = hos::read_colmap_model(argv[1]);
     const std::string format = argv[2];
-    const auto truth = format == "strecha"   ? read_strecha(argv[3])
+    const auto truth = format == "strecha"   ? hos::read_strecha_cameras(argv[3])
                        : format == "colmap" ? read_colmap_truth(argv[3])
-                                            : read_middlebury(argv[3]);
+                                            : hos::read_middlebury_cameras(argv[3]);
     std::vector<std::string> names;
     std::vector<Eigen::Vector3d> estimated, expected;
     Eigen::AlignedBox3d box;

@@ -14,6 +14,7 @@
 
 #include "core/colmap_io.h"
 #include "core/ply_io.h"
+#include "core/reference_cameras.h"
 
 int main(int argc, char** argv) {
   if (argc != 10) {
@@ -23,21 +24,8 @@ int main(int argc, char** argv) {
   try {
     const hos::SparseModel model = hos::read_colmap_model(argv[1]);
     const hos::PointCloud cloud = hos::read_point_cloud_ply(argv[2]);
-    std::ifstream par(argv[3]);
-    int count = 0;
-    if (!(par >> count)) throw std::runtime_error(std::string(argv[3]) + ": cannot read the image count");
     std::map<std::string, Eigen::Vector3d> true_centres;
-    for (int i = 0; i < count; ++i) {
-      std::string name;
-      double k[9], r[9], t[3];
-      par >> name;
-      for (double& v : k) par >> v;
-      for (double& v : r) par >> v;
-      for (double& v : t) par >> v;
-      if (!par) throw std::runtime_error(std::string(argv[3]) + ": truncated at image " + std::to_string(i));
-      const Eigen::Matrix3d R = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(r);
-      true_centres[name] = -R.transpose() * Eigen::Vector3d(t[0], t[1], t[2]);
-    }
+    for (const auto& [name, pose] : hos::read_middlebury_cameras(argv[3])) true_centres[name] = pose.centre;
     std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> pairs;
     for (const auto& [id, image] : model.images) {
       const auto it = true_centres.find(image.name);
