@@ -42,7 +42,10 @@ struct ReconOptions {
   // lambda * (D / 50)^2 (TV by lambda * D / 50) with D the domain's longest side,
   // so lambda = 0.2 damps features below about 1% of the domain at any grid size.
   double lambda = 0.2;
-  int resolution = 128;        // cells along the longest side of the domain
+  // Cells along the longest side of the domain. 192 rather than 128: real
+  // photos keep thin parts (temple columns: re-render PSNR 20.3 -> 21.7 dB),
+  // at about 2.5x the recon time, still small beside mvs.
+  int resolution = 192;
   double voxel_size = 0.0;     // if > 0, overrides resolution
   double margin = 0.1;         // domain margin as a fraction of the points' longest extent
   int filter_passes = 3;       // box filter passes approximating a Gaussian (sec. 4.1)
