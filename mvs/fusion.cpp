@@ -47,6 +47,14 @@ PointCloud fuse_depth_maps(const std::vector<FusionView>& views, const MvsOption
     const FusionView& ref = views[r];
     const int w = ref.map.depth.cols, h = ref.map.depth.rows;
     std::vector<std::vector<std::vector<Observation>>> rows(h);
+    // Two views that agree and both matched well (see two_view_max_cost).
+    const auto reliable_two_view = [&](const std::vector<Observation>& obs) {
+      if (obs.size() != 2 || options.two_view_max_cost <= 0.0) return false;
+      for (const auto& o : obs) {
+        if (!(views[o.view].map.cost.at<float>(o.y, o.x) <= options.two_view_max_cost)) return false;
+      }
+      return true;
+    };
     // Consistency checks in parallel; merging and marking in order below.
 #pragma omp parallel for schedule(dynamic, 4)
     for (int y = 0; y < h; ++y) {
@@ -83,7 +91,7 @@ PointCloud fuse_depth_maps(const std::vector<FusionView>& views, const MvsOption
     for (int y = 0; y < h; ++y) {
       for (int x = 0; x < w; ++x) {
         const auto& obs = rows[y][x];
-        if (static_cast<int>(obs.size()) < options.min_consistent_views + 1) continue;
+        if (static_cast<int>(obs.size()) < options.min_consistent_views + 1 && !reliable_two_view(obs)) continue;
         // Pixels claimed by an earlier point of this view in this pass.
         bool taken = false;
         for (const auto& o : obs) taken = taken || used[o.view].at<uchar>(o.y, o.x);

@@ -33,6 +33,9 @@ void register_options(OptionSet& set, MvsOptions& o) {
   set.add("sigma_color", o.sigma_color, "bilateral weight intensity scale", 1e-3, 10.0);
   set.add("min_consistent_views", o.min_consistent_views, "views that must agree for a point to survive", 1,
           32);
+  set.add("two_view_max_cost", o.two_view_max_cost,
+          "also keep points one other view confirms when both pixels' cost (1 - NCC) is at most this (0 = never)",
+          0.0, 2.0);
   set.add("max_depth_error", o.max_depth_error, "relative depth difference to agree", 1e-4, 0.5);
   set.add("max_normal_error_deg", o.max_normal_error_deg, "normal angle difference to agree (degrees)", 1.0,
           90.0);

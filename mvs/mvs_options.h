@@ -24,6 +24,11 @@ struct MvsOptions {
   // noisy background and webs between columns: re-render PSNR 20.3 -> 18.4 dB
   // (docs/pipeline.md, "Accuracy of the defaults"). COLMAP's fusion asks more.
   int min_consistent_views = 2;
+  // A point that only one other view confirms is kept too when the matching
+  // cost (1 - NCC) of both pixels is at most this: surface seen by two
+  // photos (sides, grazing views) without the noise of every two-view match.
+  // 0 = never.
+  double two_view_max_cost = 0.0;
   double max_depth_error = 0.01; // relative depth difference to agree
   double max_normal_error_deg = 20.0;
   double max_reprojection_error_px = 1.5;

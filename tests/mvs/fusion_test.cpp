@@ -104,6 +104,17 @@ TEST(Fusion, ViewWithWrongNormalsDoesNotCount) {
                expected_confidence({true, false, true, true}, 3));
 }
 
+TEST(Fusion, TwoViewPointsNeedALowCostOnBothPixels) {
+  auto views = plane_views();
+  for (int j = 2; j < kViews; ++j) views[j].map.depth.setTo(0);  // only views 0 and 1 see the plane
+  MvsOptions options = three_views_must_agree();
+  EXPECT_EQ(fuse_depth_maps(views, options, null_reporter()).size(), 0u);  // two_view_max_cost 0: never
+  options.two_view_max_cost = 0.2;  // the maps' cost is 0.1
+  expect_fused(fuse_depth_maps(views, options, null_reporter()), expected_confidence({true, true, false, false}, 2));
+  views[1].map.cost.setTo(0.3);  // one pixel of the pair matched worse than allowed
+  EXPECT_EQ(fuse_depth_maps(views, options, null_reporter()).size(), 0u);
+}
+
 TEST(Fusion, PixelsWithoutDepthAreIgnored) {
   auto views = plane_views();
   for (auto& v : views) v.map.depth.setTo(0);
