@@ -1,7 +1,5 @@
 #include "recon/reconstruct.h"
 
-#include "recon/memory_budget.h"
-
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -52,6 +50,13 @@ std::vector<double> tv_weights(const ScalarGrid& f, double eps) {
   return w;
 }
 
+// Eq. 12: the mean of f at the samples, by trilinear interpolation.
+double mean_at_samples(const ScalarGrid& f, const std::vector<Eigen::Vector3f>& points) {
+  double sum = 0.0;
+  for (const auto& p : points) sum += f.sample(p.cast<double>());
+  return sum / static_cast<double>(points.size());
+}
+
 // The isovalue (eq. 12) of the unscreened solution, estimated on the grid
 // coarsened up to twice; guess receives that coarse solution prolongated to the
 // fine grid (a starting point for the fine solve).
@@ -76,9 +81,7 @@ double coarse_isovalue(const EnergyOperator& fine, const std::vector<double>& rh
                                 " CG iterations"));
   ScalarGrid coarse(ops.back().geometry());
   coarse.values = x;
-  double iso = 0.0;
-  for (const auto& p : points) iso += coarse.sample(p.cast<double>());
-  iso /= static_cast<double>(points.size());
+  const double iso = mean_at_samples(coarse, points);
   for (std::size_t l = ops.size() - 1; l > 0; --l) {
     std::vector<double> finer;
     assign_large(finer, ops[l - 1].geometry().num_nodes());
@@ -240,9 +243,7 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   // Isovalue: mean of f at the samples (eq. 12), then the isosurface.
   const auto t_mesh = Clock::now();
   reporter.begin("isosurface", 0);
-  double sum = 0.0;
-  for (const auto& p : points) sum += f.sample(p.cast<double>());
-  stats.isovalue = sum / static_cast<double>(points.size());
+  stats.isovalue = mean_at_samples(f, points);
   result.mesh = extract_isosurface(f, stats.isovalue);
   stats.faces_before_trim = result.mesh.faces.size();
   if (options.trim.enabled) {

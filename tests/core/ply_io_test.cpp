@@ -113,6 +113,29 @@ TEST(PlyIo, NonFiniteCoordinatesAreSkippedAndCounted) {
   for (const auto& p : c.positions) EXPECT_TRUE(p.allFinite());
   // A mesh cannot drop vertices (faces would dangle): an error.
   EXPECT_THROW(read_mesh_ply(dir / "nan.ply"), InputError);
+
+  // Binary rows are decoded in parallel and compacted afterwards: the kept
+  // points keep their order and their own normals and colours.
+  PointCloud in;
+  for (int i = 0; i < 1000; ++i) {
+    const float v = static_cast<float>(i);
+    in.positions.emplace_back(i % 7 == 3 ? std::nanf("") : v, v, v);
+    in.normals.emplace_back(0.0f, 0.0f, v);
+    in.colors.push_back({static_cast<std::uint8_t>(i % 256), 0, 0});
+  }
+  write_point_cloud_ply(dir / "nan.bin.ply", in, PlyFormat::kBinaryLittleEndian);
+  const PointCloud b = read_point_cloud_ply(dir / "nan.bin.ply", &report);
+  EXPECT_EQ(report.num_skipped_nonfinite, 143u);  // i % 7 == 3 for i < 1000
+  ASSERT_EQ(b.size(), 1000u - 143u);
+  ASSERT_EQ(b.normals.size(), b.size());
+  ASSERT_EQ(b.colors.size(), b.size());
+  for (std::size_t k = 0; k < b.size(); ++k) {
+    const int i = static_cast<int>(b.positions[k].y());
+    ASSERT_NE(i % 7, 3);
+    if (k > 0) EXPECT_GT(b.positions[k].y(), b.positions[k - 1].y());
+    EXPECT_EQ(b.normals[k].z(), static_cast<float>(i));
+    EXPECT_EQ(b.colors[k][0], i % 256);
+  }
 }
 
 TEST(PlyIo, ReadsPolygonsAndForeignPropertyNames) {
