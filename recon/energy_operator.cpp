@@ -124,6 +124,11 @@ EnergyOperator::EnergyOperator(const GridGeometry& geometry, SmoothnessEnergy en
     linear_offsets_.push_back(geometry_.index(o.x(), o.y(), o.z()));
   }
   stencil_abs_sum_ = stencil_.abs_sum();
+  active_ = std::make_shared<const ActiveNodes>(ActiveNodes::all(geometry_));
+}
+
+void EnergyOperator::set_active(std::shared_ptr<const ActiveNodes> active) {
+  active_ = std::move(active);
 }
 
 ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vector3f>& points,
@@ -219,10 +224,11 @@ void ScreeningTerm::add_l1(std::vector<double>& l1) const {
 }
 
 template <typename T>
-void ScreeningTerm::add_row(std::int64_t row, const T* x, T* y_row) const {
+void ScreeningTerm::add_row(std::int64_t row, int begin, int end, const T* x, T* y_row) const {
   const std::int64_t start = row * geometry_.dims.x();
   for (std::int64_t e = row_begin_[row]; e < row_begin_[row + 1]; ++e) {
     const std::int64_t node = nodes_[e];
+    if (node < start + begin || node >= start + end) continue;
     const auto& c = coefficients_[e];
     T s = 0;
     // A nonzero coefficient couples two corners of one cell, both inside.
@@ -233,8 +239,8 @@ void ScreeningTerm::add_row(std::int64_t row, const T* x, T* y_row) const {
   }
 }
 
-template <typename T, typename RowFn>
-void EnergyOperator::for_each_row(const T* x, RowFn&& row_fn) const {
+template <typename T, typename SpanFn>
+void EnergyOperator::for_each_span(const T* x, SpanFn&& span_fn) const {
   const GridGeometry& g = geometry_;
   const Eigen::Vector3i d = g.dims;
   const int nx = d.x();
@@ -244,47 +250,49 @@ void EnergyOperator::for_each_row(const T* x, RowFn&& row_fn) const {
   const bool tv = !tv_node_weights_.empty();
   const double tv_scale = tv_weight_ / (g.spacing * g.spacing);
   const std::int64_t strides[3] = {1, d.x(), std::int64_t{d.x()} * d.y()};
-#pragma omp parallel if (worth_threads(g.num_nodes()))
+  const std::vector<NodeSpan>& spans = active_->spans();
+  const std::int64_t num_spans = static_cast<std::int64_t>(spans.size());
+#pragma omp parallel if (worth_threads(active_->count()))
   {
     std::vector<T> row_buffer(nx);
-#pragma omp for collapse(2) schedule(static)
-    for (int k = 0; k < d.z(); ++k) {
-      for (int j = 0; j < d.y(); ++j) {
-        T* __restrict row = row_buffer.data();
-        std::fill(row, row + nx, T(0));
-        // One pass per stencil term along the row: contiguous, vectorisable.
-        for (std::size_t t = 0; t < nt; ++t) {
-          const Eigen::Vector3i& o = stencil_.offsets[t];
-          const int jj = j + o.y(), kk = k + o.z();
-          if (jj < 0 || jj >= d.y() || kk < 0 || kk >= d.z()) continue;
-          const T c = coef[t];
-          const T* __restrict src = x + g.index(0, jj, kk);
-          const int ox = o.x();
-          const int i0 = std::max(0, -ox), i1 = std::min(nx, nx - ox);
-          for (int i = i0; i < i1; ++i) row[i] += c * src[i + ox];
-        }
-        const std::int64_t start = g.index(0, j, k);
-        if (tv) {
-          // -div(w grad x) with edge weights (w_i + w_j) / 2; ghosts are zero.
-          for (int i = 0; i < nx; ++i) {
-            const Eigen::Vector3i p(i, j, k);
-            const std::int64_t idx = start + i;
-            const double wi = tv_node_weights_[idx];
-            double t = 0.0;
-            for (int a = 0; a < 3; ++a) {
-              for (int sgn : {-1, 1}) {
-                const bool inside = sgn > 0 ? p[a] < d[a] - 1 : p[a] > 0;
-                const std::int64_t nb = idx + sgn * strides[a];
-                const double wj = inside ? tv_node_weights_[nb] : wi;
-                t += 0.5 * (wi + wj) * (x[idx] - (inside ? x[nb] : T(0)));
-              }
-            }
-            row[i] += static_cast<T>(tv_scale * t);
-          }
-        }
-        if (!screening_.empty()) screening_.add_row(std::int64_t{k} * d.y() + j, x, row);
-        row_fn(start, static_cast<const T*>(row));
+#pragma omp for schedule(static)
+    for (std::int64_t s = 0; s < num_spans; ++s) {
+      const NodeSpan& span = spans[s];
+      const int j = span.j, k = span.k, b = span.begin, e = span.end;
+      T* __restrict row = row_buffer.data();
+      std::fill(row + b, row + e, T(0));
+      // One pass per stencil term along the span: contiguous, vectorisable.
+      for (std::size_t t = 0; t < nt; ++t) {
+        const Eigen::Vector3i& o = stencil_.offsets[t];
+        const int jj = j + o.y(), kk = k + o.z();
+        if (jj < 0 || jj >= d.y() || kk < 0 || kk >= d.z()) continue;
+        const T c = coef[t];
+        const T* __restrict src = x + g.index(0, jj, kk);
+        const int ox = o.x();
+        const int i0 = std::max(b, -ox), i1 = std::min(e, nx - ox);
+        for (int i = i0; i < i1; ++i) row[i] += c * src[i + ox];
       }
+      const std::int64_t start = g.index(0, j, k);
+      if (tv) {
+        // -div(w grad x) with edge weights (w_i + w_j) / 2; ghosts are zero.
+        for (int i = b; i < e; ++i) {
+          const Eigen::Vector3i p(i, j, k);
+          const std::int64_t idx = start + i;
+          const double wi = tv_node_weights_[idx];
+          double t = 0.0;
+          for (int a = 0; a < 3; ++a) {
+            for (int sgn : {-1, 1}) {
+              const bool inside = sgn > 0 ? p[a] < d[a] - 1 : p[a] > 0;
+              const std::int64_t nb = idx + sgn * strides[a];
+              const double wj = inside ? tv_node_weights_[nb] : wi;
+              t += 0.5 * (wi + wj) * (x[idx] - (inside ? x[nb] : T(0)));
+            }
+          }
+          row[i] += static_cast<T>(tv_scale * t);
+        }
+      }
+      if (!screening_.empty()) screening_.add_row(std::int64_t{k} * d.y() + j, b, e, x, row);
+      span_fn(start, b, e, static_cast<const T*>(row));
     }
   }
 }
@@ -296,23 +304,22 @@ void EnergyOperator::apply(const std::vector<double>& x, std::vector<double>& y)
 
 template <typename T>
 void EnergyOperator::apply(const T* x, T* y) const {
-  const int nx = geometry_.dims.x();
-  for_each_row(x, [&](std::int64_t start, const T* ax) { std::copy(ax, ax + nx, y + start); });
+  for_each_span(x, [&](std::int64_t start, int b, int e, const T* ax) {
+    std::copy(ax + b, ax + e, y + start + b);
+  });
 }
 
 template <typename T>
 void EnergyOperator::residual(const T* b, const T* x, T* r) const {
-  const int nx = geometry_.dims.x();
-  for_each_row(x, [&](std::int64_t start, const T* ax) {
-    for (int i = 0; i < nx; ++i) r[start + i] = b[start + i] - ax[i];
+  for_each_span(x, [&](std::int64_t start, int i0, int i1, const T* ax) {
+    for (int i = i0; i < i1; ++i) r[start + i] = b[start + i] - ax[i];
   });
 }
 
 template <typename T>
 void EnergyOperator::jacobi(const T* b, const T* x, const T* inv_l1, T* out) const {
-  const int nx = geometry_.dims.x();
-  for_each_row(x, [&](std::int64_t start, const T* ax) {
-    for (int i = 0; i < nx; ++i) {
+  for_each_span(x, [&](std::int64_t start, int i0, int i1, const T* ax) {
+    for (int i = i0; i < i1; ++i) {
       const std::int64_t n = start + i;
       out[n] = x[n] + (b[n] - ax[i]) * inv_l1[n];
     }
@@ -372,6 +379,9 @@ EnergyOperator EnergyOperator::coarsened() const {
   }
   EnergyOperator op(coarse, energy_, hessian_weight_, std::move(weights), tv_weight_);
   if (!screening_.empty()) op.set_screening(screening_points_, screening_.weight() / 8.0);
+  if (!active_->is_all()) {
+    op.set_active(std::make_shared<const ActiveNodes>(active_->coarsened(geometry_, coarse)));
+  }
   return op;
 }
 
@@ -391,79 +401,88 @@ AxisWeights axis_weights(int j) {
 }  // namespace
 
 template <typename T>
-void restrict_to_coarse(const GridGeometry& fine, const T* r, const GridGeometry& coarse, T* rc) {
-  const Eigen::Vector3i dc = coarse.dims;
+void restrict_to_coarse(const GridGeometry& fine, const T* r, const GridGeometry& coarse,
+                        const ActiveNodes& coarse_active, T* rc) {
   const std::int64_t sy = fine.dims.x(), sz = std::int64_t{fine.dims.x()} * fine.dims.y();
-#pragma omp parallel for collapse(2) schedule(static) if (worth_threads(fine.num_nodes()))
-  for (int k = 0; k < dc.z(); ++k) {
-    for (int j = 0; j < dc.y(); ++j) {
-      for (int i = 0; i < dc.x(); ++i) {
-        // Coarse node (i, j, k) sits on fine node (2i+1, 2j+1, 2k+1); its 27
-        // fine neighbours are inside the fine grid by construction.
-        const std::int64_t c = fine.index(2 * i + 1, 2 * j + 1, 2 * k + 1);
-        double s = 0.0;
-        for (int oz = -1; oz <= 1; ++oz) {
-          for (int oy = -1; oy <= 1; ++oy) {
-            const T* p = r + c + oz * sz + oy * sy;
-            const double w = (oy ? 0.5 : 1.0) * (oz ? 0.5 : 1.0);
-            s += w * (0.5 * p[-1] + p[0] + 0.5 * p[1]);
-          }
+  const std::vector<NodeSpan>& spans = coarse_active.spans();
+  const std::int64_t num_spans = static_cast<std::int64_t>(spans.size());
+#pragma omp parallel for schedule(static) if (worth_threads(8 * coarse_active.count()))
+  for (std::int64_t s = 0; s < num_spans; ++s) {
+    const NodeSpan& span = spans[s];
+    for (int i = span.begin; i < span.end; ++i) {
+      // Coarse node (i, j, k) sits on fine node (2i+1, 2j+1, 2k+1); its 27
+      // fine neighbours are inside the fine grid by construction.
+      const std::int64_t c = fine.index(2 * i + 1, 2 * span.j + 1, 2 * span.k + 1);
+      double sum = 0.0;
+      for (int oz = -1; oz <= 1; ++oz) {
+        for (int oy = -1; oy <= 1; ++oy) {
+          const T* p = r + c + oz * sz + oy * sy;
+          const double w = (oy ? 0.5 : 1.0) * (oz ? 0.5 : 1.0);
+          sum += w * (0.5 * p[-1] + p[0] + 0.5 * p[1]);
         }
-        rc[coarse.index(i, j, k)] = static_cast<T>(s / 8.0);
       }
+      rc[coarse.index(i, span.j, span.k)] = static_cast<T>(sum / 8.0);
     }
   }
 }
 
 template <typename T>
-void prolongate_add(const GridGeometry& coarse, const T* ec, const GridGeometry& fine, T* x) {
-  const Eigen::Vector3i df = fine.dims, dc = coarse.dims;
-#pragma omp parallel if (worth_threads(fine.num_nodes()))
+void prolongate_add(const GridGeometry& coarse, const T* ec, const GridGeometry& fine,
+                    const ActiveNodes& fine_active, T* x) {
+  const Eigen::Vector3i dc = coarse.dims;
+  const std::vector<NodeSpan>& spans = fine_active.spans();
+  const std::int64_t num_spans = static_cast<std::int64_t>(spans.size());
+#pragma omp parallel if (worth_threads(fine_active.count()))
   {
     // The coarse values interpolated in y and z for one fine row, padded by a
     // zero each side (the ghost nodes).
     std::vector<double> line(dc.x() + 2);
-#pragma omp for collapse(2) schedule(static)
-    for (int k = 0; k < df.z(); ++k) {
-      for (int j = 0; j < df.y(); ++j) {
-        const AxisWeights wz = axis_weights(k), wy = axis_weights(j);
-        std::fill(line.begin(), line.end(), 0.0);
-        for (int cz = 0; cz < 2; ++cz) {
-          const double az = cz ? wz.w1 : wz.w0;
-          const int kc = cz ? wz.c1 : wz.c0;
-          if (az == 0.0 || kc < 0 || kc >= dc.z()) continue;
-          for (int cy = 0; cy < 2; ++cy) {
-            const double ay = cy ? wy.w1 : wy.w0;
-            const int jc = cy ? wy.c1 : wy.c0;
-            if (ay == 0.0 || jc < 0 || jc >= dc.y()) continue;
-            const T* src = ec + coarse.index(0, jc, kc);
-            for (int i = 0; i < dc.x(); ++i) line[i + 1] += az * ay * src[i];
-          }
+#pragma omp for schedule(static)
+    for (std::int64_t s = 0; s < num_spans; ++s) {
+      const NodeSpan& span = spans[s];
+      const AxisWeights wz = axis_weights(span.k), wy = axis_weights(span.j);
+      // Fine i odd sits on coarse (i - 1) / 2, even i halfway between i/2 - 1
+      // and i/2: the span reads coarse columns c0 <= i < c1.
+      const int c0 = std::max(0, span.begin / 2 - 1), c1 = std::min(dc.x(), span.end / 2 + 1);
+      std::fill(line.begin() + c0, line.begin() + c1 + 2, 0.0);
+      for (int cz = 0; cz < 2; ++cz) {
+        const double az = cz ? wz.w1 : wz.w0;
+        const int kc = cz ? wz.c1 : wz.c0;
+        if (az == 0.0 || kc < 0 || kc >= dc.z()) continue;
+        for (int cy = 0; cy < 2; ++cy) {
+          const double ay = cy ? wy.w1 : wy.w0;
+          const int jc = cy ? wy.c1 : wy.c0;
+          if (ay == 0.0 || jc < 0 || jc >= dc.y()) continue;
+          const T* src = ec + coarse.index(0, jc, kc);
+          for (int i = c0; i < c1; ++i) line[i + 1] += az * ay * src[i];
         }
-        // Fine i odd sits on coarse (i - 1) / 2, even i halfway between i/2 - 1 and i/2.
-        T* dst = x + fine.index(0, j, k);
-        for (int i = 0; i < df.x(); ++i) {
-          dst[i] += static_cast<T>(i % 2 == 1 ? line[(i - 1) / 2 + 1] : 0.5 * (line[i / 2] + line[i / 2 + 1]));
-        }
+      }
+      T* dst = x + fine.index(0, span.j, span.k);
+      for (int i = span.begin; i < span.end; ++i) {
+        dst[i] += static_cast<T>(i % 2 == 1 ? line[(i - 1) / 2 + 1] : 0.5 * (line[i / 2] + line[i / 2 + 1]));
       }
     }
   }
 }
 
-template void restrict_to_coarse<float>(const GridGeometry&, const float*, const GridGeometry&, float*);
-template void restrict_to_coarse<double>(const GridGeometry&, const double*, const GridGeometry&, double*);
-template void prolongate_add<float>(const GridGeometry&, const float*, const GridGeometry&, float*);
-template void prolongate_add<double>(const GridGeometry&, const double*, const GridGeometry&, double*);
+template void restrict_to_coarse<float>(const GridGeometry&, const float*, const GridGeometry&,
+                                       const ActiveNodes&, float*);
+template void restrict_to_coarse<double>(const GridGeometry&, const double*, const GridGeometry&,
+                                        const ActiveNodes&, double*);
+template void prolongate_add<float>(const GridGeometry&, const float*, const GridGeometry&,
+                                    const ActiveNodes&, float*);
+template void prolongate_add<double>(const GridGeometry&, const double*, const GridGeometry&,
+                                     const ActiveNodes&, double*);
 
 void restrict_to_coarse(const GridGeometry& fine, const std::vector<double>& r,
                         const GridGeometry& coarse, std::vector<double>& rc) {
   assign_large(rc, coarse.num_nodes());
-  restrict_to_coarse(fine, r.data(), coarse, rc.data());
+  restrict_to_coarse(fine, r.data(), coarse, ActiveNodes::all(coarse), rc.data());
 }
 
 void prolongate_add(const GridGeometry& coarse, const std::vector<double>& ec,
                     const GridGeometry& fine, std::vector<double>& x) {
-  prolongate_add(coarse, ec.data(), fine, x.data());
+  prolongate_add(coarse, ec.data(), fine, ActiveNodes::all(fine), x.data());
 }
 
 }  // namespace hos::recon

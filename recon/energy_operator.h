@@ -14,6 +14,7 @@
 #include <memory>
 #include <vector>
 
+#include "recon/active_nodes.h"
 #include "recon/grid.h"
 #include "recon/recon_options.h"
 
@@ -53,9 +54,10 @@ class ScreeningTerm {
   double mean_row_sum() const;
   // Adds its l1 row sums (weight * splatted density) to per-node sums.
   void add_l1(std::vector<double>& l1) const;
-  // y_row[i] += (S^T S x)[row start + i] for the touched nodes of one row.
+  // y_row[i] += (S^T S x)[row start + i] for the touched nodes i of one row
+  // with begin <= i < end.
   template <typename T>
-  void add_row(std::int64_t row, const T* x, T* y_row) const;
+  void add_row(std::int64_t row, int begin, int end, const T* x, T* y_row) const;
 
  private:
   GridGeometry geometry_;
@@ -73,6 +75,12 @@ class EnergyOperator {
                  std::vector<double> tv_node_weights = {}, double tv_weight = 0.0);
 
   const GridGeometry& geometry() const { return geometry_; }
+  // The nodes whose rows apply, residual and jacobi compute (every node by
+  // default). Restricted to a band, the operator is the band's principal
+  // submatrix for the unknowns and couples them to the fixed values outside:
+  // residual(b, x) reads x everywhere and writes only active nodes.
+  const ActiveNodes& active() const { return *active_; }
+  void set_active(std::shared_ptr<const ActiveNodes> active);
   // Adds the screening term over these samples (kept for the coarse levels).
   void set_screening(std::shared_ptr<const std::vector<Eigen::Vector3f>> points, double weight);
   const ScreeningTerm& screening() const { return screening_; }
@@ -91,13 +99,14 @@ class EnergyOperator {
   // Per-node l1 row sums (>= |a_ii| + sum |a_ij|) of every term: the l1-Jacobi smoother.
   std::vector<double> l1_diagonals() const;
   // The same energy rediscretized on the coarsened grid (weights restricted,
-  // screening rediscretised).
+  // screening rediscretised, active nodes coarsened).
   EnergyOperator coarsened() const;
 
  private:
-  // Calls row_fn(row start node, A x on that row) for every grid row, in parallel.
-  template <typename T, typename RowFn>
-  void for_each_row(const T* x, RowFn&& row_fn) const;
+  // Calls span_fn(row start node, begin, end, A x on that row) for every span
+  // of active nodes, in parallel; (A x)[i] is valid for begin <= i < end.
+  template <typename T, typename SpanFn>
+  void for_each_span(const T* x, SpanFn&& span_fn) const;
   // The l1 row sum of one node without the screening term.
   double l1_diagonal(std::int64_t node) const;
 
@@ -111,18 +120,24 @@ class EnergyOperator {
   std::shared_ptr<const std::vector<Eigen::Vector3f>> screening_points_;
   ScreeningTerm screening_;
   double stencil_abs_sum_;
+  std::shared_ptr<const ActiveNodes> active_;
 };
 
 // Restriction (full weighting, the transpose of prolongation divided by 8) and
-// trilinear prolongation between a grid and its coarsened grid.
+// trilinear prolongation between a grid and its coarsened grid. The raw-array
+// versions write only the active nodes of the output grid (restriction: the
+// coarse ones, prolongation: the fine ones), so a banded hierarchy keeps zeros
+// outside its bands and the pair stays transposed.
 void restrict_to_coarse(const GridGeometry& fine, const std::vector<double>& r,
                         const GridGeometry& coarse, std::vector<double>& rc);
 void prolongate_add(const GridGeometry& coarse, const std::vector<double>& ec,
                     const GridGeometry& fine, std::vector<double>& x);
 // The same on raw arrays (float or double) sized for the grids.
 template <typename T>
-void restrict_to_coarse(const GridGeometry& fine, const T* r, const GridGeometry& coarse, T* rc);
+void restrict_to_coarse(const GridGeometry& fine, const T* r, const GridGeometry& coarse,
+                        const ActiveNodes& coarse_active, T* rc);
 template <typename T>
-void prolongate_add(const GridGeometry& coarse, const T* ec, const GridGeometry& fine, T* x);
+void prolongate_add(const GridGeometry& coarse, const T* ec, const GridGeometry& fine,
+                    const ActiveNodes& fine_active, T* x);
 
 }  // namespace hos::recon

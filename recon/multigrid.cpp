@@ -1,6 +1,7 @@
 #include "recon/multigrid.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "core/error.h"
@@ -8,19 +9,27 @@
 namespace hos::recon {
 namespace {
 
-double dot(const std::vector<double>& a, const std::vector<double>& b) {
+// a . b over the active nodes of op (the vectors are zero elsewhere, or, for
+// the solution, fixed there).
+double dot(const EnergyOperator& op, const std::vector<double>& a, const std::vector<double>& b) {
+  const GridGeometry& g = op.geometry();
+  const std::vector<NodeSpan>& spans = op.active().spans();
+  const std::int64_t n = static_cast<std::int64_t>(spans.size());
   double s = 0.0;
-  const std::int64_t n = static_cast<std::int64_t>(a.size());
-#pragma omp parallel for reduction(+ : s) schedule(static) if (worth_threads(n))
-  for (std::int64_t i = 0; i < n; ++i) s += a[i] * b[i];
+#pragma omp parallel for reduction(+ : s) schedule(static) if (worth_threads(op.active().count()))
+  for (std::int64_t q = 0; q < n; ++q) {
+    const std::int64_t first = g.index(spans[q].begin, spans[q].j, spans[q].k);
+    const std::int64_t last = first + (spans[q].end - spans[q].begin);
+    for (std::int64_t i = first; i < last; ++i) s += a[i] * b[i];
+  }
   return s;
 }
 
-// y = a * x + y
-void axpy(double a, const std::vector<double>& x, std::vector<double>& y) {
-  const std::int64_t n = static_cast<std::int64_t>(x.size());
-#pragma omp parallel for schedule(static) if (worth_threads(n))
-  for (std::int64_t i = 0; i < n; ++i) y[i] += a * x[i];
+// y = a * x + y on the active nodes.
+void axpy(const EnergyOperator& op, double a, const std::vector<double>& x, std::vector<double>& y) {
+  for_each_active_range(op.geometry(), op.active(), [&](std::int64_t first, std::int64_t last) {
+    for (std::int64_t i = first; i < last; ++i) y[i] += a * x[i];
+  });
 }
 
 constexpr int kCoarsestSweeps = 40;
@@ -48,12 +57,12 @@ MultigridPreconditioner::MultigridPreconditioner(const EnergyOperator& fine, int
 }
 
 void MultigridPreconditioner::smooth(const Level& l, int sweeps, bool from_zero) const {
-  const std::int64_t n = static_cast<std::int64_t>(l.x.size());
   int s = 0;
   if (from_zero && sweeps > 0) {
     // The first sweep from x = 0 needs no operator application.
-#pragma omp parallel for schedule(static) if (worth_threads(n))
-    for (std::int64_t i = 0; i < n; ++i) l.x[i] = l.b[i] * l.inv_l1[i];
+    for_each_active_range(l.op.geometry(), l.op.active(), [&](std::int64_t first, std::int64_t last) {
+      for (std::int64_t i = first; i < last; ++i) l.x[i] = l.b[i] * l.inv_l1[i];
+    });
     s = 1;
   }
   for (; s < sweeps; ++s) {
@@ -71,29 +80,35 @@ void MultigridPreconditioner::v_cycle(int level) const {
   smooth(l, smoothing_steps_, true);
   l.op.residual(l.b.data(), l.x.data(), l.scratch.data());
   const Level& c = levels_[level + 1];
-  restrict_to_coarse(l.op.geometry(), l.scratch.data(), c.op.geometry(), c.b.data());
+  restrict_to_coarse(l.op.geometry(), l.scratch.data(), c.op.geometry(), c.op.active(), c.b.data());
   v_cycle(level + 1);
-  prolongate_add(c.op.geometry(), c.x.data(), l.op.geometry(), l.x.data());
+  prolongate_add(c.op.geometry(), c.x.data(), l.op.geometry(), l.op.active(), l.x.data());
   smooth(l, smoothing_steps_, false);
 }
 
 void MultigridPreconditioner::apply(const std::vector<double>& r, std::vector<double>& z) const {
   const Level& l = levels_.front();
-  const std::int64_t n = static_cast<std::int64_t>(r.size());
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i) l.b[i] = static_cast<float>(r[i]);
+  const GridGeometry& g = l.op.geometry();
+  for_each_active_range(g, l.op.active(), [&](std::int64_t first, std::int64_t last) {
+    for (std::int64_t i = first; i < last; ++i) l.b[i] = static_cast<float>(r[i]);
+  });
   v_cycle(0);
   if (z.size() != r.size()) assign_large(z, r.size());
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i) z[i] = l.x[i];
+  for_each_active_range(g, l.op.active(), [&](std::int64_t first, std::int64_t last) {
+    for (std::int64_t i = first; i < last; ++i) z[i] = l.x[i];
+  });
 }
 
 SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<double>& b,
                                 std::vector<double>& x, const SolverOptions& options,
                                 Reporter& reporter) {
+  using Clock = std::chrono::steady_clock;
+  const auto seconds_since = [](Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+  };
+  const auto t_setup = Clock::now();
   SolveReport report;
   const std::size_t n = b.size();
-  const std::int64_t nn = static_cast<std::int64_t>(n);
   x.resize(n, 0.0);
   const MultigridPreconditioner multigrid(op, options.multigrid ? options.max_levels : 1,
                                           options.smoothing_steps);
@@ -103,18 +118,21 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
     inv_l1 = op.l1_diagonals();
     for (double& v : inv_l1) v = 1.0 / v;
   }
+  const auto for_active = [&](auto&& fn) { for_each_active_range(op.geometry(), op.active(), fn); };
   const auto precondition = [&](const std::vector<double>& r, std::vector<double>& z) {
     if (options.multigrid) {
       multigrid.apply(r, z);
     } else {
-#pragma omp parallel for schedule(static)
-      for (std::int64_t i = 0; i < nn; ++i) z[i] = r[i] * inv_l1[i];
+      for_active([&](std::int64_t first, std::int64_t last) {
+        for (std::int64_t i = first; i < last; ++i) z[i] = r[i] * inv_l1[i];
+      });
     }
   };
 
-  const double b_norm = std::sqrt(dot(b, b));
+  // The residual is relative to |b| over the rows being solved.
+  double b_norm = std::sqrt(dot(op, b, b));
   if (!std::isfinite(b_norm)) throw NumericalError("recon", "right-hand side is not finite");
-  if (b_norm == 0.0) {
+  if (b_norm == 0.0 && op.active().is_all()) {
     x.assign(n, 0.0);
     report.relative_residual = 0.0;
     report.converged = true;
@@ -122,24 +140,36 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
   }
   std::vector<double> r, z, p, ap;
   for (auto* v : {&r, &z, &p, &ap}) assign_large(*v, n);
+  report.seconds_setup = seconds_since(t_setup);
+  const auto t_iterations = Clock::now();
   op.residual(b.data(), x.data(), r.data());
+  if (b_norm == 0.0) {
+    // A band whose rows have no data of their own: only the values held
+    // outside drive it, so the first residual sets the scale.
+    b_norm = std::sqrt(dot(op, r, r));
+    if (b_norm == 0.0) {
+      report.relative_residual = 0.0;
+      report.converged = true;
+      return report;
+    }
+  }
   precondition(r, z);
   std::copy(z.begin(), z.end(), p.begin());
-  double rz = dot(r, z);
-  report.relative_residual = std::sqrt(dot(r, r)) / b_norm;
+  double rz = dot(op, r, z);
+  report.relative_residual = std::sqrt(dot(op, r, r)) / b_norm;
   for (int it = 0; it < options.max_iterations && report.relative_residual > options.tolerance;
        ++it) {
     reporter.throw_if_cancelled();
     op.apply(p.data(), ap.data());
-    const double pap = dot(p, ap);
+    const double pap = dot(op, p, ap);
     if (!(pap > 0.0) || !std::isfinite(pap)) {
       throw NumericalError("recon", "conjugate gradients lost positive definiteness (p'Ap = " +
                                         std::to_string(pap) + ")");
     }
     const double alpha = rz / pap;
-    axpy(alpha, p, x);
-    axpy(-alpha, ap, r);
-    report.relative_residual = std::sqrt(dot(r, r)) / b_norm;
+    axpy(op, alpha, p, x);
+    axpy(op, -alpha, ap, r);
+    report.relative_residual = std::sqrt(dot(op, r, r)) / b_norm;
     report.residual_history.push_back(report.relative_residual);
     report.iterations = it + 1;
     if (!std::isfinite(report.relative_residual)) {
@@ -150,15 +180,17 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
     if (report.relative_residual <= options.tolerance) break;
     // Flexible (Polak-Ribiere) beta = r' (z_new - z_old) / r_old' z_old: it
     // keeps CG convergent with the slightly nonlinear single-precision V-cycle.
-    const double r_z_old = dot(r, z);
+    const double r_z_old = dot(op, r, z);
     precondition(r, z);
-    const double rz_new = dot(r, z);
+    const double rz_new = dot(op, r, z);
     const double beta = (rz_new - r_z_old) / rz;
     rz = rz_new;
-#pragma omp parallel for schedule(static) if (worth_threads(nn))
-    for (std::int64_t i = 0; i < nn; ++i) p[i] = z[i] + beta * p[i];
+    for_active([&](std::int64_t first, std::int64_t last) {
+      for (std::int64_t i = first; i < last; ++i) p[i] = z[i] + beta * p[i];
+    });
   }
   report.converged = report.relative_residual <= options.tolerance;
+  report.seconds_iterations = seconds_since(t_iterations);
   return report;
 }
 

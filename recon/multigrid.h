@@ -22,6 +22,8 @@ struct SolveReport {
   double relative_residual = 1.0;  // ||b - A x|| / ||b|| at the end
   bool converged = false;
   std::vector<double> residual_history;  // relative residual after each iteration
+  double seconds_setup = 0.0;       // building the multigrid levels
+  double seconds_iterations = 0.0;  // the CG iterations
 };
 
 // The V-cycle runs in single precision (the outer CG keeps double vectors and

@@ -25,6 +25,10 @@ struct SolverOptions {
   int smoothing_steps = 2;    // l1-Jacobi sweeps before and after each coarse correction
   int tv_iterations = 8;      // reweighting rounds for energy (2)
   bool multigrid = true;      // false: Jacobi-preconditioned CG (for comparisons)
+  // Fine-grid nodes farther than this many voxels (per axis) from every
+  // sample's cell keep the solution of the grid twice as coarse, and only the
+  // band is solved at full resolution (see active_nodes.h). 0 = solve every node.
+  int band_voxels = 8;
 };
 
 struct TrimOptions {

@@ -5,8 +5,7 @@
 #include <memory>
 
 #include "core/error.h"
-#include <array>
-
+#include "recon/active_nodes.h"
 #include "recon/energy_operator.h"
 #include "recon/isosurface.h"
 #include "recon/memory_budget.h"
@@ -59,10 +58,10 @@ double mean_at_samples(const ScalarGrid& f, const std::vector<Eigen::Vector3f>& 
 
 // The isovalue (eq. 12) of the unscreened solution, estimated on the grid
 // coarsened up to twice; guess receives that coarse solution prolongated to the
-// fine grid (a starting point for the fine solve).
+// grid coarsened guess_level times (a starting point for the solve there).
 double coarse_isovalue(const EnergyOperator& fine, const std::vector<double>& rhs,
                        const std::vector<Eigen::Vector3f>& points, const SolverOptions& solver,
-                       Reporter& reporter, std::vector<double>& guess) {
+                       Reporter& reporter, std::size_t guess_level, std::vector<double>& guess) {
   std::vector<EnergyOperator> ops{fine};
   std::vector<double> coarse_rhs;
   while (ops.size() < 3 && ops.back().geometry().can_coarsen(3)) {
@@ -78,11 +77,12 @@ double coarse_isovalue(const EnergyOperator& fine, const std::vector<double>& rh
   so.tolerance = std::max(solver.tolerance, 1e-4);
   const SolveReport report = solve_linear_system(ops.back(), coarse_rhs, x, so, reporter);
   reporter.debug(format_message("recon: coarse unscreened solve, ", report.iterations,
-                                " CG iterations"));
+                                " CG iterations, ", report.seconds_setup + report.seconds_iterations,
+                                " s"));
   ScalarGrid coarse(ops.back().geometry());
   coarse.values = x;
   const double iso = mean_at_samples(coarse, points);
-  for (std::size_t l = ops.size() - 1; l > 0; --l) {
+  for (std::size_t l = ops.size() - 1; l > guess_level; --l) {
     std::vector<double> finer;
     assign_large(finer, ops[l - 1].geometry().num_nodes());
     prolongate_add(ops[l].geometry(), x, ops[l - 1].geometry(), finer);
@@ -90,6 +90,32 @@ double coarse_isovalue(const EnergyOperator& fine, const std::vector<double>& rh
   }
   guess = std::move(x);
   return iso;
+}
+
+// Solves op x = rhs, on a band around the samples when that is much smaller
+// than the grid: first the grid coarsened once everywhere (starting from x,
+// given on that coarse grid), then the fine band with the nodes outside held
+// at the coarse solution's prolongation. Without a band, the fine solve starts
+// from x given on the fine grid. solve(op, b, x) runs one linear solve.
+template <typename SolveFn>
+void solve_with_band(EnergyOperator& op, const std::vector<double>& rhs,
+                     std::shared_ptr<const ActiveNodes> band, std::vector<double>& x,
+                     Reporter& reporter, SolveFn&& solve) {
+  if (band) {
+    const GridGeometry& g = op.geometry();
+    reporter.info(format_message("recon: fine band of ", band->count(), " nodes (",
+                                 100.0 * band->count() / g.num_nodes(), "% of the grid)"));
+    const EnergyOperator coarse = op.coarsened();
+    std::vector<double> coarse_rhs;
+    restrict_to_coarse(g, rhs, coarse.geometry(), coarse_rhs);
+    solve(coarse, coarse_rhs, x);
+    std::vector<double> fine;
+    assign_large(fine, g.num_nodes());
+    prolongate_add(coarse.geometry(), x, g, fine);
+    x = std::move(fine);
+    op.set_active(std::move(band));
+  }
+  solve(op, rhs, x);
 }
 
 }  // namespace
@@ -189,14 +215,17 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   ScalarGrid& f = result.function;
   f = ScalarGrid(grid);
   const SolverOptions& solver = options.solver;
-  const auto run = [&](const EnergyOperator& op, const SolverOptions& so) {
-    const SolveReport report = solve_linear_system(op, rhs.values, f.values, so, reporter);
+  const auto run = [&](const EnergyOperator& op, const std::vector<double>& b, std::vector<double>& x,
+                       const SolverOptions& so) {
+    const SolveReport report = solve_linear_system(op, b, x, so, reporter);
     stats.solver_iterations += report.iterations;
     stats.multigrid_levels = report.levels;
     stats.relative_residual = report.relative_residual;
     reporter.info(format_message("recon: ", report.iterations, " CG iterations, ", report.levels,
                                  " multigrid levels, relative residual ",
                                  report.relative_residual));
+    reporter.debug(format_message("recon: solver setup ", report.seconds_setup, " s, iterations ",
+                                  report.seconds_iterations, " s"));
     if (!report.converged) {
       reporter.warn(format_message("recon: the solver stopped at relative residual ",
                                    report.relative_residual, " above the tolerance ",
@@ -206,7 +235,7 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   if (options.energy == SmoothnessEnergy::kTotalVariation) {
     // Iteratively reweighted least squares: each round minimises the quadratic
     // majoriser |grad f|^2 / (2 |grad f_old|) of the TV term exactly.
-    run(EnergyOperator(grid, SmoothnessEnergy::kTotalVariation, 0.0), solver);
+    run(EnergyOperator(grid, SmoothnessEnergy::kTotalVariation, 0.0), rhs.values, f.values, solver);
     const double eps = 0.01 / ((1.0 + options.filter_passes) * grid.spacing);
     for (int round = 0; round < solver.tv_iterations; ++round) {
       reporter.throw_if_cancelled();
@@ -214,25 +243,38 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
       if (round + 1 < solver.tv_iterations) so.tolerance = std::max(solver.tolerance, 1e-3);
       const EnergyOperator op(grid, SmoothnessEnergy::kTotalVariation, 0.0, tv_weights(f, eps),
                               options.lambda * ell);
-      run(op, so);
+      run(op, rhs.values, f.values, so);
     }
   } else {
     const double weight =
         options.energy == SmoothnessEnergy::kMembrane ? options.lambda : options.lambda * ell * ell;
     EnergyOperator op(grid, options.energy, weight);
+    // The band pays off only when it leaves out most of the grid.
+    std::shared_ptr<const ActiveNodes> band;
+    if (solver.band_voxels > 0 && grid.can_coarsen(3)) {
+      band = std::make_shared<const ActiveNodes>(band_around_samples(grid, points, solver.band_voxels));
+      if (2 * band->count() > grid.num_nodes()) band.reset();
+    }
+    stats.band_nodes = band ? band->count() : 0;
     if (options.screening > 0.0) {
       // One screened solve. The target of the pinning is the isovalue (eq. 12)
       // of the unscreened solution, estimated on a grid coarsened twice (1/64
-      // of the nodes), whose prolongation also starts the fine solve.
-      const double target = coarse_isovalue(op, rhs.values, points, solver, reporter, f.values);
+      // of the nodes), whose prolongation also starts the solve.
+      const double target =
+          coarse_isovalue(op, rhs.values, points, solver, reporter, band ? 1 : 0, f.values);
       op.set_screening(std::make_shared<const std::vector<Eigen::Vector3f>>(points), 1.0);
       // Weighted so that at a typical surface node the term is screening
       // times the Laplacian's scale 1 / h^2, at any resolution and density.
       op.scale_screening(options.screening /
                          (grid.spacing * grid.spacing * std::max(op.screening().mean_row_sum(), 1e-12)));
       op.screening().add_target(target, rhs.values);
+    } else if (band) {
+      f.values.assign(grid.coarsened().num_nodes(), 0.0);
     }
-    run(op, solver);
+    solve_with_band(op, rhs.values, std::move(band), f.values, reporter,
+                    [&](const EnergyOperator& o, const std::vector<double>& b, std::vector<double>& x) {
+                      run(o, b, x, solver);
+                    });
   }
   for (double v : f.values) {
     if (!std::isfinite(v)) throw NumericalError("recon", "the implicit function is not finite");

@@ -20,6 +20,7 @@ struct ReconStats {
   int multigrid_levels = 0;
   int solver_iterations = 0;           // summed over all linear solves
   double relative_residual = 0.0;      // of the final linear solve
+  std::int64_t band_nodes = 0;         // fine nodes solved in the band; 0 = every node
   double isovalue = 0.0;
   std::size_t faces_before_trim = 0;
   std::size_t faces_trimmed = 0;

@@ -76,6 +76,38 @@ TEST(ReconstructSurface, SphereFromSixScanDirectionsStaysWithinTheSameBound) {
   expect_closed_surface(r.mesh, 2);
 }
 
+TEST(ReconstructSurface, BandedSolveMatchesTheFullSolveNearTheSamples) {
+  const PointCloud points = testing::sample_sphere(60000, 1.0, 0.002, 8);
+  ReconOptions full = options_at(80);
+  full.solver.band_voxels = 0;
+  const ReconOptions banded = options_at(80);  // the default band
+  const ReconResult a = reconstruct_surface(points, full, null_reporter());
+  const ReconResult b = reconstruct_surface(points, banded, null_reporter());
+  ASSERT_EQ(a.stats.band_nodes, 0);
+  ASSERT_GT(b.stats.band_nodes, 0) << "the band must be in use at this resolution";
+  EXPECT_LT(b.stats.band_nodes, a.function.geometry.num_nodes() / 2);
+  // How far the level set moves at each sample: the difference of f - isovalue
+  // over |grad f|, in voxels.
+  const double h = a.stats.voxel_size;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < points.size(); i += 7) {
+    const Eigen::Vector3d p = points.positions[i].cast<double>();
+    Eigen::Vector3d grad;
+    for (int axis = 0; axis < 3; ++axis) {
+      const Eigen::Vector3d step = 0.5 * h * Eigen::Vector3d::Unit(axis);
+      grad[axis] = (a.function.sample(p + step) - a.function.sample(p - step)) / h;
+    }
+    const double shift = ((b.function.sample(p) - b.stats.isovalue) -
+                          (a.function.sample(p) - a.stats.isovalue)) / grad.norm();
+    worst = std::max(worst, std::abs(shift) / h);
+  }
+  std::cout << "band of " << b.stats.band_nodes << " nodes moved the level set by up to " << worst
+            << " voxels\n";
+  EXPECT_LT(worst, 0.02);
+  EXPECT_NEAR(sphere_error(b.mesh, 1.0).mean, sphere_error(a.mesh, 1.0).mean, 0.01 * h);
+  expect_closed_surface(b.mesh, 2);
+}
+
 TEST(ReconstructSurface, TorusHasGenusOne) {
   const PointCloud points = testing::sample_torus(40000, 1.0, 0.35, 0.002, 3);
   const ReconResult r = reconstruct_surface(points, options_at(64), null_reporter());

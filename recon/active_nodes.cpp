@@ -1,0 +1,113 @@
+#include "recon/active_nodes.h"
+
+#include <algorithm>
+
+namespace hos::recon {
+namespace {
+
+// mask |= mask shifted by up to +-radius along one axis, line by line: a
+// node becomes active if an active node lies within radius along the axis.
+void dilate_axis(const GridGeometry& g, std::vector<std::uint8_t>& mask, int axis, int radius) {
+  const Eigen::Vector3i d = g.dims;
+  const std::int64_t stride = axis == 0 ? 1 : axis == 1 ? d.x() : std::int64_t{d.x()} * d.y();
+  const int n = d[axis];
+  const int u_axis = axis == 0 ? 1 : 0, v_axis = axis == 2 ? 1 : 2;
+  const int nu = d[u_axis], nv = d[v_axis];
+#pragma omp parallel
+  {
+    std::vector<int> last(n);
+#pragma omp for collapse(2) schedule(static)
+    for (int v = 0; v < nv; ++v) {
+      for (int u = 0; u < nu; ++u) {
+        Eigen::Vector3i p = Eigen::Vector3i::Zero();
+        p[u_axis] = u;
+        p[v_axis] = v;
+        std::uint8_t* line = mask.data() + g.index(p.x(), p.y(), p.z());
+        // Distance to the nearest active node before or at t, then after.
+        int seen = -1 - radius;
+        for (int t = 0; t < n; ++t) {
+          if (line[t * stride]) seen = t;
+          last[t] = t - seen;
+        }
+        seen = n + radius;
+        for (int t = n - 1; t >= 0; --t) {
+          if (line[t * stride]) seen = t;
+          if (std::min(last[t], seen - t) <= radius) line[t * stride] = 1;
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
+ActiveNodes ActiveNodes::all(const GridGeometry& g) {
+  ActiveNodes a;
+  a.spans_.reserve(static_cast<std::size_t>(g.dims.y()) * g.dims.z());
+  for (int k = 0; k < g.dims.z(); ++k) {
+    for (int j = 0; j < g.dims.y(); ++j) a.spans_.push_back({j, k, 0, g.dims.x()});
+  }
+  a.count_ = g.num_nodes();
+  return a;
+}
+
+ActiveNodes ActiveNodes::from_mask(const GridGeometry& g, std::vector<std::uint8_t> mask) {
+  ActiveNodes a;
+  a.mask_ = std::move(mask);
+  const int nx = g.dims.x();
+  for (int k = 0; k < g.dims.z(); ++k) {
+    for (int j = 0; j < g.dims.y(); ++j) {
+      const std::uint8_t* row = a.mask_.data() + g.index(0, j, k);
+      for (int i = 0; i < nx;) {
+        if (!row[i]) {
+          ++i;
+          continue;
+        }
+        const int begin = i;
+        while (i < nx && row[i]) ++i;
+        a.spans_.push_back({j, k, begin, i});
+        a.count_ += i - begin;
+      }
+    }
+  }
+  if (a.count_ == g.num_nodes()) return all(g);
+  return a;
+}
+
+ActiveNodes ActiveNodes::coarsened(const GridGeometry& fine, const GridGeometry& coarse) const {
+  if (is_all()) return all(coarse);
+  // Coarse node I sits on fine node 2I + 1: it is active if an active fine
+  // node lies within one node of it along every axis.
+  std::vector<std::uint8_t> near(mask_);
+  for (auto& v : near) v = !v;
+  for (int axis = 0; axis < 3; ++axis) dilate_axis(fine, near, axis, 1);
+  for (auto& v : near) v = !v;
+  std::vector<std::uint8_t> mask(coarse.num_nodes());
+  const Eigen::Vector3i dc = coarse.dims;
+#pragma omp parallel for collapse(2) schedule(static)
+  for (int k = 0; k < dc.z(); ++k) {
+    for (int j = 0; j < dc.y(); ++j) {
+      for (int i = 0; i < dc.x(); ++i) {
+        mask[coarse.index(i, j, k)] = near[fine.index(2 * i + 1, 2 * j + 1, 2 * k + 1)];
+      }
+    }
+  }
+  return from_mask(coarse, std::move(mask));
+}
+
+ActiveNodes band_around_samples(const GridGeometry& g, const std::vector<Eigen::Vector3f>& points,
+                                int voxels) {
+  std::vector<std::uint8_t> mask(g.num_nodes(), 0);
+  for (const auto& p : points) {
+    const TrilinearStencil s = trilinear_stencil(g, p.cast<double>());
+    for (int c = 0; c < 8; ++c) {
+      const int i = s.corner.x() + (c & 1), j = s.corner.y() + ((c >> 1) & 1),
+                k = s.corner.z() + (c >> 2);
+      if (g.contains(i, j, k)) mask[g.index(i, j, k)] = 1;
+    }
+  }
+  for (int axis = 0; axis < 3; ++axis) dilate_axis(g, mask, axis, voxels);
+  return ActiveNodes::from_mask(g, std::move(mask));
+}
+
+}  // namespace hos::recon

@@ -1,0 +1,129 @@
+// recon/active_nodes.*: the band of a banded solve, its coarsening, and the
+// banded operator and transfers built on it.
+#include "recon/active_nodes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "recon/energy_operator.h"
+
+namespace hos::recon {
+namespace {
+
+GridGeometry cube_grid(int n, double h) {
+  GridGeometry g;
+  g.dims = Eigen::Vector3i::Constant(n);
+  g.spacing = h;
+  return g;
+}
+
+// Points on a sphere of radius r around the grid's centre.
+std::vector<Eigen::Vector3f> sphere_points(const GridGeometry& g, double r, int n) {
+  const Eigen::Vector3d c = g.position(g.dims.x() / 2, g.dims.y() / 2, g.dims.z() / 2);
+  std::vector<Eigen::Vector3f> points;
+  for (int s = 0; s < n; ++s) {
+    const double z = 1.0 - 2.0 * (s + 0.5) / n, phi = 2.399963 * s;  // golden-angle spiral
+    const double rho = std::sqrt(1.0 - z * z);
+    points.push_back((c + r * Eigen::Vector3d(rho * std::cos(phi), rho * std::sin(phi), z)).cast<float>());
+  }
+  return points;
+}
+
+TEST(ActiveNodes, BandHoldsExactlyTheNodesNearTheSamples) {
+  const GridGeometry g = cube_grid(47, 1.0);
+  const auto points = sphere_points(g, 15.0, 20000);
+  const int voxels = 3;
+  const ActiveNodes band = band_around_samples(g, points, voxels);
+  ASSERT_FALSE(band.is_all());
+  const Eigen::Vector3d c = g.position(23, 23, 23);
+  std::int64_t counted = 0;
+  for (int k = 0; k < g.dims.z(); ++k) {
+    for (int j = 0; j < g.dims.y(); ++j) {
+      for (int i = 0; i < g.dims.x(); ++i) {
+        const double d = std::abs((g.position(i, j, k) - c).norm() - 15.0);
+        const bool active = band.contains(g.index(i, j, k));
+        counted += active;
+        // A node within `voxels` per axis of a sample cell's corner is at most
+        // (voxels + 1) * sqrt(3) from the sample; a node within voxels of the
+        // sphere is within voxels per axis of some sample's cell (dense samples).
+        if (d > (voxels + 1) * std::sqrt(3.0)) EXPECT_FALSE(active) << i << " " << j << " " << k;
+        if (d < voxels) EXPECT_TRUE(active) << i << " " << j << " " << k;
+      }
+    }
+  }
+  EXPECT_EQ(counted, band.count());
+  std::int64_t in_spans = 0;
+  for (const NodeSpan& s : band.spans()) {
+    in_spans += s.end - s.begin;
+    for (int i = s.begin; i < s.end; ++i) EXPECT_TRUE(band.contains(g.index(i, s.j, s.k)));
+  }
+  EXPECT_EQ(in_spans, band.count());
+}
+
+TEST(ActiveNodes, CoarseBandLiesInsideTheFineBand) {
+  const GridGeometry fine = cube_grid(47, 1.0);
+  const GridGeometry coarse = fine.coarsened();
+  const ActiveNodes band = band_around_samples(fine, sphere_points(fine, 15.0, 20000), 4);
+  const ActiveNodes coarse_band = band.coarsened(fine, coarse);
+  EXPECT_GT(coarse_band.count(), 0);
+  EXPECT_LT(coarse_band.count(), band.count() / 4);
+  // Every fine neighbour of an active coarse node is active: the coarse
+  // correction never reaches past the fine band's Dirichlet boundary.
+  for (const NodeSpan& s : coarse_band.spans()) {
+    for (int i = s.begin; i < s.end; ++i) {
+      for (int o = 0; o < 27; ++o) {
+        const int fi = 2 * i + 1 + o % 3 - 1, fj = 2 * s.j + 1 + (o / 3) % 3 - 1,
+                  fk = 2 * s.k + 1 + o / 9 - 1;
+        ASSERT_TRUE(band.contains(fine.index(fi, fj, fk)));
+      }
+    }
+  }
+}
+
+TEST(ActiveNodes, BandedOperatorComputesTheBandRowsOnly) {
+  const GridGeometry g = cube_grid(31, 0.1);
+  EnergyOperator dense(g, SmoothnessEnergy::kFullHessian, 0.3);
+  EnergyOperator banded = dense;
+  auto band = std::make_shared<const ActiveNodes>(band_around_samples(g, sphere_points(g, 1.0, 5000), 2));
+  banded.set_active(band);
+  std::vector<double> x(g.num_nodes()), b(g.num_nodes(), 1.0);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.37 * i);
+  std::vector<double> r_dense(g.num_nodes(), 7.0), r_band(g.num_nodes(), 7.0);
+  dense.residual(b.data(), x.data(), r_dense.data());
+  banded.residual(b.data(), x.data(), r_band.data());
+  for (std::int64_t n = 0; n < g.num_nodes(); ++n) {
+    if (band->contains(n)) {
+      ASSERT_EQ(r_band[n], r_dense[n]) << "band rows read x outside the band too";
+    } else {
+      ASSERT_EQ(r_band[n], 7.0) << "rows outside the band are not written";
+    }
+  }
+}
+
+TEST(ActiveNodes, BandedTransfersStayAdjointUpToTheVolumeFactor) {
+  const GridGeometry fine = cube_grid(31, 0.1);
+  const GridGeometry coarse = fine.coarsened();
+  const ActiveNodes band = band_around_samples(fine, sphere_points(fine, 1.0, 5000), 3);
+  const ActiveNodes coarse_band = band.coarsened(fine, coarse);
+  // Vectors that are zero outside their bands, as in the V-cycle.
+  std::vector<double> r(fine.num_nodes(), 0.0), e(coarse.num_nodes(), 0.0);
+  for (std::int64_t i = 0; i < fine.num_nodes(); ++i) r[i] = band.contains(i) ? std::sin(0.37 * i) : 0.0;
+  for (std::int64_t i = 0; i < coarse.num_nodes(); ++i) e[i] = coarse_band.contains(i) ? std::cos(0.91 * i) : 0.0;
+  std::vector<double> rc(coarse.num_nodes(), 0.0), pe(fine.num_nodes(), 0.0);
+  restrict_to_coarse(fine, r.data(), coarse, coarse_band, rc.data());
+  prolongate_add(coarse, e.data(), fine, band, pe.data());
+  double lhs = 0, rhs = 0;
+  for (std::int64_t i = 0; i < coarse.num_nodes(); ++i) {
+    if (!coarse_band.contains(i)) EXPECT_EQ(rc[i], 0.0);
+    lhs += 8.0 * rc[i] * e[i];
+  }
+  for (std::int64_t i = 0; i < fine.num_nodes(); ++i) {
+    if (!band.contains(i)) EXPECT_EQ(pe[i], 0.0);
+    rhs += r[i] * pe[i];
+  }
+  EXPECT_NEAR(lhs, rhs, 1e-9 * std::abs(rhs));
+}
+
+}  // namespace
+}  // namespace hos::recon
