@@ -125,6 +125,7 @@ EnergyOperator::EnergyOperator(const GridGeometry& geometry, SmoothnessEnergy en
   }
   stencil_abs_sum_ = stencil_.abs_sum();
   active_ = std::make_shared<const ActiveNodes>(ActiveNodes::all(geometry_));
+  screening_ = std::make_shared<const ScreeningTerm>();
 }
 
 void EnergyOperator::set_active(std::shared_ptr<const ActiveNodes> active) {
@@ -134,7 +135,6 @@ void EnergyOperator::set_active(std::shared_ptr<const ActiveNodes> active) {
 ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vector3f>& points,
                              double weight)
     : geometry_(g), weight_(weight) {
-  for (int q = 0; q < 27; ++q) offsets_[q] = g.index(q % 3 - 1, (q / 3) % 3 - 1, q / 9 - 1);
   struct Sample {
     std::int64_t cell;  // lower corner on the grid padded by one node each side: a sort key
     Eigen::Vector3i corner;
@@ -153,6 +153,8 @@ ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vec
   // every corner is found by a forward walk instead of a search.
   std::sort(samples.begin(), samples.end(),
             [](const Sample& a, const Sample& b) { return a.cell < b.cell; });
+  for (int q = 0; q < 27; ++q) offsets_[q] = g.index(q % 3 - 1, (q / 3) % 3 - 1, q / 9 - 1);
+  std::vector<std::int64_t> nodes_;  // touched nodes, ascending
   std::vector<std::array<std::int64_t, 8>> node(samples.size());
   for (std::size_t s = 0; s < samples.size(); ++s) {
     for (int c = 0; c < 8; ++c) {
@@ -171,14 +173,14 @@ ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vec
       corners[c] = static_cast<std::int64_t>(walk[c]);
     }
   }
-  coefficients_.assign(nodes_.size(), std::array<float, 27>{});
+  std::vector<std::array<float, 27>> per_node(nodes_.size(), std::array<float, 27>{});
   for (std::size_t s = 0; s < samples.size(); ++s) {
     const TrilinearStencil st{samples[s].corner, samples[s].frac};
     std::array<double, 8> w;
     for (int c = 0; c < 8; ++c) w[c] = weight * st.weight(c & 1, (c >> 1) & 1, (c >> 2) & 1);
     for (int a = 0; a < 8; ++a) {
       if (node[s][a] < 0) continue;
-      auto& row = coefficients_[node[s][a]];
+      auto& row = per_node[node[s][a]];
       for (int b = 0; b < 8; ++b) {
         if (node[s][b] < 0) continue;
         const int q = ((b & 1) - (a & 1) + 1) + 3 * (((b >> 1) & 1) - ((a >> 1) & 1) + 1) +
@@ -187,55 +189,101 @@ ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vec
       }
     }
   }
+  // Runs of consecutive nodes on one row, coefficients transposed per run.
+  num_nodes_ = static_cast<std::int64_t>(nodes_.size());
+  coefficients_.resize(27 * nodes_.size());
+  for (std::size_t e = 0; e < nodes_.size();) {
+    std::size_t last = e + 1;
+    while (last < nodes_.size() && nodes_[last] == nodes_[last - 1] + 1 &&
+           nodes_[last] % d.x() != 0) {
+      ++last;
+    }
+    const std::int64_t len = static_cast<std::int64_t>(last - e);
+    Run run;
+    run.first = nodes_[e];
+    run.begin = static_cast<int>(nodes_[e] % d.x());
+    run.end = run.begin + static_cast<int>(len);
+    run.j = static_cast<int>((nodes_[e] / d.x()) % d.y());
+    run.k = static_cast<int>(nodes_[e] / (std::int64_t{d.x()} * d.y()));
+    run.coefficients = 27 * static_cast<std::int64_t>(e);
+    run.interior = run.j > 0 && run.j < d.y() - 1 && run.k > 0 && run.k < d.z() - 1 &&
+                   run.begin > 0 && run.end < d.x();
+    for (int q = 0; q < 27; ++q) {
+      for (std::int64_t t = 0; t < len; ++t) {
+        coefficients_[run.coefficients + q * len + t] = per_node[e + t][q];
+      }
+    }
+    runs_.push_back(run);
+    e = last;
+  }
   const std::int64_t rows = std::int64_t{d.y()} * d.z();
   row_begin_.resize(rows + 1);
   std::size_t e = 0;
   for (std::int64_t r = 0; r <= rows; ++r) {
-    while (e < nodes_.size() && nodes_[e] < r * d.x()) ++e;
+    while (e < runs_.size() && std::int64_t{runs_[e].k} * d.y() + runs_[e].j < r) ++e;
     row_begin_[r] = static_cast<std::int64_t>(e);
   }
 }
 
+std::shared_ptr<const ScreeningTerm> ScreeningTerm::coarsened(
+    const std::vector<Eigen::Vector3f>& points) const {
+  if (!coarser_) coarser_ = std::make_shared<const ScreeningTerm>(geometry_.coarsened(), points, weight_ / 8.0);
+  return coarser_;
+}
+
 void ScreeningTerm::scale(double factor) {
   weight_ *= factor;
-  for (auto& row : coefficients_) {
-    for (float& c : row) c = static_cast<float>(c * factor);
-  }
+  coarser_.reset();
+  for (float& c : coefficients_) c = static_cast<float>(c * factor);
 }
 
 double ScreeningTerm::mean_row_sum() const {
   double sum = 0.0;
-  for (const auto& row : coefficients_) {
-    for (float c : row) sum += c;
+  for (float c : coefficients_) sum += c;
+  return num_nodes_ == 0 ? 0.0 : sum / static_cast<double>(num_nodes_);
+}
+
+template <typename T>
+void ScreeningTerm::add_row_sums(double scale, T* values) const {
+  for (const Run& run : runs_) {
+    const int len = run.end - run.begin;
+    for (int t = 0; t < len; ++t) {
+      double sum = 0.0;
+      for (int q = 0; q < 27; ++q) sum += coefficients_[run.coefficients + q * len + t];
+      values[run.first + t] += static_cast<T>(scale * sum);
+    }
   }
-  return nodes_.empty() ? 0.0 : sum / static_cast<double>(nodes_.size());
 }
 
 void ScreeningTerm::add_target(double target, std::vector<double>& rhs) const {
-  for (std::size_t e = 0; e < nodes_.size(); ++e) {
-    double sum = 0.0;
-    for (float c : coefficients_[e]) sum += c;
-    rhs[nodes_[e]] += target * sum;
-  }
-}
-
-void ScreeningTerm::add_l1(std::vector<double>& l1) const {
-  add_target(1.0, l1);  // every coefficient is >= 0
+  add_row_sums(target, rhs.data());
 }
 
 template <typename T>
 void ScreeningTerm::add_row(std::int64_t row, int begin, int end, const T* x, T* y_row) const {
-  const std::int64_t start = row * geometry_.dims.x();
+  const Eigen::Vector3i d = geometry_.dims;
   for (std::int64_t e = row_begin_[row]; e < row_begin_[row + 1]; ++e) {
-    const std::int64_t node = nodes_[e];
-    if (node < start + begin || node >= start + end) continue;
-    const auto& c = coefficients_[e];
-    T s = 0;
-    // A nonzero coefficient couples two corners of one cell, both inside.
-    for (int q = 0; q < 27; ++q) {
-      if (c[q] != 0.0f) s += static_cast<T>(c[q]) * x[node + offsets_[q]];
+    const Run& run = runs_[e];
+    const int len = run.end - run.begin;
+    const float* c = coefficients_.data() + run.coefficients - run.begin;  // c[i]: node i
+    if (run.interior) {
+      // Every neighbour inside the grid: one contiguous sweep per offset.
+      const int i0 = std::max(run.begin, begin), i1 = std::min(run.end, end);
+      const T* base = x + (run.first - run.begin);  // base[i]: node (i, j, k)
+      for (int q = 0; q < 27; ++q, c += len) {
+        const T* __restrict src = base + offsets_[q];
+        for (int i = i0; i < i1; ++i) y_row[i] += static_cast<T>(c[i]) * src[i];
+      }
+      continue;
     }
-    y_row[node - start] += s;
+    for (int q = 0; q < 27; ++q, c += len) {
+      const int dx = q % 3 - 1, jj = run.j + (q / 3) % 3 - 1, kk = run.k + q / 9 - 1;
+      // Neighbours outside the grid have zero coefficients: skip them.
+      if (jj < 0 || jj >= d.y() || kk < 0 || kk >= d.z()) continue;
+      const int i0 = std::max({run.begin, begin, -dx}), i1 = std::min({run.end, end, d.x() - dx});
+      const T* __restrict src = x + geometry_.index(dx, jj, kk);
+      for (int i = i0; i < i1; ++i) y_row[i] += static_cast<T>(c[i]) * src[i];
+    }
   }
 }
 
@@ -291,7 +339,7 @@ void EnergyOperator::for_each_span(const T* x, SpanFn&& span_fn) const {
           row[i] += static_cast<T>(tv_scale * t);
         }
       }
-      if (!screening_.empty()) screening_.add_row(std::int64_t{k} * d.y() + j, b, e, x, row);
+      if (!screening_->empty()) screening_->add_row(std::int64_t{k} * d.y() + j, b, e, x, row);
       span_fn(start, b, e, static_cast<const T*>(row));
     }
   }
@@ -333,13 +381,18 @@ template void EnergyOperator::residual<double>(const double*, const double*, dou
 template void EnergyOperator::jacobi<float>(const float*, const float*, const float*, float*) const;
 template void EnergyOperator::jacobi<double>(const double*, const double*, const double*, double*) const;
 
-void EnergyOperator::scale_screening(double factor) { screening_.scale(factor); }
+void EnergyOperator::scale_screening(double factor) {
+  auto scaled = std::make_shared<ScreeningTerm>(*screening_);
+  scaled->scale(factor);
+  screening_ = std::move(scaled);
+}
 
 void EnergyOperator::set_screening(std::shared_ptr<const std::vector<Eigen::Vector3f>> points,
                                    double weight) {
   screening_points_ = std::move(points);
-  screening_ = screening_points_ && weight > 0.0 ? ScreeningTerm(geometry_, *screening_points_, weight)
-                                                 : ScreeningTerm();
+  screening_ = screening_points_ && weight > 0.0
+                   ? std::make_shared<const ScreeningTerm>(geometry_, *screening_points_, weight)
+                   : std::make_shared<const ScreeningTerm>();
 }
 
 double EnergyOperator::l1_diagonal(std::int64_t node) const {
@@ -361,15 +414,17 @@ double EnergyOperator::l1_diagonal(std::int64_t node) const {
   return stencil_abs_sum_ + 2.0 * tv_weight_ / (g.spacing * g.spacing) * edges;
 }
 
-std::vector<double> EnergyOperator::l1_diagonals() const {
-  const std::int64_t n = geometry_.num_nodes();
-  std::vector<double> l1;
-  assign_large(l1, n);
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i) l1[i] = l1_diagonal(i);
-  screening_.add_l1(l1);
-  return l1;
+template <typename T>
+void EnergyOperator::l1_diagonals(std::vector<T>& l1) const {
+  assign_large(l1, geometry_.num_nodes());
+  for_each_active_range(geometry_, *active_, [&](std::int64_t first, std::int64_t last) {
+    for (std::int64_t i = first; i < last; ++i) l1[i] = static_cast<T>(l1_diagonal(i));
+  });
+  screening_->add_row_sums(1.0, l1.data());
 }
+
+template void EnergyOperator::l1_diagonals<float>(std::vector<float>&) const;
+template void EnergyOperator::l1_diagonals<double>(std::vector<double>&) const;
 
 EnergyOperator EnergyOperator::coarsened() const {
   const GridGeometry coarse = geometry_.coarsened();
@@ -378,7 +433,10 @@ EnergyOperator EnergyOperator::coarsened() const {
     restrict_to_coarse(geometry_, tv_node_weights_, coarse, weights);
   }
   EnergyOperator op(coarse, energy_, hessian_weight_, std::move(weights), tv_weight_);
-  if (!screening_.empty()) op.set_screening(screening_points_, screening_.weight() / 8.0);
+  if (!screening_->empty()) {
+    op.screening_points_ = screening_points_;
+    op.screening_ = screening_->coarsened(*screening_points_);
+  }
   if (!active_->is_all()) {
     op.set_active(std::make_shared<const ActiveNodes>(active_->coarsened(geometry_, coarse)));
   }

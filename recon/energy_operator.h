@@ -44,16 +44,22 @@ class ScreeningTerm {
   ScreeningTerm() = default;
   ScreeningTerm(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
                 double weight);
-  bool empty() const { return nodes_.empty(); }
+  bool empty() const { return runs_.empty(); }
   double weight() const { return weight_; }
   // Adds weight * target * S^T 1 (the target's share of the right-hand side).
   void add_target(double target, std::vector<double>& rhs) const;
   // Multiplies the weight by factor.
   void scale(double factor);
+  // The term rediscretised on the coarsened grid from the same samples, with
+  // the weight divided by 8; built once and shared by every operator that
+  // holds this term (the band's hierarchy and the full grid's).
+  std::shared_ptr<const ScreeningTerm> coarsened(const std::vector<Eigen::Vector3f>& points) const;
   // Mean l1 row sum over the touched nodes (weight * mean splatted density).
   double mean_row_sum() const;
-  // Adds its l1 row sums (weight * splatted density) to per-node sums.
-  void add_l1(std::vector<double>& l1) const;
+  // Adds scale times its row sums (weight * splatted density; every
+  // coefficient is >= 0, so also its l1 row sums) to per-node values.
+  template <typename T>
+  void add_row_sums(double scale, T* values) const;
   // y_row[i] += (S^T S x)[row start + i] for the touched nodes i of one row
   // with begin <= i < end.
   template <typename T>
@@ -62,10 +68,21 @@ class ScreeningTerm {
  private:
   GridGeometry geometry_;
   double weight_ = 0.0;
-  std::vector<std::int64_t> nodes_;        // touched nodes, ascending
-  std::vector<std::int64_t> row_begin_;    // per grid row (j, k): first entry in nodes_
-  std::vector<std::array<float, 27>> coefficients_;  // per touched node, offsets (-1..1)^3
-  std::array<std::int64_t, 27> offsets_{};
+  // The touched nodes as runs of consecutive nodes along x; a run's 27
+  // coefficients (offsets (-1..1)^3, x fastest) are stored offset by offset,
+  // each as len contiguous values, so a row's product is a vectorised sweep.
+  struct Run {
+    std::int64_t first;       // node index of the run's first node
+    int j, k, begin, end;     // grid row and nodes begin <= i < end
+    std::int64_t coefficients;  // index of the run's first coefficient
+    bool interior;            // all 27 neighbours of every node inside the grid
+  };
+  std::vector<Run> runs_;
+  std::vector<std::int64_t> row_begin_;  // per grid row (j, k): first run
+  std::vector<float> coefficients_;
+  std::int64_t num_nodes_ = 0;
+  std::array<std::int64_t, 27> offsets_{};  // node index offsets of (-1..1)^3
+  mutable std::shared_ptr<const ScreeningTerm> coarser_;
 };
 
 class EnergyOperator {
@@ -83,7 +100,7 @@ class EnergyOperator {
   void set_active(std::shared_ptr<const ActiveNodes> active);
   // Adds the screening term over these samples (kept for the coarse levels).
   void set_screening(std::shared_ptr<const std::vector<Eigen::Vector3f>> points, double weight);
-  const ScreeningTerm& screening() const { return screening_; }
+  const ScreeningTerm& screening() const { return *screening_; }
   void scale_screening(double factor);
   // y = A x.
   void apply(const std::vector<double>& x, std::vector<double>& y) const;
@@ -97,7 +114,9 @@ class EnergyOperator {
   template <typename T>
   void jacobi(const T* b, const T* x, const T* inv_l1, T* out) const;
   // Per-node l1 row sums (>= |a_ii| + sum |a_ij|) of every term: the l1-Jacobi smoother.
-  std::vector<double> l1_diagonals() const;
+  // Computed for the active nodes, zero elsewhere.
+  template <typename T>
+  void l1_diagonals(std::vector<T>& l1) const;
   // The same energy rediscretized on the coarsened grid (weights restricted,
   // screening rediscretised, active nodes coarsened).
   EnergyOperator coarsened() const;
@@ -118,7 +137,7 @@ class EnergyOperator {
   std::vector<double> tv_node_weights_;
   double tv_weight_;
   std::shared_ptr<const std::vector<Eigen::Vector3f>> screening_points_;
-  ScreeningTerm screening_;
+  std::shared_ptr<const ScreeningTerm> screening_;  // shared by copies of the operator
   double stencil_abs_sum_;
   std::shared_ptr<const ActiveNodes> active_;
 };

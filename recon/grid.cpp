@@ -57,13 +57,15 @@ TrilinearStencil trilinear_stencil(const GridGeometry& g, const Eigen::Vector3d&
   return s;
 }
 
-double ScalarGrid::sample(const Eigen::Vector3d& x) const {
-  const TrilinearStencil s = trilinear_stencil(geometry, x);
+double sample_trilinear(const GridGeometry& g, const std::vector<double>& values,
+                        const Eigen::Vector3d& x) {
+  const TrilinearStencil s = trilinear_stencil(g, x);
   double v = 0.0;
   for (int oz = 0; oz < 2; ++oz) {
     for (int oy = 0; oy < 2; ++oy) {
       for (int ox = 0; ox < 2; ++ox) {
-        v += s.weight(ox, oy, oz) * at(s.corner.x() + ox, s.corner.y() + oy, s.corner.z() + oz);
+        const int i = s.corner.x() + ox, j = s.corner.y() + oy, k = s.corner.z() + oz;
+        if (g.contains(i, j, k)) v += s.weight(ox, oy, oz) * values[g.index(i, j, k)];
       }
     }
   }

@@ -52,6 +52,10 @@ void assign_large(std::vector<float>& v, std::size_t n, float value = 0.0f);
 // more when other processes share the cores).
 inline bool worth_threads(std::int64_t nodes) { return nodes >= (std::int64_t{1} << 17); }
 
+// Trilinear interpolation of per-node values at a world point (ghost nodes are zero).
+double sample_trilinear(const GridGeometry& g, const std::vector<double>& values,
+                        const Eigen::Vector3d& x);
+
 // A scalar field on the grid nodes.
 struct ScalarGrid {
   GridGeometry geometry;
@@ -62,7 +66,7 @@ struct ScalarGrid {
     return geometry.contains(i, j, k) ? values[geometry.index(i, j, k)] : 0.0;
   }
   // Trilinear interpolation at a world point (ghost nodes are zero).
-  double sample(const Eigen::Vector3d& x) const;
+  double sample(const Eigen::Vector3d& x) const { return sample_trilinear(geometry, values, x); }
 };
 
 // Trilinear weights of a world point: the cell's lower corner and the

@@ -45,13 +45,15 @@ MultigridPreconditioner::MultigridPreconditioner(const EnergyOperator& fine, int
     ops.push_back(ops.back().coarsened());
   }
   for (auto& op : ops) {
-    const std::vector<double> l1 = op.l1_diagonals();
     Level level{std::move(op), {}, {}, {}, {}};
-    assign_large(level.inv_l1, l1.size());
-    for (std::size_t i = 0; i < l1.size(); ++i) level.inv_l1[i] = static_cast<float>(1.0 / l1[i]);
-    assign_large(level.b, l1.size());
-    assign_large(level.x, l1.size());
-    assign_large(level.scratch, l1.size());
+    level.op.l1_diagonals(level.inv_l1);
+    for_each_active_range(level.op.geometry(), level.op.active(), [&](std::int64_t first, std::int64_t last) {
+      for (std::int64_t i = first; i < last; ++i) level.inv_l1[i] = 1.0f / level.inv_l1[i];
+    });
+    const std::size_t n = level.inv_l1.size();
+    assign_large(level.b, n);
+    assign_large(level.x, n);
+    assign_large(level.scratch, n);
     levels_.push_back(std::move(level));
   }
 }
@@ -115,8 +117,10 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
   report.levels = multigrid.num_levels();
   std::vector<double> inv_l1;
   if (!options.multigrid) {
-    inv_l1 = op.l1_diagonals();
-    for (double& v : inv_l1) v = 1.0 / v;
+    op.l1_diagonals(inv_l1);
+    for_each_active_range(op.geometry(), op.active(), [&](std::int64_t first, std::int64_t last) {
+      for (std::int64_t i = first; i < last; ++i) inv_l1[i] = 1.0 / inv_l1[i];
+    });
   }
   const auto for_active = [&](auto&& fn) { for_each_active_range(op.geometry(), op.active(), fn); };
   const auto precondition = [&](const std::vector<double>& r, std::vector<double>& z) {

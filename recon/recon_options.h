@@ -19,7 +19,10 @@ enum class SmoothnessEnergy {
 };
 
 struct SolverOptions {
-  double tolerance = 1e-6;    // relative residual ||b - Ax|| / ||b|| to reach
+  // Relative residual ||b - Ax|| / ||b|| to reach. 1e-5 rather than 1e-6:
+  // the same surface (sphere from 6 scan directions at grid 256: rms error
+  // 4.1311e-4 vs 4.1309e-4) with 29 instead of 39 iterations.
+  double tolerance = 1e-5;
   int max_iterations = 200;   // conjugate-gradient iterations per linear solve
   int max_levels = 0;         // multigrid levels; 0 = as many as the grid allows
   int smoothing_steps = 2;    // l1-Jacobi sweeps before and after each coarse correction

@@ -117,16 +117,12 @@ void normalize_field(VectorGrid& field, const std::vector<Eigen::Vector3f>& poin
                      int filter_passes) {
   double sum = 0.0;
   std::size_t count = 0;
-  std::array<ScalarGrid, 3> comp;
-  for (int a = 0; a < 3; ++a) {
-    comp[a].geometry = field.geometry;
-    comp[a].values = field.components[a];
-  }
   // A subset of the samples suffices for a mean.
   const std::size_t step = std::max<std::size_t>(1, points.size() / 20000);
   for (std::size_t p = 0; p < points.size(); p += step) {
     const Eigen::Vector3d x = points[p].cast<double>();
-    const Eigen::Vector3d f(comp[0].sample(x), comp[1].sample(x), comp[2].sample(x));
+    Eigen::Vector3d f;
+    for (int a = 0; a < 3; ++a) f[a] = sample_trilinear(field.geometry, field.components[a], x);
     sum += f.norm();
     ++count;
   }
@@ -137,7 +133,9 @@ void normalize_field(VectorGrid& field, const std::vector<Eigen::Vector3f>& poin
   const double width = (1.0 + filter_passes) * field.geometry.spacing;
   const double scale = 1.0 / (mean * width);
   for (auto& c : field.components) {
-    for (double& v : c) v *= scale;
+    const std::int64_t n = static_cast<std::int64_t>(c.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < n; ++i) c[i] *= scale;
   }
 }
 

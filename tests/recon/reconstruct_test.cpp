@@ -56,7 +56,7 @@ TEST(ReconstructSurface, NoisySphereIsAccurateAndClosedForEveryQuadraticEnergy) 
     // Bounds: mean distance a quarter voxel, worst vertex one voxel.
     EXPECT_LT(e.mean, 0.25 * h);
     EXPECT_LT(e.max, 1.0 * h);
-    EXPECT_TRUE(r.stats.relative_residual <= 1e-6);
+    EXPECT_TRUE(r.stats.relative_residual <= ReconOptions{}.solver.tolerance);
     expect_closed_surface(r.mesh, 2);
   }
 }
