@@ -18,4 +18,11 @@ void advise_huge_pages(std::vector<T>& values) {
   advise_huge_pages(values.data(), values.capacity() * sizeof(T));
 }
 
+// For a process that allocates and frees grid-sized arrays one after another
+// (hos-recon): large blocks come from the heap and freed memory stays there,
+// so the next array reuses pages that are already mapped instead of faulting
+// in fresh zeroed ones (hos-recon at grid 256: user + system CPU time 15.8 ->
+// 12.6 s, peak memory +4%). Process-wide: call once, from a main().
+void keep_freed_memory_for_reuse();
+
 }  // namespace hos

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/exit_codes.h"
+#include "core/huge_pages.h"
 #include "core/ply_io.h"
 #include "pipeline/stage_main.h"
 #include "recon/reconstruct.h"
@@ -26,6 +27,7 @@ Eigen::Vector3f parse_vector(const std::string& flag, const std::string& text) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  hos::keep_freed_memory_for_reuse();
   hos::ReconOptions options;
   hos::OptionSet option_set("recon");
   hos::register_options(option_set, options);

@@ -208,10 +208,8 @@ ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vec
     run.coefficients = 27 * static_cast<std::int64_t>(e);
     run.interior = run.j > 0 && run.j < d.y() - 1 && run.k > 0 && run.k < d.z() - 1 &&
                    run.begin > 0 && run.end < d.x();
-    for (int q = 0; q < 27; ++q) {
-      for (std::int64_t t = 0; t < len; ++t) {
-        coefficients_[run.coefficients + q * len + t] = per_node[e + t][q];
-      }
+    for (std::int64_t t = 0; t < len; ++t) {
+      std::copy(per_node[e + t].begin(), per_node[e + t].end(), &coefficients_[run.coefficients + 27 * t]);
     }
     runs_.push_back(run);
     e = last;
@@ -249,7 +247,7 @@ void ScreeningTerm::add_row_sums(double scale, T* values) const {
     const int len = run.end - run.begin;
     for (int t = 0; t < len; ++t) {
       double sum = 0.0;
-      for (int q = 0; q < 27; ++q) sum += coefficients_[run.coefficients + q * len + t];
+      for (int q = 0; q < 27; ++q) sum += coefficients_[run.coefficients + 27 * t + q];
       values[run.first + t] += static_cast<T>(scale * sum);
     }
   }
@@ -261,28 +259,28 @@ void ScreeningTerm::add_target(double target, std::vector<double>& rhs) const {
 
 template <typename T>
 void ScreeningTerm::add_row(std::int64_t row, int begin, int end, const T* x, T* y_row) const {
-  const Eigen::Vector3i d = geometry_.dims;
   for (std::int64_t e = row_begin_[row]; e < row_begin_[row + 1]; ++e) {
     const Run& run = runs_[e];
-    const int len = run.end - run.begin;
-    const float* c = coefficients_.data() + run.coefficients - run.begin;  // c[i]: node i
+    const int i0 = std::max(run.begin, begin), i1 = std::min(run.end, end);
+    const float* c = coefficients_.data() + run.coefficients + 27 * (i0 - run.begin);
     if (run.interior) {
-      // Every neighbour inside the grid: one contiguous sweep per offset.
-      const int i0 = std::max(run.begin, begin), i1 = std::min(run.end, end);
+      // Every neighbour inside the grid: a fixed 27-term sum per node.
       const T* base = x + (run.first - run.begin);  // base[i]: node (i, j, k)
-      for (int q = 0; q < 27; ++q, c += len) {
-        const T* __restrict src = base + offsets_[q];
-        for (int i = i0; i < i1; ++i) y_row[i] += static_cast<T>(c[i]) * src[i];
+      for (int i = i0; i < i1; ++i, c += 27) {
+        T sum = 0;
+        for (int q = 0; q < 27; ++q) sum += static_cast<T>(c[q]) * base[i + offsets_[q]];
+        y_row[i] += sum;
       }
       continue;
     }
-    for (int q = 0; q < 27; ++q, c += len) {
-      const int dx = q % 3 - 1, jj = run.j + (q / 3) % 3 - 1, kk = run.k + q / 9 - 1;
-      // Neighbours outside the grid have zero coefficients: skip them.
-      if (jj < 0 || jj >= d.y() || kk < 0 || kk >= d.z()) continue;
-      const int i0 = std::max({run.begin, begin, -dx}), i1 = std::min({run.end, end, d.x() - dx});
-      const T* __restrict src = x + geometry_.index(dx, jj, kk);
-      for (int i = i0; i < i1; ++i) y_row[i] += static_cast<T>(c[i]) * src[i];
+    for (int i = i0; i < i1; ++i, c += 27) {
+      T sum = 0;
+      for (int q = 0; q < 27; ++q) {
+        const int ii = i + q % 3 - 1, jj = run.j + (q / 3) % 3 - 1, kk = run.k + q / 9 - 1;
+        // Neighbours outside the grid have zero coefficients: skip them.
+        if (geometry_.contains(ii, jj, kk)) sum += static_cast<T>(c[q]) * x[geometry_.index(ii, jj, kk)];
+      }
+      y_row[i] += sum;
     }
   }
 }

@@ -68,9 +68,9 @@ class ScreeningTerm {
  private:
   GridGeometry geometry_;
   double weight_ = 0.0;
-  // The touched nodes as runs of consecutive nodes along x; a run's 27
-  // coefficients (offsets (-1..1)^3, x fastest) are stored offset by offset,
-  // each as len contiguous values, so a row's product is a vectorised sweep.
+  // The touched nodes as runs of consecutive nodes along x (the rows a span
+  // meets are found without a search), each node's 27 coefficients (offsets
+  // (-1..1)^3, x fastest) contiguous.
   struct Run {
     std::int64_t first;       // node index of the run's first node
     int j, k, begin, end;     // grid row and nodes begin <= i < end

@@ -213,7 +213,7 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   reporter.begin("solve", 0);
   const double ell = reference_length(grid);
   ScalarGrid& f = result.function;
-  f = ScalarGrid(grid);
+  f.geometry = grid;  // values: the solves below size them (no grid-sized fill here)
   const SolverOptions& solver = options.solver;
   const auto run = [&](const EnergyOperator& op, const std::vector<double>& b, std::vector<double>& x,
                        const SolverOptions& so) {

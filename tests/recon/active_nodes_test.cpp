@@ -47,8 +47,12 @@ TEST(ActiveNodes, BandHoldsExactlyTheNodesNearTheSamples) {
         // A node within `voxels` per axis of a sample cell's corner is at most
         // (voxels + 1) * sqrt(3) from the sample; a node within voxels of the
         // sphere is within voxels per axis of some sample's cell (dense samples).
-        if (d > (voxels + 1) * std::sqrt(3.0)) EXPECT_FALSE(active) << i << " " << j << " " << k;
-        if (d < voxels) EXPECT_TRUE(active) << i << " " << j << " " << k;
+        if (d > (voxels + 1) * std::sqrt(3.0)) {
+          EXPECT_FALSE(active) << i << " " << j << " " << k;
+        }
+        if (d < voxels) {
+          EXPECT_TRUE(active) << i << " " << j << " " << k;
+        }
       }
     }
   }
@@ -115,11 +119,15 @@ TEST(ActiveNodes, BandedTransfersStayAdjointUpToTheVolumeFactor) {
   prolongate_add(coarse, e.data(), fine, band, pe.data());
   double lhs = 0, rhs = 0;
   for (std::int64_t i = 0; i < coarse.num_nodes(); ++i) {
-    if (!coarse_band.contains(i)) EXPECT_EQ(rc[i], 0.0);
+    if (!coarse_band.contains(i)) {
+      EXPECT_EQ(rc[i], 0.0);
+    }
     lhs += 8.0 * rc[i] * e[i];
   }
   for (std::int64_t i = 0; i < fine.num_nodes(); ++i) {
-    if (!band.contains(i)) EXPECT_EQ(pe[i], 0.0);
+    if (!band.contains(i)) {
+      EXPECT_EQ(pe[i], 0.0);
+    }
     rhs += r[i] * pe[i];
   }
   EXPECT_NEAR(lhs, rhs, 1e-9 * std::abs(rhs));
