@@ -194,12 +194,13 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   reporter.info(format_message("recon: grid ", grid.dims.x(), "x", grid.dims.y(), "x",
                                grid.dims.z(), ", voxel ", grid.spacing, ", ", points.size(),
                                " samples"));
-  VectorGrid field = splat_normals(grid, points, normals, weights);
-  box_filter(field, options.uniform_flux ? options.direction_filter_passes : options.filter_passes);
+  VectorGrid field;
   if (options.uniform_flux) {
-    std::vector<double> density = splat_density(grid, points, weights);
-    box_filter(grid, density, options.filter_passes);
-    use_density_magnitude(field, density);
+    field = density_scaled_field(grid, points, normals, weights, options.filter_passes,
+                                 options.direction_filter_passes);
+  } else {
+    field = splat_normals(grid, points, normals, weights);
+    box_filter(field, options.filter_passes);
   }
   normalize_field(field, points, options.filter_passes);
   ScalarGrid rhs = divergence(field);

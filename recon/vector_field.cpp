@@ -113,6 +113,49 @@ void use_density_magnitude(VectorGrid& field, const std::vector<double>& density
   }
 }
 
+VectorGrid density_scaled_field(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+                                const std::vector<Eigen::Vector3f>& normals,
+                                const std::vector<float>& weights, int density_passes,
+                                int direction_passes) {
+  std::vector<double> density = splat_density(geometry, points, weights);
+  box_filter(geometry, density, density_passes);
+  if (direction_passes % 4 != 0 || !geometry.can_coarsen(3)) {
+    VectorGrid field = splat_normals(geometry, points, normals, weights);
+    box_filter(field, direction_passes);
+    use_density_magnitude(field, density);
+    return field;
+  }
+  const GridGeometry coarse = geometry.coarsened();
+  VectorGrid directions = splat_normals(coarse, points, normals, weights);
+  box_filter(directions, direction_passes / 4);
+  // The coarse density tells where opposite orientations cancel.
+  std::vector<double> coarse_density = splat_density(coarse, points, weights);
+  box_filter(coarse, coarse_density, direction_passes / 4);
+
+  VectorGrid field{geometry, {}};
+  for (auto& c : field.components) assign_large(c, geometry.num_nodes());
+  const Eigen::Vector3i d = geometry.dims;
+#pragma omp parallel for collapse(2) schedule(static)
+  for (int k = 0; k < d.z(); ++k) {
+    for (int j = 0; j < d.y(); ++j) {
+      for (int i = 0; i < d.x(); ++i) {
+        const std::int64_t n = geometry.index(i, j, k);
+        if (density[n] == 0.0) continue;
+        const Eigen::Vector3d x = geometry.position(i, j, k);
+        Eigen::Vector3d v;
+        for (int a = 0; a < 3; ++a) v[a] = sample_trilinear(coarse, directions.components[a], x);
+        const double len = v.norm(), mass = sample_trilinear(coarse, coarse_density, x);
+        // As in use_density_magnitude: where orientations cancel (thin parts),
+        // keep the smoothed sum, here relative to the coarse density.
+        const double scale = len > 1e-3 * mass ? density[n] / len : mass > 0.0 ? density[n] / mass : 0.0;
+        const Eigen::Vector3d f = scale * v;
+        for (int a = 0; a < 3; ++a) field.components[a][n] = f[a];
+      }
+    }
+  }
+  return field;
+}
+
 void normalize_field(VectorGrid& field, const std::vector<Eigen::Vector3f>& points,
                      int filter_passes) {
   double sum = 0.0;

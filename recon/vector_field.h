@@ -29,6 +29,18 @@ VectorGrid splat_normals(const GridGeometry& geometry, const std::vector<Eigen::
 // the transition band where orientations are poor.
 void use_density_magnitude(VectorGrid& field, const std::vector<double>& density);
 
+// The field of use_density_magnitude built in one go: the density splatted
+// and filtered (density_passes) on the grid, the directions splatted and
+// filtered on the grid coarsened once with direction_passes / 4 passes (each
+// pass of the 3-tap box adds 2/3 of a squared spacing, so the smoothing has
+// the same width at 1/32 of the work), then interpolated to the nodes where
+// the density is not zero. Falls back to the fine grid when direction_passes
+// is not a multiple of 4 or the grid cannot be coarsened.
+VectorGrid density_scaled_field(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+                                const std::vector<Eigen::Vector3f>& normals,
+                                const std::vector<float>& weights, int density_passes,
+                                int direction_passes);
+
 // Splats the weights (1 per point if empty) as a scalar density.
 std::vector<double> splat_density(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
                                   const std::vector<float>& weights);
