@@ -144,20 +144,6 @@ void add_sparse_points(const Scene& scene, const std::vector<RenderedView>& view
   }
 }
 
-TriangleMesh merge_meshes(const Scene& scene, bool with_ground) {
-  TriangleMesh out;
-  for (std::size_t o = 0; o < scene.objects.size(); ++o) {
-    if (scene.is_ground[o] && !with_ground) continue;
-    const TriangleMesh& m = scene.objects[o].mesh;
-    const int offset = static_cast<int>(out.vertices.size());
-    out.vertices.insert(out.vertices.end(), m.vertices.begin(), m.vertices.end());
-    out.normals.insert(out.normals.end(), m.normals.begin(), m.normals.end());
-    out.colors.insert(out.colors.end(), m.colors.begin(), m.colors.end());
-    for (const Eigen::Vector3i& f : m.faces) out.faces.push_back(f + Eigen::Vector3i::Constant(offset));
-  }
-  return out;
-}
-
 void write_image(const fs::path& path, const cv::Mat& image) {
   bool ok = false;
   try {
@@ -340,8 +326,8 @@ void write_dataset(const fs::path& folder, const Scene& scene, const SceneOption
         write_image(tmp / "holdout" / "images" / image.name, data.holdout_views[k++].color);
       write_colmap_model(data.holdout, tmp / "holdout" / "sparse", ColmapFormat::kText);
     }
-    write_mesh_ply(tmp / "gt_mesh.ply", merge_meshes(scene, true));
-    write_mesh_ply(tmp / "gt_objects.ply", merge_meshes(scene, false));
+    write_mesh_ply(tmp / "gt_mesh.ply", merged_mesh(scene, true));
+    write_mesh_ply(tmp / "gt_objects.ply", merged_mesh(scene, false));
 
     BoundingBox box;
     nlohmann::json objects = nlohmann::json::array();

@@ -328,4 +328,18 @@ Scene make_scene(const SceneOptions& options) {
   return scene;
 }
 
+TriangleMesh merged_mesh(const Scene& scene, bool with_ground) {
+  TriangleMesh out;
+  for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+    if (scene.is_ground[o] && !with_ground) continue;
+    const TriangleMesh& m = scene.objects[o].mesh;
+    const int offset = static_cast<int>(out.vertices.size());
+    out.vertices.insert(out.vertices.end(), m.vertices.begin(), m.vertices.end());
+    out.normals.insert(out.normals.end(), m.normals.begin(), m.normals.end());
+    out.colors.insert(out.colors.end(), m.colors.begin(), m.colors.end());
+    for (const Eigen::Vector3i& f : m.faces) out.faces.push_back(f + Eigen::Vector3i::Constant(offset));
+  }
+  return out;
+}
+
 }  // namespace hos

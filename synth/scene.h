@@ -34,6 +34,10 @@ struct Scene {
 
 Scene make_scene(const SceneOptions& options);
 
+// The scene's object meshes (positions, normals, colours) in one mesh, the
+// ground plane included or not: the ground truth surface.
+TriangleMesh merged_mesh(const Scene& scene, bool with_ground);
+
 // Names make_scene accepts.
 std::vector<std::string> scene_names();
 

@@ -1,9 +1,7 @@
 // hos-eval from the command line: JSON output and exit codes.
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "core/exit_codes.h"
 #include "core/ply_io.h"
@@ -13,14 +11,8 @@
 namespace hos {
 namespace {
 
+using testing::read_text;
 using testing::shell_quote;
-
-std::string read_text(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 std::string exe() { return shell_quote((testing::bin_dir() / "hos-eval").string()); }
 

@@ -3,8 +3,6 @@
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
-#include <fstream>
-#include <sstream>
 
 #include "core/error.h"
 #include "tests/support/test_support.h"
@@ -68,11 +66,9 @@ TEST(GltfWriter, GlbPassesKhronosValidator) {
                                                 testing::shell_quote(modules.string()) + " " +
                                                 testing::shell_quote(glb.string()),
                                             report);
-    std::ifstream in(report);
-    std::stringstream text;
-    text << in.rdbuf();
-    EXPECT_EQ(status, 0) << format << ": " << text.str();
-    EXPECT_NE(text.str().find("\"numErrors\": 0"), std::string::npos) << text.str();
+    const std::string text = testing::read_text(report);
+    EXPECT_EQ(status, 0) << format << ": " << text;
+    EXPECT_NE(text.find("\"numErrors\": 0"), std::string::npos) << text;
   }
 }
 

@@ -17,18 +17,6 @@
 namespace hos {
 namespace {
 
-TriangleMesh merged_objects(const Scene& scene) {
-  TriangleMesh mesh;
-  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    if (scene.is_ground[i]) continue;
-    const TriangleMesh& part = scene.objects[i].mesh;
-    const int offset = static_cast<int>(mesh.vertices.size());
-    mesh.vertices.insert(mesh.vertices.end(), part.vertices.begin(), part.vertices.end());
-    for (const auto& f : part.faces) mesh.faces.push_back(f + Eigen::Vector3i::Constant(offset));
-  }
-  return mesh;
-}
-
 TEST(SynthScene, HeldOutViewsPsnrOnTheObject) {
   const Scene scene = make_scene(SceneOptions{});
   DatasetOptions options;
@@ -46,7 +34,7 @@ TEST(SynthScene, HeldOutViewsPsnrOnTheObject) {
     view.image = data.views[k++].color;
     views.push_back(std::move(view));
   }
-  const TriangleMesh mesh = merged_objects(scene);
+  const TriangleMesh mesh = merged_mesh(scene, false);
   const TextureResult result = texture_mesh(mesh, views, TextureOptions{}, null_reporter());
   const std::vector<RenderObject> textured = {testing::as_render_object(result.mesh)};
   RenderOptions unlit;
