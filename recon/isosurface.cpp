@@ -85,13 +85,14 @@ Loops make_loops(const CubeTables& t, int config, int joined) {
   for (int e = 0; e < 12; ++e) {
     if (next[e] < 0 || used[e]) continue;
     int len = 0;
-    for (int x = e; !used[x]; x = next[x]) {
+    // Each crossing edge is in one loop, each loop has 3+ of the 12 edges.
+    for (int x = e; !used[x] && n < 12; x = next[x]) {
       used[x] = true;
       loops.edges[n++] = static_cast<std::uint8_t>(x);
       ++len;
     }
     loops.length[loops.count++] = static_cast<std::uint8_t>(len);
-    if (loops.count == loops.length.size()) break;  // a cube has at most 4 loops (3+ of 12 edges each)
+    if (loops.count == loops.length.size()) break;
   }
   return loops;
 }
@@ -191,10 +192,8 @@ class CellMesher {
       pos_[e] = corner_position(c0) +
                 crossing_fraction(g_[c0], g_[c1]) * (corner_position(c1) - corner_position(c0));
     }
-    auto [a, b] = loops.count >= 2 ? find_tunnel(loops, joined) : std::pair{-1, -1};
-    if (a >= 0 && !stitch_tube(&loops.edges[start[a]], loops.length[a], &loops.edges[start[b]], loops.length[b])) {
-      a = b = -1;  // rare: two disks instead, still manifold
-    }
+    const auto [a, b] = loops.count >= 2 ? find_tunnel(loops, joined) : std::pair{-1, -1};
+    if (a >= 0) stitch_tube(&loops.edges[start[a]], loops.length[a], &loops.edges[start[b]], loops.length[b]);
     for (int l = 0; l < loops.count; ++l) {
       if (l != a && l != b) triangulate_loop(&loops.edges[start[l]], loops.length[l]);
     }
@@ -340,11 +339,9 @@ class CellMesher {
     return v;
   }
 
-  // Fans a loop around a vertex added inside the cell: the loop's centroid
-  // moved onto the trilinear isosurface by Newton steps along the gradient.
-  void fan_loop(const std::uint8_t* e, int n) {
-    Eigen::Vector3d p = Eigen::Vector3d::Zero();
-    for (int i = 0; i < n; ++i) p += pos_[e[i]] / n;
+  // Adds a vertex inside the cell near p (cell coordinates), moved onto the
+  // trilinear isosurface by Newton steps along the gradient; returns its id.
+  int add_interior(Eigen::Vector3d p) {
     Eigen::Vector3d gradient;
     for (int step = 0; step < 4; ++step) {
       const double v = trilinear(p, gradient);
@@ -356,6 +353,14 @@ class CellMesher {
     out_.interior.push_back((origin_ + h_ * p).cast<float>());
     out_.interior_normals.push_back(gradient.norm() > 0.0 ? Eigen::Vector3f(gradient.normalized().cast<float>())
                                                           : Eigen::Vector3f::UnitZ());
+    return id;
+  }
+
+  // Fans a loop around a vertex added inside the cell near its centroid.
+  void fan_loop(const std::uint8_t* e, int n) {
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    for (int i = 0; i < n; ++i) p += pos_[e[i]] / n;
+    const int id = add_interior(p);
     for (int i = 0; i < n; ++i) out_.faces.emplace_back(vertex_[e[i]], vertex_[e[(i + 1) % n]], id);
   }
 
@@ -412,9 +417,10 @@ class CellMesher {
   // b backward (so each loop keeps its direction and the tube its
   // orientation), with the rungs of least total length over all pairings of
   // the starts. Rungs between crossings on one cube face are not used (the
-  // neighbour across the face could use the same edge); returns false if
-  // the tube cannot avoid them.
-  bool stitch_tube(const std::uint8_t* a, int na, const std::uint8_t* b, int nb) {
+  // neighbour across the face could use the same edge); when the walk cannot
+  // avoid them, every rung is split at a vertex added on the trilinear
+  // isosurface near its midpoint, so no edge joins two crossings.
+  void stitch_tube(const std::uint8_t* a, int na, const std::uint8_t* b, int nb) {
     // Walk (i, j) from (0, 0) to (na, nb) over rungs a[i mod na] - b[(s - j)
     // mod nb]. Rungs must not repeat: the walk starts along a, ends along b
     // and never visits (na, 0).
@@ -422,13 +428,14 @@ class CellMesher {
     std::array<std::array<double, 13>, 13> cost;
     std::array<std::array<bool, 13>, 13> along_a;
     int s = 0;
+    bool split = false;
     const auto b_at = [&](int j) { return b[((s - j) % nb + nb) % nb]; };
     const auto fill = [&] {
       for (int i = 0; i <= na; ++i) {
         for (int j = 0; j <= nb; ++j) {
           const int ea = a[i % na], eb = b_at(j);
-          const double rung =
-              t_.share_face[ea][eb] || (i == na && j == 0) ? kBlocked : (pos_[ea] - pos_[eb]).norm();
+          const bool blocked = (i == na && j == 0) || (!split && t_.share_face[ea][eb]);
+          const double rung = blocked ? kBlocked : (pos_[ea] - pos_[eb]).norm();
           const double via_a = i > 0 && !(i == na && j == nb) ? cost[i - 1][j] : kBlocked;
           const double via_b = j > 0 && i > 0 ? cost[i][j - 1] : kBlocked;
           along_a[i][j] = via_a <= via_b;
@@ -437,28 +444,62 @@ class CellMesher {
       }
       return cost[na][nb];
     };
-    double best = kBlocked;
     int best_s = -1;
-    for (s = 0; s < nb; ++s) {
-      const double c = fill();
-      if (c < best) {
-        best = c;
-        best_s = s;
+    for (const bool allow_split : {false, true}) {
+      split = allow_split;
+      double best = kBlocked;
+      for (s = 0; s < nb; ++s) {
+        const double c = fill();
+        if (c < best) {
+          best = c;
+          best_s = s;
+        }
       }
+      if (best_s >= 0) break;
     }
-    if (best_s < 0) return false;
     s = best_s;
     fill();
-    for (int i = na, j = nb; i > 0 || j > 0;) {
-      if (along_a[i][j]) {
-        emit(a[(i - 1) % na], a[i % na], b_at(j));
-        --i;
+    std::array<std::pair<int, int>, 26> walk;  // rungs (i, j), first to last
+    int len = 0;
+    for (int i = na, j = nb;; along_a[i][j] ? --i : --j) {
+      walk[len++] = {i, j};
+      if (i == 0 && j == 0) break;
+    }
+    std::reverse(walk.begin(), walk.begin() + len);
+    std::array<int, 26> middle{};  // split rungs' vertices; the last rung is the first
+    if (split) {
+      for (int r = 0; r + 1 < len; ++r) {
+        const auto [i, j] = walk[r];
+        middle[r] = add_interior(0.5 * (pos_[a[i % na]] + pos_[b_at(j)]));
+      }
+      middle[len - 1] = middle[0];
+    }
+    const auto face = [&](int v0, int v1, int v2) { out_.faces.emplace_back(v0, v1, v2); };
+    for (int r = 0; r + 1 < len; ++r) {
+      const auto [i, j] = walk[r];
+      const int m0 = middle[r], m1 = middle[r + 1];
+      if (walk[r + 1].first > i) {
+        // Triangle a_i a_i+1 b_j, split: rung r on edge b_j-a_i, rung r+1 on a_i+1-b_j.
+        const int a0 = vertex_[a[i % na]], a1 = vertex_[a[(i + 1) % na]], b0 = vertex_[b_at(j)];
+        if (!split) {
+          face(a0, a1, b0);
+        } else {
+          face(a0, a1, m1);
+          face(a0, m1, m0);
+          face(m1, b0, m0);
+        }
       } else {
-        emit(b_at(j), b_at(j - 1), a[i % na]);
-        --j;
+        // Triangle b_j+1 b_j a_i, split: rung r on edge b_j-a_i, rung r+1 on a_i-b_j+1.
+        const int b1 = vertex_[b_at(j + 1)], b0 = vertex_[b_at(j)], a0 = vertex_[a[i % na]];
+        if (!split) {
+          face(b1, b0, a0);
+        } else {
+          face(b1, b0, m0);
+          face(b1, m0, m1);
+          face(m0, a0, m1);
+        }
       }
     }
-    return true;
   }
 
   const CubeTables& t_;

@@ -190,8 +190,8 @@ TEST(Isosurface, EveryCubeConfigurationGivesAClosedManifoldMatchingTheTrilinearT
     }
   }
   EXPECT_EQ(check.broken, 0);
-  // Near-critical values can fool the lattice; a handful at most.
-  EXPECT_LE(check.topology_mismatches, check.cells / 200) << check.topology_mismatches << " of " << check.cells;
+  // Near-critical values could fool the lattice (none do with this seed).
+  EXPECT_LE(check.topology_mismatches, check.cells / 1000) << check.topology_mismatches << " of " << check.cells;
 }
 
 TEST(Isosurface, AmbiguousFacesAndInteriorsAreResolvedBothWays) {
