@@ -5,6 +5,7 @@
 #include "recon/isosurface.h"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <array>
 #include <cmath>
@@ -257,6 +258,29 @@ TEST(Isosurface, RandomGridsGiveClosedConsistentlyOrientedManifolds) {
     EXPECT_EQ(t.euler() % 2, 0) << seed;
     EXPECT_GT(testing::signed_volume(mesh), 0.0) << seed;
   }
+}
+
+TEST(Isosurface, OutputDoesNotDependOnTheThreadCount) {
+  // A triply periodic surface on a grid large enough to be split across
+  // threads: the slab chunks must number vertices and faces the same way.
+  const ScalarGrid f = sample_field(72, 1.0, [](const Eigen::Vector3d& p) {
+    const double s = 2.0 * M_PI / 17.0;
+    return std::sin(s * p.x()) * std::cos(s * p.y()) + std::sin(s * p.y()) * std::cos(s * p.z()) +
+           std::sin(s * p.z()) * std::cos(s * p.x()) - 0.2;
+  });
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const TriangleMesh serial = extract_isosurface(f, 0.0);
+  omp_set_num_threads(std::max(threads, 3));
+  const TriangleMesh parallel = extract_isosurface(f, 0.0);
+  omp_set_num_threads(threads);
+  ASSERT_EQ(serial.num_vertices(), parallel.num_vertices());
+  ASSERT_EQ(serial.num_faces(), parallel.num_faces());
+  EXPECT_TRUE(serial.vertices == parallel.vertices);
+  EXPECT_TRUE(serial.faces == parallel.faces);
+  const auto t = testing::analyze_topology(parallel);
+  EXPECT_TRUE(t.watertight());
+  EXPECT_EQ(t.misoriented_edges, 0u);
 }
 
 }  // namespace
