@@ -8,7 +8,9 @@
 //   saddle value against the isovalue), which both cells sharing the face
 //   evaluate on the same numbers, so they agree;
 // - the segments chain into closed loops, each triangulated with the
-//   diagonals that maximise the smallest triangle quality;
+//   diagonals that maximise the smallest triangle quality, never one between
+//   two crossings on a cube face (the neighbour could pick it too); loops
+//   that cannot avoid one are fanned around a vertex added inside the cell;
 // - where the trilinear interpolant joins two loops through the cell
 //   interior (a tunnel, found by sweeping the cell in slices), the two loops
 //   are stitched into a tube instead of two disks.
