@@ -262,6 +262,66 @@ TEST(Isosurface, RandomGridsGiveClosedConsistentlyOrientedManifolds) {
   }
 }
 
+// Euler characteristic of {f < 0} for the trilinear interpolant of the grid
+// and its ghost ring, from the cubical complex of the inside points of a
+// lattice n points per cell (every cell whose corners are all inside).
+long lattice_euler_characteristic(const ScalarGrid& f, int n) {
+  const Eigen::Vector3i d = f.geometry.dims;
+  const Eigen::Vector3i m = (d + Eigen::Vector3i::Constant(1)) * n + Eigen::Vector3i::Constant(1);
+  const auto id = [&](int i, int j, int k) { return (std::size_t(k) * m.y() + j) * m.x() + i; };
+  std::vector<char> in(std::size_t(m.x()) * m.y() * m.z());
+  for (int k = 0; k < m.z(); ++k) {
+    for (int j = 0; j < m.y(); ++j) {
+      for (int i = 0; i < m.x(); ++i) {
+        const Eigen::Vector3d x = Eigen::Vector3d(i, j, k) / n - Eigen::Vector3d::Ones();
+        const Eigen::Vector3i cell = x.array().floor().cast<int>().min((d - Eigen::Vector3i::Ones()).array());
+        const Eigen::Vector3d t = x - cell.cast<double>();
+        double v = 0.0;
+        for (int c = 0; c < 8; ++c) {
+          v += f.at(cell.x() + (c & 1), cell.y() + ((c >> 1) & 1), cell.z() + (c >> 2)) *
+               (c & 1 ? t.x() : 1 - t.x()) * (c & 2 ? t.y() : 1 - t.y()) * (c & 4 ? t.z() : 1 - t.z());
+        }
+        in[id(i, j, k)] = v < 0.0;
+      }
+    }
+  }
+  long chi = 0;
+  for (int k = 0; k < m.z(); ++k) {
+    for (int j = 0; j < m.y(); ++j) {
+      for (int i = 0; i < m.x(); ++i) {
+        for (int span = 0; span < 8; ++span) {  // the cell from (i, j, k) along the axes in span's bits
+          const int sx = span & 1, sy = (span >> 1) & 1, sz = span >> 2;
+          if (i + sx >= m.x() || j + sy >= m.y() || k + sz >= m.z()) continue;
+          bool all = true;
+          for (int c = 0; c < 8 && all; ++c) {
+            if ((c & ~span) == 0) all = in[id(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2))];
+          }
+          if (all) chi += (sx + sy + sz) % 2 ? -1 : 1;
+        }
+      }
+    }
+  }
+  return chi;
+}
+
+TEST(Isosurface, RandomGridsMatchTheTopologyOfTheTrilinearInterpolant) {
+  // The boundary of a solid has twice its Euler characteristic: faces,
+  // tunnels and interiors must all be resolved as the interpolant does. (A
+  // lattice of 8 or 16 points per cell misses small features in 5 and 3 of
+  // these 8 grids; at 32 all agree.)
+  for (unsigned seed = 21; seed <= 28; ++seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    GridGeometry g;
+    g.dims = Eigen::Vector3i(7, 6, 8);
+    ScalarGrid f(g);
+    for (double& v : f.values) v = uniform(rng);
+    const auto t = testing::analyze_topology(extract_isosurface(f, 0.0));
+    ASSERT_TRUE(t.watertight());
+    EXPECT_EQ(t.euler(), 2 * lattice_euler_characteristic(f, 32)) << seed;
+  }
+}
+
 TEST(Isosurface, OutputDoesNotDependOnTheThreadCount) {
   // A triply periodic surface on a grid large enough to be split across
   // threads: the slab chunks must number vertices and faces the same way.
