@@ -1,10 +1,21 @@
-// Isosurface extraction (paper sec. 4.4). The paper adapts Lewiner's marching
-// cubes; hos splits every cube into the six tetrahedra of the Freudenthal
-// (Kuhn) triangulation around its main diagonal instead. Linear interpolation
-// in a tetrahedron is unambiguous and neighbouring cubes split their shared
-// faces the same way, so the surface is watertight and 2-manifold by
-// construction, without the ambiguity tables of marching cubes; the price is
-// about twice as many triangles.
+// Isosurface extraction (paper sec. 4.4): marching cubes with the topology of
+// the trilinear interpolant, after Lewiner et al.'s case handling, derived
+// per cell rather than read from hand-written case tables:
+// - one vertex per grid edge whose ends lie on different sides of the
+//   isovalue, shared by the four cells around that edge;
+// - on each cube face the crossings are joined into segments; a face with
+//   four crossings is resolved by the asymptotic decider (the bilinear
+//   saddle value against the isovalue), which both cells sharing the face
+//   evaluate on the same numbers, so they agree;
+// - the segments chain into closed loops, each triangulated with the
+//   diagonals that maximise the smallest triangle quality, never one between
+//   two crossings on a cube face (the neighbour could pick it too); loops
+//   that cannot avoid one are fanned around a vertex added inside the cell;
+// - where the trilinear interpolant joins two loops through the cell
+//   interior (a tunnel, found by sweeping the cell in slices), the two loops
+//   are stitched into a tube instead of two disks.
+// The result has no non-manifold edges, faces oriented consistently, and is
+// watertight wherever the isosurface is closed.
 #pragma once
 
 #include "core/types.h"
@@ -15,7 +26,9 @@ namespace hos::recon {
 // Extracts {f = isovalue} with faces counter-clockwise seen from the side
 // where f > isovalue (outside, since f increases outward). The ghost ring
 // around the grid (value 0) is included, so the surface closes at the domain
-// boundary when 0 is above the isovalue.
+// boundary when 0 is above the isovalue. Vertex normals are the gradient of f
+// (central differences at the nodes, interpolated along the edge), pointing
+// outward.
 TriangleMesh extract_isosurface(const ScalarGrid& f, double isovalue);
 
 // Area-weighted vertex normals from the faces.

@@ -294,7 +294,6 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
         trim_far_from_samples(result.mesh, points, options.trim.distance_voxels * grid.spacing,
                               options.trim.min_component_fraction);
     stats.faces_trimmed = trim.faces_removed_far + trim.faces_removed_small;
-    compute_vertex_normals(result.mesh);
   }
   reporter.end();
   stats.seconds_mesh = seconds_since(t_mesh);
