@@ -708,17 +708,4 @@ TriangleMesh extract_isosurface(const ScalarGrid& f, double isovalue) {
   return mesh;
 }
 
-void compute_vertex_normals(TriangleMesh& mesh) {
-  mesh.normals.assign(mesh.vertices.size(), Eigen::Vector3f::Zero());
-  for (const auto& face : mesh.faces) {
-    const Eigen::Vector3f n = (mesh.vertices[face[1]] - mesh.vertices[face[0]])
-                                  .cross(mesh.vertices[face[2]] - mesh.vertices[face[0]]);
-    for (int c = 0; c < 3; ++c) mesh.normals[face[c]] += n;
-  }
-  for (auto& n : mesh.normals) {
-    const float len = n.norm();
-    if (len > 0.0f) n /= len;
-  }
-}
-
 }  // namespace hos::recon

@@ -31,7 +31,4 @@ namespace hos::recon {
 // outward.
 TriangleMesh extract_isosurface(const ScalarGrid& f, double isovalue);
 
-// Area-weighted vertex normals from the faces.
-void compute_vertex_normals(TriangleMesh& mesh);
-
 }  // namespace hos::recon
