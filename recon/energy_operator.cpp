@@ -413,16 +413,15 @@ double EnergyOperator::l1_diagonal(std::int64_t node) const {
 }
 
 template <typename T>
-void EnergyOperator::l1_diagonals(std::vector<T>& l1) const {
-  assign_large(l1, geometry_.num_nodes());
+void EnergyOperator::l1_diagonals(T* l1) const {
   for_each_active_range(geometry_, *active_, [&](std::int64_t first, std::int64_t last) {
     for (std::int64_t i = first; i < last; ++i) l1[i] = static_cast<T>(l1_diagonal(i));
   });
-  screening_->add_row_sums(1.0, l1.data());
+  screening_->add_row_sums(1.0, l1);
 }
 
-template void EnergyOperator::l1_diagonals<float>(std::vector<float>&) const;
-template void EnergyOperator::l1_diagonals<double>(std::vector<double>&) const;
+template void EnergyOperator::l1_diagonals<float>(float*) const;
+template void EnergyOperator::l1_diagonals<double>(double*) const;
 
 EnergyOperator EnergyOperator::coarsened() const {
   const GridGeometry coarse = geometry_.coarsened();

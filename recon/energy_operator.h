@@ -114,9 +114,10 @@ class EnergyOperator {
   template <typename T>
   void jacobi(const T* b, const T* x, const T* inv_l1, T* out) const;
   // Per-node l1 row sums (>= |a_ii| + sum |a_ij|) of every term: the l1-Jacobi smoother.
-  // Computed for the active nodes, zero elsewhere.
+  // Written for the active nodes (and the screened ones) of an array of
+  // num_nodes() values.
   template <typename T>
-  void l1_diagonals(std::vector<T>& l1) const;
+  void l1_diagonals(T* l1) const;
   // The same energy rediscretized on the coarsened grid (weights restricted,
   // screening rediscretised, active nodes coarsened).
   EnergyOperator coarsened() const;

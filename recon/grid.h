@@ -9,7 +9,11 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <cstdlib>
+#include <memory>
 #include <vector>
+
+#include "core/huge_pages.h"
 
 namespace hos::recon {
 
@@ -46,6 +50,36 @@ int admissible_dims(int n, int levels);
 // arrays cost more than the arithmetic on them otherwise.
 void assign_large(std::vector<double>& v, std::size_t n, double value = 0.0);
 void assign_large(std::vector<float>& v, std::size_t n, float value = 0.0f);
+
+// n zeros from calloc, for work arrays of which a banded solve touches only
+// the band: the system maps a page on its first use, so the pages outside the
+// band cost nothing (std::vector would write every one of them). Large ones
+// ask for huge pages like assign_large (without them the stencil sweeps'
+// TLB misses cost more than the pages saved).
+template <typename T>
+class ZeroedArray {
+ public:
+  ZeroedArray() = default;
+  explicit ZeroedArray(std::size_t n)
+      : values_(static_cast<T*>(std::calloc(n == 0 ? 1 : n, sizeof(T)))), size_(n) {
+    if (!values_) throw std::bad_alloc();
+    advise_huge_pages(values_.get(), n * sizeof(T));
+  }
+  std::size_t size() const { return size_; }
+  T* data() const { return values_.get(); }
+  T& operator[](std::size_t i) const { return values_[i]; }
+  void swap(ZeroedArray& other) noexcept {
+    values_.swap(other.values_);
+    std::swap(size_, other.size_);
+  }
+
+ private:
+  struct Free {
+    void operator()(T* p) const { std::free(p); }
+  };
+  std::unique_ptr<T[], Free> values_;
+  std::size_t size_ = 0;
+};
 
 // True if a loop over this many nodes is worth splitting across threads: on
 // the small coarse levels a thread barrier costs more than the work (and much

@@ -11,7 +11,7 @@ namespace {
 
 // a . b over the active nodes of op (the vectors are zero elsewhere, or, for
 // the solution, fixed there).
-double dot(const EnergyOperator& op, const std::vector<double>& a, const std::vector<double>& b) {
+double dot(const EnergyOperator& op, const double* a, const double* b) {
   const GridGeometry& g = op.geometry();
   const std::vector<NodeSpan>& spans = op.active().spans();
   const std::int64_t n = static_cast<std::int64_t>(spans.size());
@@ -26,7 +26,7 @@ double dot(const EnergyOperator& op, const std::vector<double>& a, const std::ve
 }
 
 // y = a * x + y on the active nodes.
-void axpy(const EnergyOperator& op, double a, const std::vector<double>& x, std::vector<double>& y) {
+void axpy(const EnergyOperator& op, double a, const double* x, double* y) {
   for_each_active_range(op.geometry(), op.active(), [&](std::int64_t first, std::int64_t last) {
     for (std::int64_t i = first; i < last; ++i) y[i] += a * x[i];
   });
@@ -45,15 +45,13 @@ MultigridPreconditioner::MultigridPreconditioner(const EnergyOperator& fine, int
     ops.push_back(ops.back().coarsened());
   }
   for (auto& op : ops) {
-    Level level{std::move(op), {}, {}, {}, {}};
-    level.op.l1_diagonals(level.inv_l1);
+    const std::size_t n = static_cast<std::size_t>(op.geometry().num_nodes());
+    Level level{std::move(op), ZeroedArray<float>(n), ZeroedArray<float>(n), ZeroedArray<float>(n),
+                ZeroedArray<float>(n)};
+    level.op.l1_diagonals(level.inv_l1.data());
     for_each_active_range(level.op.geometry(), level.op.active(), [&](std::int64_t first, std::int64_t last) {
       for (std::int64_t i = first; i < last; ++i) level.inv_l1[i] = 1.0f / level.inv_l1[i];
     });
-    const std::size_t n = level.inv_l1.size();
-    assign_large(level.b, n);
-    assign_large(level.x, n);
-    assign_large(level.scratch, n);
     levels_.push_back(std::move(level));
   }
 }
@@ -88,14 +86,13 @@ void MultigridPreconditioner::v_cycle(int level) const {
   smooth(l, smoothing_steps_, false);
 }
 
-void MultigridPreconditioner::apply(const std::vector<double>& r, std::vector<double>& z) const {
+void MultigridPreconditioner::apply(const double* r, double* z) const {
   const Level& l = levels_.front();
   const GridGeometry& g = l.op.geometry();
   for_each_active_range(g, l.op.active(), [&](std::int64_t first, std::int64_t last) {
     for (std::int64_t i = first; i < last; ++i) l.b[i] = static_cast<float>(r[i]);
   });
   v_cycle(0);
-  if (z.size() != r.size()) assign_large(z, r.size());
   for_each_active_range(g, l.op.active(), [&](std::int64_t first, std::int64_t last) {
     for (std::int64_t i = first; i < last; ++i) z[i] = l.x[i];
   });
@@ -115,15 +112,16 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
   const MultigridPreconditioner multigrid(op, options.multigrid ? options.max_levels : 1,
                                           options.smoothing_steps);
   report.levels = multigrid.num_levels();
-  std::vector<double> inv_l1;
+  ZeroedArray<double> inv_l1;
   if (!options.multigrid) {
-    op.l1_diagonals(inv_l1);
+    inv_l1 = ZeroedArray<double>(n);
+    op.l1_diagonals(inv_l1.data());
     for_each_active_range(op.geometry(), op.active(), [&](std::int64_t first, std::int64_t last) {
       for (std::int64_t i = first; i < last; ++i) inv_l1[i] = 1.0 / inv_l1[i];
     });
   }
   const auto for_active = [&](auto&& fn) { for_each_active_range(op.geometry(), op.active(), fn); };
-  const auto precondition = [&](const std::vector<double>& r, std::vector<double>& z) {
+  const auto precondition = [&](const double* r, double* z) {
     if (options.multigrid) {
       multigrid.apply(r, z);
     } else {
@@ -134,7 +132,7 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
   };
 
   // The residual is relative to |b| over the rows being solved.
-  double b_norm = std::sqrt(dot(op, b, b));
+  double b_norm = std::sqrt(dot(op, b.data(), b.data()));
   if (!std::isfinite(b_norm)) throw NumericalError("recon", "right-hand side is not finite");
   if (b_norm == 0.0 && op.active().is_all()) {
     x.assign(n, 0.0);
@@ -142,11 +140,16 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
     report.converged = true;
     return report;
   }
-  std::vector<double> r, z, p, ap;
-  for (auto* v : {&r, &z, &p, &ap}) assign_large(*v, n);
+  // Only the active nodes of these are written (and p, zero elsewhere, read
+  // around them).
+  const ZeroedArray<double> r_values(n), z_values(n), p_values(n), ap_values(n);
+  double* const r = r_values.data();
+  double* const z = z_values.data();
+  double* const p = p_values.data();
+  double* const ap = ap_values.data();
   report.seconds_setup = seconds_since(t_setup);
   const auto t_iterations = Clock::now();
-  op.residual(b.data(), x.data(), r.data());
+  op.residual(b.data(), x.data(), r);
   if (b_norm == 0.0) {
     // A band whose rows have no data of their own: only the values held
     // outside drive it, so the first residual sets the scale.
@@ -158,20 +161,20 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
     }
   }
   precondition(r, z);
-  std::copy(z.begin(), z.end(), p.begin());
+  for_active([&](std::int64_t first, std::int64_t last) { std::copy(z + first, z + last, p + first); });
   double rz = dot(op, r, z);
   report.relative_residual = std::sqrt(dot(op, r, r)) / b_norm;
   for (int it = 0; it < options.max_iterations && report.relative_residual > options.tolerance;
        ++it) {
     reporter.throw_if_cancelled();
-    op.apply(p.data(), ap.data());
+    op.apply(p, ap);
     const double pap = dot(op, p, ap);
     if (!(pap > 0.0) || !std::isfinite(pap)) {
       throw NumericalError("recon", "conjugate gradients lost positive definiteness (p'Ap = " +
                                         std::to_string(pap) + ")");
     }
     const double alpha = rz / pap;
-    axpy(op, alpha, p, x);
+    axpy(op, alpha, p, x.data());
     axpy(op, -alpha, ap, r);
     report.relative_residual = std::sqrt(dot(op, r, r)) / b_norm;
     report.residual_history.push_back(report.relative_residual);

@@ -37,14 +37,15 @@ class MultigridPreconditioner {
   // Builds up to max_levels levels (0 = while every axis keeps >= 3 nodes).
   MultigridPreconditioner(const EnergyOperator& fine, int max_levels, int smoothing_steps);
   int num_levels() const { return static_cast<int>(levels_.size()); }
-  // z = M^-1 r by one V-cycle from a zero initial guess.
-  void apply(const std::vector<double>& r, std::vector<double>& z) const;
+  // z = M^-1 r by one V-cycle from a zero initial guess, on the active nodes
+  // of the operator (arrays of its grid's size; z is not written elsewhere).
+  void apply(const double* r, double* z) const;
 
  private:
   struct Level {
     EnergyOperator op;
-    std::vector<float> inv_l1;     // 1 / l1 row sums
-    mutable std::vector<float> b, x, scratch;
+    ZeroedArray<float> inv_l1;     // 1 / l1 row sums
+    mutable ZeroedArray<float> b, x, scratch;
   };
   // Levels_[level].x = approximately A^-1 levels_[level].b.
   void v_cycle(int level) const;
