@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/recon/shape_samples.h"
+
 #include <cmath>
 
 #include "recon/energy_operator.h"
@@ -11,12 +13,7 @@
 namespace hos::recon {
 namespace {
 
-GridGeometry cube_grid(int n, double h) {
-  GridGeometry g;
-  g.dims = Eigen::Vector3i::Constant(n);
-  g.spacing = h;
-  return g;
-}
+using testing::cube_grid;
 
 // Points on a sphere of radius r around the grid's centre.
 std::vector<Eigen::Vector3f> sphere_points(const GridGeometry& g, double r, int n) {

@@ -3,15 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/recon/shape_samples.h"
+
 namespace hos::recon {
 namespace {
 
-GridGeometry grid(int n, double h) {
-  GridGeometry g;
-  g.dims = Eigen::Vector3i::Constant(n);
-  g.spacing = h;
-  return g;
-}
+using testing::cube_grid;
 
 std::vector<double> sample(const GridGeometry& g, double (*f)(const Eigen::Vector3d&)) {
   std::vector<double> v(g.num_nodes());
@@ -22,7 +19,7 @@ std::vector<double> sample(const GridGeometry& g, double (*f)(const Eigen::Vecto
 }
 
 TEST(EnergyOperator, MembraneIsMinusLaplacianOnQuadratics) {
-  const GridGeometry g = grid(11, 0.1);
+  const GridGeometry g = cube_grid(11, 0.1);
   const EnergyOperator op(g, SmoothnessEnergy::kMembrane, 0.0);
   const auto f = sample(g, [](const Eigen::Vector3d& p) { return p.x() * p.x() + 2 * p.y() * p.z(); });
   std::vector<double> y;
@@ -31,7 +28,7 @@ TEST(EnergyOperator, MembraneIsMinusLaplacianOnQuadratics) {
 }
 
 TEST(EnergyOperator, HessianTermVanishesOnQuadraticsAndMeasuresQuartics) {
-  const GridGeometry g = grid(13, 0.1);
+  const GridGeometry g = cube_grid(13, 0.1);
   const double w = 0.5;
   // A = -Lap + 2 w H; on x^2 y^2 at the centre: H f = d^4f/dx^4 + ... + 2 * 2 * (fxy)_xy...
   const EnergyOperator full(g, SmoothnessEnergy::kFullHessian, w);
@@ -52,7 +49,7 @@ TEST(EnergyOperator, HessianTermVanishesOnQuadraticsAndMeasuresQuartics) {
 }
 
 TEST(EnergyOperator, IsSymmetric) {
-  const GridGeometry g = grid(9, 0.2);
+  const GridGeometry g = cube_grid(9, 0.2);
   std::vector<double> tv_weights(g.num_nodes());
   for (std::size_t i = 0; i < tv_weights.size(); ++i) tv_weights[i] = 1.0 + (i % 7) * 0.3;
   for (const auto& op : {EnergyOperator(g, SmoothnessEnergy::kFullHessian, 0.3),
@@ -68,7 +65,7 @@ TEST(EnergyOperator, IsSymmetric) {
 }
 
 TEST(EnergyOperator, TransferOperatorsAreAdjointUpToTheVolumeFactor) {
-  GridGeometry fine = grid(15, 0.1);
+  GridGeometry fine = cube_grid(15, 0.1);
   const GridGeometry coarse = fine.coarsened();
   ASSERT_EQ(coarse.dims, Eigen::Vector3i::Constant(7));
   std::vector<double> r(fine.num_nodes()), e(coarse.num_nodes()), rc, pe(fine.num_nodes(), 0.0);

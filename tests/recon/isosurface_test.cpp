@@ -30,6 +30,19 @@ ScalarGrid sample_field(int n, double spacing, const std::function<double(const 
 }
 
 // Largest angle in degrees between a vertex normal and the analytic normal.
+// A grid of the given dims and spacing with uniform random values in [-1, 1]
+// (rounded to -1, 0, 1 if round_values).
+ScalarGrid random_grid(unsigned seed, const Eigen::Vector3i& dims, double spacing, bool round_values) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  GridGeometry g;
+  g.dims = dims;
+  g.spacing = spacing;
+  ScalarGrid f(g);
+  for (double& v : f.values) v = round_values ? std::round(uniform(rng)) : uniform(rng);
+  return f;
+}
+
 double max_normal_error_degrees(const TriangleMesh& mesh,
                                 const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& normal) {
   double worst = 0.0;
@@ -242,15 +255,9 @@ TEST(Isosurface, AmbiguousFacesAndInteriorsAreResolvedBothWays) {
 
 TEST(Isosurface, RandomGridsGiveClosedConsistentlyOrientedManifolds) {
   for (unsigned seed = 1; seed <= 12; ++seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-    GridGeometry g;
-    g.dims = Eigen::Vector3i(6, 7, 6);
-    g.spacing = 0.5;
-    ScalarGrid f(g);
     // Half the seeds use values -1, 0, 1 only: many nodes exactly at the
     // isovalue, where crossings sit next to the node.
-    for (double& v : f.values) v = seed % 2 ? uniform(rng) : std::round(uniform(rng));
+    const ScalarGrid f = random_grid(seed, Eigen::Vector3i(6, 7, 6), 0.5, seed % 2 == 0);
     const TriangleMesh mesh = extract_isosurface(f, 0.0);
     mesh.check_consistent();
     const auto t = testing::analyze_topology(mesh);
@@ -310,12 +317,7 @@ TEST(Isosurface, RandomGridsMatchTheTopologyOfTheTrilinearInterpolant) {
   // lattice of 8 or 16 points per cell misses small features in 5 and 3 of
   // these 8 grids; at 32 all agree.)
   for (unsigned seed = 21; seed <= 28; ++seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-    GridGeometry g;
-    g.dims = Eigen::Vector3i(7, 6, 8);
-    ScalarGrid f(g);
-    for (double& v : f.values) v = uniform(rng);
+    const ScalarGrid f = random_grid(seed, Eigen::Vector3i(7, 6, 8), 1.0, false);
     const auto t = testing::analyze_topology(extract_isosurface(f, 0.0));
     ASSERT_TRUE(t.watertight());
     EXPECT_EQ(t.euler(), 2 * lattice_euler_characteristic(f, 32)) << seed;

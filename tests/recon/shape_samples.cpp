@@ -7,6 +7,14 @@
 #include <set>
 
 namespace hos::recon::testing {
+
+GridGeometry cube_grid(int n, double h) {
+  GridGeometry g;
+  g.dims = Eigen::Vector3i::Constant(n);
+  g.spacing = h;
+  return g;
+}
+
 namespace {
 
 void add(PointCloud& c, const Eigen::Vector3d& p, const Eigen::Vector3d& n, double noise,

@@ -6,8 +6,12 @@
 #include <random>
 
 #include "core/types.h"
+#include "recon/grid.h"
 
 namespace hos::recon::testing {
+
+// A grid of n^3 nodes with spacing h at the origin.
+GridGeometry cube_grid(int n, double h);
 
 // n points on the unit-speed parametrised surfaces below, with Gaussian noise
 // of standard deviation noise along the normal; exact outward normals.
