@@ -3,9 +3,12 @@
 // it: its 3D point projects onto a pixel of the other view whose depth is
 // within max_depth_error (relative), whose normal is within
 // max_normal_error_deg, and whose own point projects back within
-// max_reprojection_error_px. Agreeing pixels are merged into one point
-// (averaged position, normal and colour) and marked used, so every surface
-// point is emitted once; the number of agreeing views is its confidence.
+// max_reprojection_error_px. Agreeing views count only from distinct
+// viewpoints (min_triangulation_angle_deg apart at the point); a point that
+// exactly two such views agree on survives under the two_view_* rules.
+// Agreeing pixels are merged into one point (averaged position, normal and
+// colour) and marked used, so every surface point is emitted once; the number
+// of distinct agreeing viewpoints is its confidence.
 #pragma once
 
 #include <vector>

@@ -26,7 +26,7 @@ void register_options(OptionSet& set, MvsOptions& o) {
   set.add("window_step", o.window_step, "window sampling step (pixels)", 1, 15);
   set.add("iterations", o.iterations, "PatchMatch sweeps", 1, 20);
   set.add("min_triangulation_angle_deg", o.min_triangulation_angle_deg,
-          "smallest triangulation angle of a source view", 0.0, 60.0);
+          "smallest triangulation angle of a source view, and between views counted as agreeing in fusion", 0.0, 60.0);
   set.add("max_cost", o.max_cost, "largest accepted matching cost (1 - NCC)", 0.0, 2.0);
   set.add("min_texture_std", o.min_texture_std, "window intensity std below which a pixel is textureless",
           0.0, 1.0);
@@ -36,6 +36,8 @@ void register_options(OptionSet& set, MvsOptions& o) {
   set.add("two_view_max_cost", o.two_view_max_cost,
           "also keep points one other view confirms when both pixels' cost (1 - NCC) is at most this (0 = never)",
           0.0, 2.0);
+  set.add("two_view_max_views_without_depth", o.two_view_max_views_without_depth,
+          "two-view points: other views covering the point that may have no depth there", 0, 1024);
   set.add("max_depth_error", o.max_depth_error, "relative depth difference to agree", 1e-4, 0.5);
   set.add("max_normal_error_deg", o.max_normal_error_deg, "normal angle difference to agree (degrees)", 1.0,
           90.0);

@@ -63,12 +63,19 @@ void expect_fused(const PointCloud& cloud, const std::map<int, int>& expected) {
   for (const auto& [u, count] : columns) EXPECT_EQ(count, kHeight) << "column " << u;  // each point once
 }
 
-// The tests state their threshold: a point needs the reference and two more views.
-MvsOptions three_views_must_agree() {
+// The tests state their thresholds: a point needs the reference and
+// min_views - 1 more views; neighbouring cameras are atan(0.1 / 5) = 1.15
+// degrees apart at the plane, so they count as distinct below that angle;
+// two-view points off unless a test turns them on.
+MvsOptions views_must_agree(int min_views) {
   MvsOptions options;
-  options.min_consistent_views = 2;
+  options.min_consistent_views = min_views - 1;
+  options.min_triangulation_angle_deg = 1.0;
+  options.two_view_max_cost = 0.0;
   return options;
 }
+
+MvsOptions three_views_must_agree() { return views_must_agree(3); }
 
 TEST(Fusion, AgreeingPlaneIsFusedOncePerPointWithItsViewCount) {
   const MvsOptions options = three_views_must_agree();
@@ -83,9 +90,7 @@ TEST(Fusion, AgreeingPlaneIsFusedOncePerPointWithItsViewCount) {
 }
 
 TEST(Fusion, StricterConsistencyKeepsOnlyPointsSeenByMoreViews) {
-  MvsOptions options;
-  options.min_consistent_views = 3;
-  expect_fused(fuse_depth_maps(plane_views(), options, null_reporter()),
+  expect_fused(fuse_depth_maps(plane_views(), views_must_agree(4), null_reporter()),
                expected_confidence({true, true, true, true}, 4));
 }
 
@@ -104,15 +109,50 @@ TEST(Fusion, ViewWithWrongNormalsDoesNotCount) {
                expected_confidence({true, false, true, true}, 3));
 }
 
-TEST(Fusion, TwoViewPointsNeedALowCostOnBothPixels) {
+// Views 0 and 1 see the plane; views 2 and 3 see nearer things that agree
+// with nothing (depths 4 and 3), which hide the plane from them.
+std::vector<FusionView> plane_seen_by_two_views() {
   auto views = plane_views();
-  for (int j = 2; j < kViews; ++j) views[j].map.depth.setTo(0);  // only views 0 and 1 see the plane
+  views[2].map.depth.setTo(4.0);
+  views[3].map.depth.setTo(3.0);
+  return views;
+}
+
+TEST(Fusion, TwoViewPointsNeedALowCostOnBothPixels) {
+  auto views = plane_seen_by_two_views();
   MvsOptions options = three_views_must_agree();
   EXPECT_EQ(fuse_depth_maps(views, options, null_reporter()).size(), 0u);  // two_view_max_cost 0: never
   options.two_view_max_cost = 0.2;  // the maps' cost is 0.1
   expect_fused(fuse_depth_maps(views, options, null_reporter()), expected_confidence({true, true, false, false}, 2));
   views[1].map.cost.setTo(0.3);  // one pixel of the pair matched worse than allowed
   EXPECT_EQ(fuse_depth_maps(views, options, null_reporter()).size(), 0u);
+}
+
+TEST(Fusion, TwoViewPointsAreDroppedWhereAnotherViewSeesNothing) {
+  auto views = plane_seen_by_two_views();
+  MvsOptions options = three_views_must_agree();
+  options.two_view_max_cost = 0.2;
+  // View 2 has no depth on its right half (image columns 32..63, which see
+  // the plane's columns 36..67 of view 0); view 3 still sees a nearer thing.
+  views[2].map.depth.colRange(kWidth / 2, kWidth).setTo(0);
+  std::map<int, int> expected = expected_confidence({true, true, false, false}, 2);
+  for (int u = kWidth / 2 + 2 * kShift; u < kWidth + 2 * kShift; ++u) expected.erase(u);
+  expect_fused(fuse_depth_maps(views, options, null_reporter()), expected);
+  // Allowing one such view keeps them all again.
+  options.two_view_max_views_without_depth = 1;
+  expect_fused(fuse_depth_maps(views, options, null_reporter()), expected_confidence({true, true, false, false}, 2));
+}
+
+TEST(Fusion, PhotoFromTheSameSpotIsNoFurtherEvidence) {
+  // Views 0, 1 and a second photo from view 0's spot agree on the plane.
+  auto views = plane_seen_by_two_views();
+  views[2] = plane_view(0);
+  views[3].map.depth.setTo(0);
+  const PointCloud cloud = fuse_depth_maps(views, three_views_must_agree(), null_reporter());
+  EXPECT_EQ(cloud.size(), 0u);  // two distinct viewpoints only
+  MvsOptions any_angle = three_views_must_agree();
+  any_angle.min_triangulation_angle_deg = 0.0;  // every photo counts: three views agree
+  EXPECT_GT(fuse_depth_maps(views, any_angle, null_reporter()).size(), 0u);
 }
 
 TEST(Fusion, PixelsWithoutDepthAreIgnored) {

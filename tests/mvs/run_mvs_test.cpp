@@ -75,8 +75,10 @@ TEST(RunMvs, FusedPointsAreAccurateAndCorrectlyOriented) {
   EXPECT_GE(oriented / n, 0.80) << oriented << " of " << points.size();
   ASSERT_EQ(points.colors.size(), points.size());
   ASSERT_EQ(points.confidence.size(), points.size());
-  // The reference view itself plus the views that had to agree.
-  const float min_views = 1.0f + static_cast<float>(MvsOptions{}.min_consistent_views);
+  // The reference view itself plus the views that had to agree (one under
+  // the two-view rule).
+  const MvsOptions defaults;
+  const float min_views = defaults.two_view_max_cost > 0 ? 2.0f : 1.0f + static_cast<float>(defaults.min_consistent_views);
   for (float c : points.confidence) EXPECT_GE(c, min_views);
 }
 
