@@ -120,9 +120,6 @@ EnergyOperator::EnergyOperator(const GridGeometry& geometry, SmoothnessEnergy en
       stencil_(energy_stencil(energy, geometry.spacing, hessian_weight)),
       tv_node_weights_(std::move(tv_node_weights)),
       tv_weight_(tv_weight) {
-  for (const auto& o : stencil_.offsets) {
-    linear_offsets_.push_back(geometry_.index(o.x(), o.y(), o.z()));
-  }
   stencil_abs_sum_ = stencil_.abs_sum();
   active_ = std::make_shared<const ActiveNodes>(ActiveNodes::all(geometry_));
   screening_ = std::make_shared<const ScreeningTerm>();

@@ -134,7 +134,6 @@ class EnergyOperator {
   SmoothnessEnergy energy_;
   double hessian_weight_;
   Stencil stencil_;
-  std::vector<std::int64_t> linear_offsets_;
   std::vector<double> tv_node_weights_;
   double tv_weight_;
   std::shared_ptr<const std::vector<Eigen::Vector3f>> screening_points_;

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <memory>
+
 #include "tests/recon/shape_samples.h"
 
 namespace hos::recon {
@@ -61,6 +64,42 @@ TEST(EnergyOperator, IsSymmetric) {
     double xay = 0, yax = 0;
     for (std::size_t i = 0; i < x.size(); ++i) xay += x[i] * ay[i], yax += y[i] * ax[i];
     EXPECT_NEAR(xay, yax, 1e-9 * std::abs(xay));
+  }
+}
+
+TEST(EnergyOperator, ScreeningAddsTheSumOverSamplesOfSquaredTrilinearValues) {
+  // Samples everywhere in the grid, also in the cells at its faces and in the
+  // ghost cells just outside (whose outer corners are the zero ghost nodes).
+  const GridGeometry g = cube_grid(9, 0.1);
+  auto points = std::make_shared<std::vector<Eigen::Vector3f>>();
+  for (int s = 0; s < 400; ++s) {
+    const Eigen::Vector3d u(std::fmod(0.37 * s, 1.0), std::fmod(0.61 * s, 1.0), std::fmod(0.83 * s, 1.0));
+    points->push_back((-0.1 + 1.0 * u.array()).matrix().cast<float>());  // [-h, 9h] per axis
+  }
+  const double weight = 2.5;
+  const EnergyOperator plain(g, SmoothnessEnergy::kMembrane, 0.0);
+  EnergyOperator screened = plain;
+  screened.set_screening(points, weight);
+  std::vector<double> x(g.num_nodes()), a, b;
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.7 * i) + 0.3;
+  plain.apply(x, a);
+  screened.apply(x, b);
+  // weight * S^T S x with (S x)_s = f(p_s), trilinear, ghost nodes zero.
+  std::vector<double> expected(g.num_nodes(), 0.0);
+  ScalarGrid f(g);
+  f.values = x;
+  for (const auto& p : *points) {
+    const double value = f.sample(p.cast<double>());
+    const TrilinearStencil st = trilinear_stencil(g, p.cast<double>());
+    for (int c = 0; c < 8; ++c) {
+      const Eigen::Vector3i n = st.corner + Eigen::Vector3i(c & 1, (c >> 1) & 1, c >> 2);
+      if (g.contains(n.x(), n.y(), n.z())) {
+        expected[g.index(n.x(), n.y(), n.z())] += weight * st.weight(c & 1, (c >> 1) & 1, c >> 2) * value;
+      }
+    }
+  }
+  for (std::int64_t i = 0; i < g.num_nodes(); ++i) {
+    ASSERT_NEAR(b[i] - a[i], expected[i], 1e-5 * (1.0 + std::abs(expected[i]))) << i;
   }
 }
 
