@@ -43,36 +43,93 @@ void dilate_axis(const GridGeometry& g, std::vector<std::uint8_t>& mask, int axi
 
 ActiveNodes ActiveNodes::all(const GridGeometry& g) {
   ActiveNodes a;
+  a.dims_ = g.dims;
   a.spans_.reserve(static_cast<std::size_t>(g.dims.y()) * g.dims.z());
   for (int k = 0; k < g.dims.z(); ++k) {
-    for (int j = 0; j < g.dims.y(); ++j) a.spans_.push_back({j, k, 0, g.dims.x()});
+    for (int j = 0; j < g.dims.y(); ++j) a.spans_.push_back({j, k, 0, g.dims.x(), g.index(0, j, k)});
   }
   a.count_ = g.num_nodes();
+  a.storage_size_ = g.num_nodes();
   return a;
 }
 
 ActiveNodes ActiveNodes::from_mask(const GridGeometry& g, std::vector<std::uint8_t> mask) {
   ActiveNodes a;
+  a.dims_ = g.dims;
+  std::int64_t count = 0;
+#pragma omp parallel for reduction(+ : count) schedule(static)
+  for (std::int64_t n = 0; n < g.num_nodes(); ++n) count += mask[n] != 0;
+  if (count == g.num_nodes()) return all(g);
+  a.count_ = count;
   a.mask_ = std::move(mask);
+  std::vector<std::uint8_t> stored(a.mask_);
+  for (int axis = 0; axis < 3; ++axis) dilate_axis(g, stored, axis, kHalo);
+  // Runs of stored nodes and of active nodes, row after row; the storage
+  // follows the dense order, so sweeps keep its memory access pattern.
   const int nx = g.dims.x();
-  for (int k = 0; k < g.dims.z(); ++k) {
-    for (int j = 0; j < g.dims.y(); ++j) {
-      const std::uint8_t* row = a.mask_.data() + g.index(0, j, k);
-      for (int i = 0; i < nx;) {
-        if (!row[i]) {
-          ++i;
-          continue;
-        }
-        const int begin = i;
-        while (i < nx && row[i]) ++i;
-        a.spans_.push_back({j, k, begin, i});
-        a.count_ += i - begin;
+  const std::int64_t rows = std::int64_t{g.dims.y()} * g.dims.z();
+  a.row_runs_.resize(rows + 1);
+  std::int64_t offset = 0;
+  for (std::int64_t row = 0; row < rows; ++row) {
+    a.row_runs_[row] = static_cast<std::int64_t>(a.stored_.size());
+    const std::uint8_t* s = stored.data() + row * nx;
+    for (int i = 0; i < nx;) {
+      if (!s[i]) {
+        ++i;
+        continue;
       }
+      const int lo = i;
+      while (i < nx && s[i]) ++i;
+      a.stored_.push_back({lo, i, offset - lo});
+      offset += i - lo;
+    }
+    const std::uint8_t* m = a.mask_.data() + row * nx;
+    const int j = static_cast<int>(row % g.dims.y()), k = static_cast<int>(row / g.dims.y());
+    for (int i = 0; i < nx;) {
+      if (!m[i]) {
+        ++i;
+        continue;
+      }
+      const int begin = i;
+      while (i < nx && m[i]) ++i;
+      a.spans_.push_back({j, k, begin, i, 0});
     }
   }
-  if (a.count_ == g.num_nodes()) return all(g);
+  a.row_runs_[rows] = static_cast<std::int64_t>(a.stored_.size());
+  a.storage_size_ = offset;
+  for (NodeSpan& span : a.spans_) span.first = a.row_base(span.j, span.k, span.begin) + span.begin;
   return a;
 }
+
+template <typename T>
+void ActiveNodes::gather(const T* dense, T* stored) const {
+  if (is_all()) {
+    std::copy(dense, dense + storage_size_, stored);
+    return;
+  }
+  const std::int64_t rows = static_cast<std::int64_t>(row_runs_.size()) - 1;
+#pragma omp parallel for schedule(static)
+  for (std::int64_t row = 0; row < rows; ++row) {
+    for (std::int64_t r = row_runs_[row]; r < row_runs_[row + 1]; ++r) {
+      const StoredRun& run = stored_[r];
+      std::copy(dense + row * dims_.x() + run.lo, dense + row * dims_.x() + run.hi, stored + run.base + run.lo);
+    }
+  }
+}
+
+template <typename T>
+void ActiveNodes::scatter_active(const T* stored, T* dense) const {
+  for_each_active_span(*this, [&](const NodeSpan& span) {
+    const std::int64_t row = std::int64_t{span.k} * dims_.y() + span.j;
+    std::copy(stored + span.first, stored + span.first + (span.end - span.begin),
+              dense + row * dims_.x() + span.begin);
+  });
+}
+
+template void ActiveNodes::gather<double>(const double*, double*) const;
+template void ActiveNodes::gather<float>(const float*, float*) const;
+template void ActiveNodes::scatter_active<double>(const double*, double*) const;
+template void ActiveNodes::scatter_active<float>(const float*, float*) const;
 
 ActiveNodes ActiveNodes::coarsened(const GridGeometry& fine, const GridGeometry& coarse) const {
   if (is_all()) return all(coarse);

@@ -1,8 +1,10 @@
 #include "recon/energy_operator.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
+#include <stdexcept>
 
 namespace hos::recon {
 namespace {
@@ -126,6 +128,9 @@ EnergyOperator::EnergyOperator(const GridGeometry& geometry, SmoothnessEnergy en
 }
 
 void EnergyOperator::set_active(std::shared_ptr<const ActiveNodes> active) {
+  if (!tv_node_weights_.empty() && !active->is_all()) {
+    throw std::invalid_argument("EnergyOperator: the total-variation term covers the whole grid only");
+  }
   active_ = std::move(active);
 }
 
@@ -150,7 +155,6 @@ ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vec
   // every corner is found by a forward walk instead of a search.
   std::sort(samples.begin(), samples.end(),
             [](const Sample& a, const Sample& b) { return a.cell < b.cell; });
-  for (int q = 0; q < 27; ++q) offsets_[q] = g.index(q % 3 - 1, (q / 3) % 3 - 1, q / 9 - 1);
   std::vector<std::int64_t> nodes_;  // touched nodes, ascending
   std::vector<std::array<std::int64_t, 8>> node(samples.size());
   for (std::size_t s = 0; s < samples.size(); ++s) {
@@ -239,33 +243,41 @@ double ScreeningTerm::mean_row_sum() const {
 }
 
 template <typename T>
-void ScreeningTerm::add_row_sums(double scale, T* values) const {
-  for (const Run& run : runs_) {
-    const int len = run.end - run.begin;
-    for (int t = 0; t < len; ++t) {
+void ScreeningTerm::add_row_sums(std::int64_t row, int begin, int end, double scale, T* y_row) const {
+  if (runs_.empty()) return;
+  for (std::int64_t e = row_begin_[row]; e < row_begin_[row + 1]; ++e) {
+    const Run& run = runs_[e];
+    const int i0 = std::max(run.begin, begin), i1 = std::min(run.end, end);
+    const float* c = coefficients_.data() + run.coefficients + 27 * (i0 - run.begin);
+    for (int i = i0; i < i1; ++i, c += 27) {
       double sum = 0.0;
-      for (int q = 0; q < 27; ++q) sum += coefficients_[run.coefficients + 27 * t + q];
-      values[run.first + t] += static_cast<T>(scale * sum);
+      for (int q = 0; q < 27; ++q) sum += c[q];
+      y_row[i] += static_cast<T>(scale * sum);
     }
   }
 }
 
 void ScreeningTerm::add_target(double target, std::vector<double>& rhs) const {
-  add_row_sums(target, rhs.data());
+  const std::int64_t nx = geometry_.dims.x();
+  const std::int64_t rows = static_cast<std::int64_t>(row_begin_.size()) - 1;
+  for (std::int64_t row = 0; row < rows; ++row) {
+    add_row_sums(row, 0, static_cast<int>(nx), target, rhs.data() + row * nx);
+  }
 }
 
 template <typename T>
-void ScreeningTerm::add_row(std::int64_t row, int begin, int end, const T* x, T* y_row) const {
+void ScreeningTerm::add_row(std::int64_t row, int begin, int end, const std::array<const T*, 9>& x_rows,
+                            T* y_row) const {
+  const int nx = geometry_.dims.x();
   for (std::int64_t e = row_begin_[row]; e < row_begin_[row + 1]; ++e) {
     const Run& run = runs_[e];
     const int i0 = std::max(run.begin, begin), i1 = std::min(run.end, end);
     const float* c = coefficients_.data() + run.coefficients + 27 * (i0 - run.begin);
     if (run.interior) {
       // Every neighbour inside the grid: a fixed 27-term sum per node.
-      const T* base = x + (run.first - run.begin);  // base[i]: node (i, j, k)
       for (int i = i0; i < i1; ++i, c += 27) {
         T sum = 0;
-        for (int q = 0; q < 27; ++q) sum += static_cast<T>(c[q]) * base[i + offsets_[q]];
+        for (int q = 0; q < 27; ++q) sum += static_cast<T>(c[q]) * x_rows[q / 3][i + q % 3 - 1];
         y_row[i] += sum;
       }
       continue;
@@ -273,9 +285,9 @@ void ScreeningTerm::add_row(std::int64_t row, int begin, int end, const T* x, T*
     for (int i = i0; i < i1; ++i, c += 27) {
       T sum = 0;
       for (int q = 0; q < 27; ++q) {
-        const int ii = i + q % 3 - 1, jj = run.j + (q / 3) % 3 - 1, kk = run.k + q / 9 - 1;
+        const int ii = i + q % 3 - 1;
         // Neighbours outside the grid have zero coefficients: skip them.
-        if (geometry_.contains(ii, jj, kk)) sum += static_cast<T>(c[q]) * x[geometry_.index(ii, jj, kk)];
+        if (x_rows[q / 3] && ii >= 0 && ii < nx) sum += static_cast<T>(c[q]) * x_rows[q / 3][ii];
       }
       y_row[i] += sum;
     }
@@ -290,34 +302,53 @@ void EnergyOperator::for_each_span(const T* x, SpanFn&& span_fn) const {
   const std::size_t nt = stencil_.offsets.size();
   std::vector<T> coef(nt);
   for (std::size_t t = 0; t < nt; ++t) coef[t] = static_cast<T>(stencil_.coefficients[t]);
+  // The stencil's terms grouped by the row (dy, dz) they read, so each span
+  // looks up a neighbour row's storage once.
+  std::vector<Eigen::Vector2i> rows;
+  std::vector<int> term_row(nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const Eigen::Vector2i r(stencil_.offsets[t].y(), stencil_.offsets[t].z());
+    const auto it = std::find(rows.begin(), rows.end(), r);
+    term_row[t] = static_cast<int>(it - rows.begin());
+    if (it == rows.end()) rows.push_back(r);
+  }
   const bool tv = !tv_node_weights_.empty();
   const double tv_scale = tv_weight_ / (g.spacing * g.spacing);
   const std::int64_t strides[3] = {1, d.x(), std::int64_t{d.x()} * d.y()};
-  const std::vector<NodeSpan>& spans = active_->spans();
+  const ActiveNodes& active = *active_;
+  const std::vector<NodeSpan>& spans = active.spans();
   const std::int64_t num_spans = static_cast<std::int64_t>(spans.size());
-#pragma omp parallel if (worth_threads(active_->count()))
+#pragma omp parallel if (worth_threads(active.count()))
   {
     std::vector<T> row_buffer(nx);
+    std::vector<const T*> row_x(rows.size());
 #pragma omp for schedule(static)
     for (std::int64_t s = 0; s < num_spans; ++s) {
       const NodeSpan& span = spans[s];
       const int j = span.j, k = span.k, b = span.begin, e = span.end;
+      // x of a neighbour row (or null outside the grid), indexed by i.
+      const auto x_row = [&](int dy, int dz) -> const T* {
+        const std::int64_t base = active.row_base(j + dy, k + dz, b);
+        return base == ActiveNodes::kNotStored ? nullptr : x + base;
+      };
+      for (std::size_t r = 0; r < rows.size(); ++r) row_x[r] = x_row(rows[r].x(), rows[r].y());
       T* __restrict row = row_buffer.data();
       std::fill(row + b, row + e, T(0));
       // One pass per stencil term along the span: contiguous, vectorisable.
       for (std::size_t t = 0; t < nt; ++t) {
-        const Eigen::Vector3i& o = stencil_.offsets[t];
-        const int jj = j + o.y(), kk = k + o.z();
-        if (jj < 0 || jj >= d.y() || kk < 0 || kk >= d.z()) continue;
+        const T* __restrict src = row_x[term_row[t]];
+        if (!src) continue;
         const T c = coef[t];
-        const T* __restrict src = x + g.index(0, jj, kk);
-        const int ox = o.x();
+        const int ox = stencil_.offsets[t].x();
         const int i0 = std::max(b, -ox), i1 = std::min(e, nx - ox);
         for (int i = i0; i < i1; ++i) row[i] += c * src[i + ox];
       }
-      const std::int64_t start = g.index(0, j, k);
+      // Storage index of node i of this span: start + i.
+      const std::int64_t start = span.first - b;
       if (tv) {
         // -div(w grad x) with edge weights (w_i + w_j) / 2; ghosts are zero.
+        // The weights are per grid node: TV operators cover the whole grid,
+        // whose storage index is the node index.
         for (int i = b; i < e; ++i) {
           const Eigen::Vector3i p(i, j, k);
           const std::int64_t idx = start + i;
@@ -334,7 +365,11 @@ void EnergyOperator::for_each_span(const T* x, SpanFn&& span_fn) const {
           row[i] += static_cast<T>(tv_scale * t);
         }
       }
-      if (!screening_->empty()) screening_->add_row(std::int64_t{k} * d.y() + j, b, e, x, row);
+      if (!screening_->empty()) {
+        std::array<const T*, 9> x_rows;
+        for (int q = 0; q < 9; ++q) x_rows[q] = x_row(q % 3 - 1, q / 3 - 1);
+        screening_->add_row(std::int64_t{k} * d.y() + j, b, e, x_rows, row);
+      }
       span_fn(start, b, e, static_cast<const T*>(row));
     }
   }
@@ -411,10 +446,12 @@ double EnergyOperator::l1_diagonal(std::int64_t node) const {
 
 template <typename T>
 void EnergyOperator::l1_diagonals(T* l1) const {
-  for_each_active_range(geometry_, *active_, [&](std::int64_t first, std::int64_t last) {
-    for (std::int64_t i = first; i < last; ++i) l1[i] = static_cast<T>(l1_diagonal(i));
+  const int ny = geometry_.dims.y();
+  for_each_active_span(*active_, [&](const NodeSpan& span) {
+    const std::int64_t start = span.first - span.begin;  // node i at start + i
+    for (int i = span.begin; i < span.end; ++i) l1[start + i] = static_cast<T>(l1_diagonal(start + i));
+    screening_->add_row_sums(std::int64_t{span.k} * ny + span.j, span.begin, span.end, 1.0, l1 + start);
   });
-  screening_->add_row_sums(1.0, l1);
 }
 
 template void EnergyOperator::l1_diagonals<float>(float*) const;
@@ -453,45 +490,49 @@ AxisWeights axis_weights(int j) {
 }  // namespace
 
 template <typename T>
-void restrict_to_coarse(const GridGeometry& fine, const T* r, const GridGeometry& coarse,
-                        const ActiveNodes& coarse_active, T* rc) {
-  const std::int64_t sy = fine.dims.x(), sz = std::int64_t{fine.dims.x()} * fine.dims.y();
-  const std::vector<NodeSpan>& spans = coarse_active.spans();
-  const std::int64_t num_spans = static_cast<std::int64_t>(spans.size());
-#pragma omp parallel for schedule(static) if (worth_threads(8 * coarse_active.count()))
-  for (std::int64_t s = 0; s < num_spans; ++s) {
-    const NodeSpan& span = spans[s];
-    for (int i = span.begin; i < span.end; ++i) {
-      // Coarse node (i, j, k) sits on fine node (2i+1, 2j+1, 2k+1); its 27
-      // fine neighbours are inside the fine grid by construction.
-      const std::int64_t c = fine.index(2 * i + 1, 2 * span.j + 1, 2 * span.k + 1);
-      double sum = 0.0;
-      for (int oz = -1; oz <= 1; ++oz) {
-        for (int oy = -1; oy <= 1; ++oy) {
-          const T* p = r + c + oz * sz + oy * sy;
-          const double w = (oy ? 0.5 : 1.0) * (oz ? 0.5 : 1.0);
+void restrict_to_coarse(const GridGeometry& fine, const ActiveNodes& fine_nodes, const T* r,
+                        const GridGeometry& /*coarse*/, const ActiveNodes& coarse_active, T* rc) {
+  const int nx = fine.dims.x();
+#pragma omp parallel if (worth_threads(8 * coarse_active.count()))
+  {
+    // The 9 fine rows around a coarse row, fine nodes 2 begin <= i <= 2 end.
+    std::vector<T> lines(9 * static_cast<std::size_t>(nx + 1));
+#pragma omp for schedule(static)
+    for (std::int64_t s = 0; s < static_cast<std::int64_t>(coarse_active.spans().size()); ++s) {
+      const NodeSpan& span = coarse_active.spans()[s];
+      const int lo = 2 * span.begin, hi = 2 * span.end + 1;
+      for (int q = 0; q < 9; ++q) {
+        fine_nodes.gather_row(r, 2 * span.j + q % 3, 2 * span.k + q / 3, lo, hi,
+                              lines.data() + q * std::size_t(nx + 1));
+      }
+      for (int i = span.begin; i < span.end; ++i) {
+        // Coarse node (i, j, k) sits on fine node (2i+1, 2j+1, 2k+1); its 27
+        // fine neighbours are inside the fine grid by construction.
+        double sum = 0.0;
+        for (int q = 0; q < 9; ++q) {
+          const T* p = lines.data() + q * std::size_t(nx + 1) + (2 * i + 1 - lo);
+          const double w = (q % 3 == 1 ? 1.0 : 0.5) * (q / 3 == 1 ? 1.0 : 0.5);
           sum += w * (0.5 * p[-1] + p[0] + 0.5 * p[1]);
         }
+        rc[span.first + (i - span.begin)] = static_cast<T>(sum / 8.0);
       }
-      rc[coarse.index(i, span.j, span.k)] = static_cast<T>(sum / 8.0);
     }
   }
 }
 
 template <typename T>
-void prolongate_add(const GridGeometry& coarse, const T* ec, const GridGeometry& fine,
-                    const ActiveNodes& fine_active, T* x) {
+void prolongate_add(const GridGeometry& coarse, const ActiveNodes& coarse_nodes, const T* ec,
+                    const GridGeometry& /*fine*/, const ActiveNodes& fine_active, T* x) {
   const Eigen::Vector3i dc = coarse.dims;
-  const std::vector<NodeSpan>& spans = fine_active.spans();
-  const std::int64_t num_spans = static_cast<std::int64_t>(spans.size());
 #pragma omp parallel if (worth_threads(fine_active.count()))
   {
     // The coarse values interpolated in y and z for one fine row, padded by a
-    // zero each side (the ghost nodes).
+    // zero each side (the ghost nodes), and one coarse row.
     std::vector<double> line(dc.x() + 2);
+    std::vector<T> coarse_row(dc.x());
 #pragma omp for schedule(static)
-    for (std::int64_t s = 0; s < num_spans; ++s) {
-      const NodeSpan& span = spans[s];
+    for (std::int64_t s = 0; s < static_cast<std::int64_t>(fine_active.spans().size()); ++s) {
+      const NodeSpan& span = fine_active.spans()[s];
       const AxisWeights wz = axis_weights(span.k), wy = axis_weights(span.j);
       // Fine i odd sits on coarse (i - 1) / 2, even i halfway between i/2 - 1
       // and i/2: the span reads coarse columns c0 <= i < c1.
@@ -505,11 +546,11 @@ void prolongate_add(const GridGeometry& coarse, const T* ec, const GridGeometry&
           const double ay = cy ? wy.w1 : wy.w0;
           const int jc = cy ? wy.c1 : wy.c0;
           if (ay == 0.0 || jc < 0 || jc >= dc.y()) continue;
-          const T* src = ec + coarse.index(0, jc, kc);
-          for (int i = c0; i < c1; ++i) line[i + 1] += az * ay * src[i];
+          coarse_nodes.gather_row(ec, jc, kc, c0, c1, coarse_row.data());
+          for (int i = c0; i < c1; ++i) line[i + 1] += az * ay * coarse_row[i - c0];
         }
       }
-      T* dst = x + fine.index(0, span.j, span.k);
+      T* dst = x + (span.first - span.begin);  // dst[i]: node i of the span
       for (int i = span.begin; i < span.end; ++i) {
         dst[i] += static_cast<T>(i % 2 == 1 ? line[(i - 1) / 2 + 1] : 0.5 * (line[i / 2] + line[i / 2 + 1]));
       }
@@ -517,24 +558,24 @@ void prolongate_add(const GridGeometry& coarse, const T* ec, const GridGeometry&
   }
 }
 
-template void restrict_to_coarse<float>(const GridGeometry&, const float*, const GridGeometry&,
-                                       const ActiveNodes&, float*);
-template void restrict_to_coarse<double>(const GridGeometry&, const double*, const GridGeometry&,
-                                        const ActiveNodes&, double*);
-template void prolongate_add<float>(const GridGeometry&, const float*, const GridGeometry&,
-                                    const ActiveNodes&, float*);
-template void prolongate_add<double>(const GridGeometry&, const double*, const GridGeometry&,
-                                     const ActiveNodes&, double*);
+template void restrict_to_coarse<float>(const GridGeometry&, const ActiveNodes&, const float*,
+                                       const GridGeometry&, const ActiveNodes&, float*);
+template void restrict_to_coarse<double>(const GridGeometry&, const ActiveNodes&, const double*,
+                                        const GridGeometry&, const ActiveNodes&, double*);
+template void prolongate_add<float>(const GridGeometry&, const ActiveNodes&, const float*,
+                                    const GridGeometry&, const ActiveNodes&, float*);
+template void prolongate_add<double>(const GridGeometry&, const ActiveNodes&, const double*,
+                                     const GridGeometry&, const ActiveNodes&, double*);
 
 void restrict_to_coarse(const GridGeometry& fine, const std::vector<double>& r,
                         const GridGeometry& coarse, std::vector<double>& rc) {
   assign_large(rc, coarse.num_nodes());
-  restrict_to_coarse(fine, r.data(), coarse, ActiveNodes::all(coarse), rc.data());
+  restrict_to_coarse(fine, ActiveNodes::all(fine), r.data(), coarse, ActiveNodes::all(coarse), rc.data());
 }
 
 void prolongate_add(const GridGeometry& coarse, const std::vector<double>& ec,
                     const GridGeometry& fine, std::vector<double>& x) {
-  prolongate_add(coarse, ec.data(), fine, ActiveNodes::all(fine), x.data());
+  prolongate_add(coarse, ActiveNodes::all(coarse), ec.data(), fine, ActiveNodes::all(fine), x.data());
 }
 
 }  // namespace hos::recon

@@ -57,13 +57,16 @@ class ScreeningTerm {
   // Mean l1 row sum over the touched nodes (weight * mean splatted density).
   double mean_row_sum() const;
   // Adds scale times its row sums (weight * splatted density; every
-  // coefficient is >= 0, so also its l1 row sums) to per-node values.
+  // coefficient is >= 0, so also its l1 row sums) to y_row[i] for the touched
+  // nodes i of grid row `row` (j + ny k) with begin <= i < end.
   template <typename T>
-  void add_row_sums(double scale, T* values) const;
-  // y_row[i] += (S^T S x)[row start + i] for the touched nodes i of one row
-  // with begin <= i < end.
+  void add_row_sums(std::int64_t row, int begin, int end, double scale, T* y_row) const;
+  // y_row[i] += (S^T S x)[node i of the row] for the touched nodes with
+  // begin <= i < end; x_rows[(dy + 1) + 3 (dz + 1)][i'] is x at node
+  // (i', j + dy, k + dz), or null for a row outside the grid.
   template <typename T>
-  void add_row(std::int64_t row, int begin, int end, const T* x, T* y_row) const;
+  void add_row(std::int64_t row, int begin, int end, const std::array<const T*, 9>& x_rows,
+               T* y_row) const;
 
  private:
   GridGeometry geometry_;
@@ -81,7 +84,6 @@ class ScreeningTerm {
   std::vector<std::int64_t> row_begin_;  // per grid row (j, k): first run
   std::vector<float> coefficients_;
   std::int64_t num_nodes_ = 0;
-  std::array<std::int64_t, 27> offsets_{};  // node index offsets of (-1..1)^3
   mutable std::shared_ptr<const ScreeningTerm> coarser_;
 };
 
@@ -93,9 +95,11 @@ class EnergyOperator {
 
   const GridGeometry& geometry() const { return geometry_; }
   // The nodes whose rows apply, residual and jacobi compute (every node by
-  // default). Restricted to a band, the operator is the band's principal
-  // submatrix for the unknowns and couples them to the fixed values outside:
-  // residual(b, x) reads x everywhere and writes only active nodes.
+  // default), and the layout of the raw arrays below (active().storage_size()
+  // values each). Restricted to a band, the operator is the band's principal
+  // submatrix for the unknowns and couples them to the fixed values in the
+  // band's halo: residual(b, x) reads x at every stored node and writes only
+  // active nodes. The total-variation term needs the whole grid.
   const ActiveNodes& active() const { return *active_; }
   void set_active(std::shared_ptr<const ActiveNodes> active);
   // Adds the screening term over these samples (kept for the coarse levels).
@@ -104,7 +108,7 @@ class EnergyOperator {
   void scale_screening(double factor);
   // y = A x.
   void apply(const std::vector<double>& x, std::vector<double>& y) const;
-  // The same on raw arrays of num_nodes() values (float for the preconditioner).
+  // The same on raw arrays in the layout of active() (float for the preconditioner).
   template <typename T>
   void apply(const T* x, T* y) const;
   // r = b - A x.
@@ -114,8 +118,7 @@ class EnergyOperator {
   template <typename T>
   void jacobi(const T* b, const T* x, const T* inv_l1, T* out) const;
   // Per-node l1 row sums (>= |a_ii| + sum |a_ij|) of every term: the l1-Jacobi smoother.
-  // Written for the active nodes (and the screened ones) of an array of
-  // num_nodes() values.
+  // Written for the active nodes of an array in the layout of active().
   template <typename T>
   void l1_diagonals(T* l1) const;
   // The same energy rediscretized on the coarsened grid (weights restricted,
@@ -123,8 +126,9 @@ class EnergyOperator {
   EnergyOperator coarsened() const;
 
  private:
-  // Calls span_fn(row start node, begin, end, A x on that row) for every span
-  // of active nodes, in parallel; (A x)[i] is valid for begin <= i < end.
+  // Calls span_fn(start, begin, end, A x on that row) for every span of
+  // active nodes, in parallel: node i of the span is stored at start + i, and
+  // (A x)[i] is valid for begin <= i < end.
   template <typename T, typename SpanFn>
   void for_each_span(const T* x, SpanFn&& span_fn) const;
   // The l1 row sum of one node without the screening term.
@@ -144,19 +148,19 @@ class EnergyOperator {
 
 // Restriction (full weighting, the transpose of prolongation divided by 8) and
 // trilinear prolongation between a grid and its coarsened grid. The raw-array
-// versions write only the active nodes of the output grid (restriction: the
-// coarse ones, prolongation: the fine ones), so a banded hierarchy keeps zeros
-// outside its bands and the pair stays transposed.
+// versions take each array in the layout of its grid's nodes and write only
+// the active nodes of the output (restriction: coarse_active, prolongation:
+// fine_active), so a banded hierarchy keeps zeros outside its bands and the
+// pair stays transposed. Values that the input's layout does not store are zero.
 void restrict_to_coarse(const GridGeometry& fine, const std::vector<double>& r,
                         const GridGeometry& coarse, std::vector<double>& rc);
 void prolongate_add(const GridGeometry& coarse, const std::vector<double>& ec,
                     const GridGeometry& fine, std::vector<double>& x);
-// The same on raw arrays (float or double) sized for the grids.
 template <typename T>
-void restrict_to_coarse(const GridGeometry& fine, const T* r, const GridGeometry& coarse,
-                        const ActiveNodes& coarse_active, T* rc);
+void restrict_to_coarse(const GridGeometry& fine, const ActiveNodes& fine_nodes, const T* r,
+                        const GridGeometry& coarse, const ActiveNodes& coarse_active, T* rc);
 template <typename T>
-void prolongate_add(const GridGeometry& coarse, const T* ec, const GridGeometry& fine,
-                    const ActiveNodes& fine_active, T* x);
+void prolongate_add(const GridGeometry& coarse, const ActiveNodes& coarse_nodes, const T* ec,
+                    const GridGeometry& fine, const ActiveNodes& fine_active, T* x);
 
 }  // namespace hos::recon

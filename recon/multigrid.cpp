@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "core/error.h"
 
@@ -12,14 +14,12 @@ namespace {
 // a . b over the active nodes of op (the vectors are zero elsewhere, or, for
 // the solution, fixed there).
 double dot(const EnergyOperator& op, const double* a, const double* b) {
-  const GridGeometry& g = op.geometry();
   const std::vector<NodeSpan>& spans = op.active().spans();
   const std::int64_t n = static_cast<std::int64_t>(spans.size());
   double s = 0.0;
 #pragma omp parallel for reduction(+ : s) schedule(static) if (worth_threads(op.active().count()))
   for (std::int64_t q = 0; q < n; ++q) {
-    const std::int64_t first = g.index(spans[q].begin, spans[q].j, spans[q].k);
-    const std::int64_t last = first + (spans[q].end - spans[q].begin);
+    const std::int64_t first = spans[q].first, last = first + (spans[q].end - spans[q].begin);
     for (std::int64_t i = first; i < last; ++i) s += a[i] * b[i];
   }
   return s;
@@ -27,7 +27,7 @@ double dot(const EnergyOperator& op, const double* a, const double* b) {
 
 // y = a * x + y on the active nodes.
 void axpy(const EnergyOperator& op, double a, const double* x, double* y) {
-  for_each_active_range(op.geometry(), op.active(), [&](std::int64_t first, std::int64_t last) {
+  for_each_active_range(op.active(), [&](std::int64_t first, std::int64_t last) {
     for (std::int64_t i = first; i < last; ++i) y[i] += a * x[i];
   });
 }
@@ -45,11 +45,11 @@ MultigridPreconditioner::MultigridPreconditioner(const EnergyOperator& fine, int
     ops.push_back(ops.back().coarsened());
   }
   for (auto& op : ops) {
-    const std::size_t n = static_cast<std::size_t>(op.geometry().num_nodes());
+    const std::size_t n = static_cast<std::size_t>(op.active().storage_size());
     Level level{std::move(op), ZeroedArray<float>(n), ZeroedArray<float>(n), ZeroedArray<float>(n),
                 ZeroedArray<float>(n)};
     level.op.l1_diagonals(level.inv_l1.data());
-    for_each_active_range(level.op.geometry(), level.op.active(), [&](std::int64_t first, std::int64_t last) {
+    for_each_active_range(level.op.active(), [&](std::int64_t first, std::int64_t last) {
       for (std::int64_t i = first; i < last; ++i) level.inv_l1[i] = 1.0f / level.inv_l1[i];
     });
     levels_.push_back(std::move(level));
@@ -60,7 +60,7 @@ void MultigridPreconditioner::smooth(const Level& l, int sweeps, bool from_zero)
   int s = 0;
   if (from_zero && sweeps > 0) {
     // The first sweep from x = 0 needs no operator application.
-    for_each_active_range(l.op.geometry(), l.op.active(), [&](std::int64_t first, std::int64_t last) {
+    for_each_active_range(l.op.active(), [&](std::int64_t first, std::int64_t last) {
       for (std::int64_t i = first; i < last; ++i) l.x[i] = l.b[i] * l.inv_l1[i];
     });
     s = 1;
@@ -80,20 +80,20 @@ void MultigridPreconditioner::v_cycle(int level) const {
   smooth(l, smoothing_steps_, true);
   l.op.residual(l.b.data(), l.x.data(), l.scratch.data());
   const Level& c = levels_[level + 1];
-  restrict_to_coarse(l.op.geometry(), l.scratch.data(), c.op.geometry(), c.op.active(), c.b.data());
+  restrict_to_coarse(l.op.geometry(), l.op.active(), l.scratch.data(), c.op.geometry(), c.op.active(),
+                     c.b.data());
   v_cycle(level + 1);
-  prolongate_add(c.op.geometry(), c.x.data(), l.op.geometry(), l.op.active(), l.x.data());
+  prolongate_add(c.op.geometry(), c.op.active(), c.x.data(), l.op.geometry(), l.op.active(), l.x.data());
   smooth(l, smoothing_steps_, false);
 }
 
 void MultigridPreconditioner::apply(const double* r, double* z) const {
   const Level& l = levels_.front();
-  const GridGeometry& g = l.op.geometry();
-  for_each_active_range(g, l.op.active(), [&](std::int64_t first, std::int64_t last) {
+  for_each_active_range(l.op.active(), [&](std::int64_t first, std::int64_t last) {
     for (std::int64_t i = first; i < last; ++i) l.b[i] = static_cast<float>(r[i]);
   });
   v_cycle(0);
-  for_each_active_range(g, l.op.active(), [&](std::int64_t first, std::int64_t last) {
+  for_each_active_range(l.op.active(), [&](std::int64_t first, std::int64_t last) {
     for (std::int64_t i = first; i < last; ++i) z[i] = l.x[i];
   });
 }
@@ -108,6 +108,11 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
   const auto t_setup = Clock::now();
   SolveReport report;
   const std::size_t n = b.size();
+  if (static_cast<std::int64_t>(n) != op.active().storage_size()) {
+    throw std::invalid_argument("solve_linear_system: the right-hand side has " + std::to_string(n) +
+                                " values, the operator's layout " +
+                                std::to_string(op.active().storage_size()));
+  }
   x.resize(n, 0.0);
   const MultigridPreconditioner multigrid(op, options.multigrid ? options.max_levels : 1,
                                           options.smoothing_steps);
@@ -116,11 +121,11 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
   if (!options.multigrid) {
     inv_l1 = ZeroedArray<double>(n);
     op.l1_diagonals(inv_l1.data());
-    for_each_active_range(op.geometry(), op.active(), [&](std::int64_t first, std::int64_t last) {
+    for_each_active_range(op.active(), [&](std::int64_t first, std::int64_t last) {
       for (std::int64_t i = first; i < last; ++i) inv_l1[i] = 1.0 / inv_l1[i];
     });
   }
-  const auto for_active = [&](auto&& fn) { for_each_active_range(op.geometry(), op.active(), fn); };
+  const auto for_active = [&](auto&& fn) { for_each_active_range(op.active(), fn); };
   const auto precondition = [&](const double* r, double* z) {
     if (options.multigrid) {
       multigrid.apply(r, z);

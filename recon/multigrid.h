@@ -38,7 +38,8 @@ class MultigridPreconditioner {
   MultigridPreconditioner(const EnergyOperator& fine, int max_levels, int smoothing_steps);
   int num_levels() const { return static_cast<int>(levels_.size()); }
   // z = M^-1 r by one V-cycle from a zero initial guess, on the active nodes
-  // of the operator (arrays of its grid's size; z is not written elsewhere).
+  // of the operator (arrays in the layout of its active nodes; z is not
+  // written elsewhere).
   void apply(const double* r, double* z) const;
 
  private:

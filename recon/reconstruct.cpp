@@ -98,13 +98,17 @@ double coarse_isovalue(const EnergyOperator& fine, const std::vector<double>& rh
 // at the coarse solution's prolongation. Without a band, the fine solve starts
 // from x given on the fine grid. solve(op, b, x) runs one linear solve.
 template <typename SolveFn>
-void solve_with_band(EnergyOperator& op, const std::vector<double>& rhs,
+void solve_with_band(EnergyOperator& op, std::vector<double> rhs,
                      std::shared_ptr<const ActiveNodes> band, std::vector<double>& x,
                      Reporter& reporter, SolveFn&& solve) {
-  if (band) {
-    const GridGeometry& g = op.geometry();
-    reporter.info(format_message("recon: fine band of ", band->count(), " nodes (",
-                                 100.0 * band->count() / g.num_nodes(), "% of the grid)"));
+  if (!band) {
+    solve(op, rhs, x);
+    return;
+  }
+  const GridGeometry& g = op.geometry();
+  reporter.info(format_message("recon: fine band of ", band->count(), " nodes (",
+                               100.0 * band->count() / g.num_nodes(), "% of the grid)"));
+  {
     const EnergyOperator coarse = op.coarsened();
     std::vector<double> coarse_rhs;
     restrict_to_coarse(g, rhs, coarse.geometry(), coarse_rhs);
@@ -113,9 +117,16 @@ void solve_with_band(EnergyOperator& op, const std::vector<double>& rhs,
     assign_large(fine, g.num_nodes());
     prolongate_add(coarse.geometry(), x, g, fine);
     x = std::move(fine);
-    op.set_active(std::move(band));
   }
-  solve(op, rhs, x);
+  // The band's unknowns and right-hand side in its compact layout; its halo
+  // holds the coarse solution, fixed.
+  op.set_active(band);
+  std::vector<double> band_rhs(band->storage_size()), band_x(band->storage_size());
+  band->gather(rhs.data(), band_rhs.data());
+  rhs = std::vector<double>{};  // frees the grid-sized array before the solve's
+  band->gather(x.data(), band_x.data());
+  solve(op, band_rhs, band_x);
+  band->scatter_active(band_x.data(), x.data());
 }
 
 }  // namespace
@@ -272,7 +283,7 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
     } else if (band) {
       f.values.assign(grid.coarsened().num_nodes(), 0.0);
     }
-    solve_with_band(op, rhs.values, std::move(band), f.values, reporter,
+    solve_with_band(op, std::move(rhs.values), std::move(band), f.values, reporter,
                     [&](const EnergyOperator& o, const std::vector<double>& b, std::vector<double>& x) {
                       run(o, b, x, solver);
                     });

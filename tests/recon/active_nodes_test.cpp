@@ -82,27 +82,86 @@ TEST(ActiveNodes, CoarseBandLiesInsideTheFineBand) {
   }
 }
 
-TEST(ActiveNodes, BandedOperatorComputesTheBandRowsOnly) {
+TEST(ActiveNodes, BandStoresItsNodesAndTheirHaloCompactly) {
   const GridGeometry g = cube_grid(31, 0.1);
-  EnergyOperator dense(g, SmoothnessEnergy::kFullHessian, 0.3);
-  EnergyOperator banded = dense;
-  auto band = std::make_shared<const ActiveNodes>(band_around_samples(g, sphere_points(g, 1.0, 5000), 2));
-  banded.set_active(band);
-  std::vector<double> x(g.num_nodes()), b(g.num_nodes(), 1.0);
-  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.37 * i);
-  std::vector<double> r_dense(g.num_nodes(), 7.0), r_band(g.num_nodes(), 7.0);
-  dense.residual(b.data(), x.data(), r_dense.data());
-  banded.residual(b.data(), x.data(), r_band.data());
-  for (std::int64_t n = 0; n < g.num_nodes(); ++n) {
-    if (band->contains(n)) {
-      ASSERT_EQ(r_band[n], r_dense[n]) << "band rows read x outside the band too";
-    } else {
-      ASSERT_EQ(r_band[n], 7.0) << "rows outside the band are not written";
+  const ActiveNodes band = band_around_samples(g, sphere_points(g, 1.0, 5000), 2);
+  ASSERT_FALSE(band.is_all());
+  // Every node's dense index, gathered into the band's layout.
+  std::vector<double> dense(g.num_nodes()), stored(band.storage_size(), -1.0);
+  for (std::int64_t n = 0; n < g.num_nodes(); ++n) dense[n] = static_cast<double>(n);
+  band.gather(dense.data(), stored.data());
+  const int h = ActiveNodes::kHalo;
+  std::int64_t near_count = 0;
+  for (int k = 0; k < g.dims.z(); ++k) {
+    for (int j = 0; j < g.dims.y(); ++j) {
+      for (int i = 0; i < g.dims.x(); ++i) {
+        bool near = false;  // an active node within kHalo along every axis
+        for (int dz = -h; dz <= h && !near; ++dz) {
+          for (int dy = -h; dy <= h && !near; ++dy) {
+            for (int dx = -h; dx <= h && !near; ++dx) {
+              near = g.contains(i + dx, j + dy, k + dz) && band.contains(g.index(i + dx, j + dy, k + dz));
+            }
+          }
+        }
+        near_count += near;
+        const std::int64_t base = band.row_base(j, k, i);
+        if (!near) {
+          ASSERT_EQ(base, ActiveNodes::kNotStored) << i << " " << j << " " << k;
+          continue;
+        }
+        ASSERT_NE(base, ActiveNodes::kNotStored) << i << " " << j << " " << k;
+        ASSERT_EQ(stored[base + i], dense[g.index(i, j, k)]) << i << " " << j << " " << k;
+      }
     }
+  }
+  EXPECT_EQ(near_count, band.storage_size());
+  EXPECT_LT(band.storage_size(), g.num_nodes());
+  // A row gathered back: stored values where stored, zeros elsewhere.
+  const int j = g.dims.y() / 2, k = g.dims.z() / 2;
+  std::vector<double> row(g.dims.x());
+  band.gather_row(stored.data(), j, k, 0, g.dims.x(), row.data());
+  for (int i = 0; i < g.dims.x(); ++i) {
+    EXPECT_EQ(row[i], band.row_base(j, k, i) == ActiveNodes::kNotStored ? 0.0 : dense[g.index(i, j, k)]);
+  }
+  // Scattering writes exactly the active nodes.
+  std::vector<double> back(g.num_nodes(), -1.0);
+  band.scatter_active(stored.data(), back.data());
+  for (std::int64_t n = 0; n < g.num_nodes(); ++n) {
+    ASSERT_EQ(back[n], band.contains(n) ? dense[n] : -1.0) << n;
   }
 }
 
-TEST(ActiveNodes, BandedTransfersStayAdjointUpToTheVolumeFactor) {
+TEST(ActiveNodes, BandedOperatorComputesTheBandRowsOnly) {
+  const GridGeometry g = cube_grid(31, 0.1);
+  const auto points = std::make_shared<const std::vector<Eigen::Vector3f>>(sphere_points(g, 1.0, 5000));
+  EnergyOperator dense(g, SmoothnessEnergy::kFullHessian, 0.3);
+  dense.set_screening(points, 50.0);
+  EnergyOperator banded = dense;
+  auto band = std::make_shared<const ActiveNodes>(band_around_samples(g, *points, 2));
+  banded.set_active(band);
+  std::vector<double> x(g.num_nodes()), b(g.num_nodes(), 1.0);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.37 * i);
+  std::vector<double> r_dense(g.num_nodes(), 7.0);
+  dense.residual(b.data(), x.data(), r_dense.data());
+  // The same x and b in the band's layout: the active rows must match the
+  // dense operator's (they read x in the halo), nothing else is written.
+  std::vector<double> xb(band->storage_size()), bb(band->storage_size()), rb(band->storage_size(), 7.0);
+  band->gather(x.data(), xb.data());
+  band->gather(b.data(), bb.data());
+  banded.residual(bb.data(), xb.data(), rb.data());
+  std::vector<double> r_band(g.num_nodes(), 7.0);
+  band->scatter_active(rb.data(), r_band.data());
+  for (std::int64_t n = 0; n < g.num_nodes(); ++n) {
+    if (band->contains(n)) {
+      ASSERT_NEAR(r_band[n], r_dense[n], 1e-12 * std::abs(r_dense[n]) + 1e-12) << "band row " << n;
+    }
+  }
+  std::int64_t written = 0;
+  for (double v : rb) written += v != 7.0;
+  EXPECT_LE(written, band->count()) << "entries of the halo were written";
+}
+
+TEST(ActiveNodes, BandedTransfersMatchTheDenseOnesAndStayAdjoint) {
   const GridGeometry fine = cube_grid(31, 0.1);
   const GridGeometry coarse = fine.coarsened();
   const ActiveNodes band = band_around_samples(fine, sphere_points(fine, 1.0, 5000), 3);
@@ -111,19 +170,29 @@ TEST(ActiveNodes, BandedTransfersStayAdjointUpToTheVolumeFactor) {
   std::vector<double> r(fine.num_nodes(), 0.0), e(coarse.num_nodes(), 0.0);
   for (std::int64_t i = 0; i < fine.num_nodes(); ++i) r[i] = band.contains(i) ? std::sin(0.37 * i) : 0.0;
   for (std::int64_t i = 0; i < coarse.num_nodes(); ++i) e[i] = coarse_band.contains(i) ? std::cos(0.91 * i) : 0.0;
+  std::vector<double> rc_dense, pe_dense(fine.num_nodes(), 0.0);
+  restrict_to_coarse(fine, r, coarse, rc_dense);
+  prolongate_add(coarse, e, fine, pe_dense);
+  // The same in the bands' layouts.
+  std::vector<double> rb(band.storage_size()), eb(coarse_band.storage_size());
+  band.gather(r.data(), rb.data());
+  coarse_band.gather(e.data(), eb.data());
+  std::vector<double> rcb(coarse_band.storage_size(), 0.0), peb(band.storage_size(), 0.0);
+  restrict_to_coarse(fine, band, rb.data(), coarse, coarse_band, rcb.data());
+  prolongate_add(coarse, coarse_band, eb.data(), fine, band, peb.data());
   std::vector<double> rc(coarse.num_nodes(), 0.0), pe(fine.num_nodes(), 0.0);
-  restrict_to_coarse(fine, r.data(), coarse, coarse_band, rc.data());
-  prolongate_add(coarse, e.data(), fine, band, pe.data());
+  coarse_band.scatter_active(rcb.data(), rc.data());
+  band.scatter_active(peb.data(), pe.data());
   double lhs = 0, rhs = 0;
   for (std::int64_t i = 0; i < coarse.num_nodes(); ++i) {
-    if (!coarse_band.contains(i)) {
-      EXPECT_EQ(rc[i], 0.0);
+    if (coarse_band.contains(i)) {
+      EXPECT_NEAR(rc[i], rc_dense[i], 1e-12);
     }
     lhs += 8.0 * rc[i] * e[i];
   }
   for (std::int64_t i = 0; i < fine.num_nodes(); ++i) {
-    if (!band.contains(i)) {
-      EXPECT_EQ(pe[i], 0.0);
+    if (band.contains(i)) {
+      EXPECT_NEAR(pe[i], pe_dense[i], 1e-12);
     }
     rhs += r[i] * pe[i];
   }
