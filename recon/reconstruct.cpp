@@ -108,23 +108,24 @@ void solve_with_band(EnergyOperator& op, std::vector<double> rhs,
   const GridGeometry& g = op.geometry();
   reporter.info(format_message("recon: fine band of ", band->count(), " nodes (",
                                100.0 * band->count() / g.num_nodes(), "% of the grid)"));
+  // The band's right-hand side in its compact layout, then the grid-sized one
+  // is freed before any solver array exists (the peak memory).
+  std::vector<double> band_rhs(band->storage_size()), band_x(band->storage_size());
+  band->gather(rhs.data(), band_rhs.data());
   {
     const EnergyOperator coarse = op.coarsened();
     std::vector<double> coarse_rhs;
     restrict_to_coarse(g, rhs, coarse.geometry(), coarse_rhs);
+    rhs = std::vector<double>{};
     solve(coarse, coarse_rhs, x);
-    std::vector<double> fine;
-    assign_large(fine, g.num_nodes());
-    prolongate_add(coarse.geometry(), x, g, fine);
-    x = std::move(fine);
   }
-  // The band's unknowns and right-hand side in its compact layout; its halo
-  // holds the coarse solution, fixed.
-  op.set_active(band);
-  std::vector<double> band_rhs(band->storage_size()), band_x(band->storage_size());
-  band->gather(rhs.data(), band_rhs.data());
-  rhs = std::vector<double>{};  // frees the grid-sized array before the solve's
+  std::vector<double> fine;
+  assign_large(fine, g.num_nodes());
+  prolongate_add(op.geometry().coarsened(), x, g, fine);
+  x = std::move(fine);
+  // The band's unknowns; its halo holds the coarse solution, fixed.
   band->gather(x.data(), band_x.data());
+  op.set_active(band);
   solve(op, band_rhs, band_x);
   band->scatter_active(band_x.data(), x.data());
 }
