@@ -179,7 +179,7 @@ ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vec
                              double weight)
     : geometry_(g), weight_(weight) {
   struct Sample {
-    std::int64_t cell;  // lower corner on the grid padded by one node each side: a sort key
+    std::int64_t cell;  // lower corner on the grid padded by two nodes: a sort key
     Eigen::Vector3i corner;
     Eigen::Vector3d frac;
   };
@@ -188,71 +188,90 @@ ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vec
 #pragma omp parallel for schedule(static)
   for (std::size_t s = 0; s < points.size(); ++s) {
     const TrilinearStencil st = trilinear_stencil(g, points[s].cast<double>());
-    const Eigen::Vector3i c = st.corner.cwiseMax(-1).cwiseMin(d);
-    samples[s] = {(std::int64_t{c.z() + 1} * (d.y() + 2) + c.y() + 1) * (d.x() + 2) + c.x() + 1,
+    // Clamped to [-2, d]: a clamped cell has every corner outside the grid
+    // along that axis, so cells that share a key touch the same nodes.
+    const Eigen::Vector3i c = st.corner.cwiseMax(-2).cwiseMin(d);
+    samples[s] = {(std::int64_t{c.z() + 2} * (d.y() + 3) + c.y() + 2) * (d.x() + 3) + c.x() + 2,
                   st.corner, st.frac};
   }
-  // Sorted by cell, each corner's node index ascends, so the compact index of
-  // every corner is found by a forward walk instead of a search.
+  // Sorted by cell, each corner's node index ascends with the cell: the
+  // touched nodes are the merge of 8 sorted lists (one per corner) instead of
+  // a sort of all corners, and every corner's compact index is found by a
+  // forward walk.
   std::sort(samples.begin(), samples.end(),
             [](const Sample& a, const Sample& b) { return a.cell < b.cell; });
-  std::vector<std::int64_t> nodes_;  // touched nodes, ascending
-  std::vector<std::array<std::int64_t, 8>> node(samples.size());
+  std::vector<std::size_t> first_of_cell;  // samples of cell q: [first_of_cell[q], first_of_cell[q + 1])
   for (std::size_t s = 0; s < samples.size(); ++s) {
-    for (int c = 0; c < 8; ++c) {
-      const Eigen::Vector3i p = samples[s].corner + Eigen::Vector3i(c & 1, (c >> 1) & 1, (c >> 2) & 1);
-      node[s][c] = g.contains(p.x(), p.y(), p.z()) ? g.index(p.x(), p.y(), p.z()) : -1;
-      if (node[s][c] >= 0) nodes_.push_back(node[s][c]);
+    if (s == 0 || samples[s].cell != samples[s - 1].cell) first_of_cell.push_back(s);
+  }
+  const std::size_t num_cells = first_of_cell.size();
+  first_of_cell.push_back(samples.size());
+  const auto corner_node = [&](std::size_t q, int c) -> std::int64_t {
+    const Eigen::Vector3i p =
+        samples[first_of_cell[q]].corner + Eigen::Vector3i(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+    return g.contains(p.x(), p.y(), p.z()) ? g.index(p.x(), p.y(), p.z()) : -1;
+  };
+  std::vector<std::int64_t> nodes, corner_list, merged;
+  for (int c = 0; c < 8; ++c) {
+    corner_list.clear();
+    for (std::size_t q = 0; q < num_cells; ++q) {
+      const std::int64_t n = corner_node(q, c);
+      if (n >= 0) corner_list.push_back(n);
+    }
+    merged.resize(nodes.size() + corner_list.size());
+    merged.erase(std::set_union(nodes.begin(), nodes.end(), corner_list.begin(), corner_list.end(),
+                                merged.begin()),
+                 merged.end());
+    nodes.swap(merged);
+  }
+  // Compact node index of every cell's 8 corners (-1 outside the grid).
+  std::vector<std::array<std::int64_t, 8>> cell_nodes(num_cells);
+  for (int c = 0; c < 8; ++c) {
+    std::size_t walk = 0;
+    for (std::size_t q = 0; q < num_cells; ++q) {
+      const std::int64_t n = corner_node(q, c);
+      if (n >= 0) {
+        while (nodes[walk] < n) ++walk;
+      }
+      cell_nodes[q][c] = n >= 0 ? static_cast<std::int64_t>(walk) : -1;
     }
   }
-  std::sort(nodes_.begin(), nodes_.end());
-  nodes_.erase(std::unique(nodes_.begin(), nodes_.end()), nodes_.end());
-  std::array<std::size_t, 8> walk{};
-  for (auto& corners : node) {
-    for (int c = 0; c < 8; ++c) {
-      if (corners[c] < 0) continue;
-      while (nodes_[walk[c]] < corners[c]) ++walk[c];
-      corners[c] = static_cast<std::int64_t>(walk[c]);
-    }
-  }
-  std::vector<std::array<float, 27>> per_node(nodes_.size(), std::array<float, 27>{});
-  for (std::size_t s = 0; s < samples.size(); ++s) {
-    const TrilinearStencil st{samples[s].corner, samples[s].frac};
-    std::array<double, 8> w;
-    for (int c = 0; c < 8; ++c) w[c] = weight * st.weight(c & 1, (c >> 1) & 1, (c >> 2) & 1);
-    for (int a = 0; a < 8; ++a) {
-      if (node[s][a] < 0) continue;
-      auto& row = per_node[node[s][a]];
-      for (int b = 0; b < 8; ++b) {
-        if (node[s][b] < 0) continue;
-        const int q = ((b & 1) - (a & 1) + 1) + 3 * (((b >> 1) & 1) - ((a >> 1) & 1) + 1) +
-                      9 * (((b >> 2) & 1) - ((a >> 2) & 1) + 1);
-        row[q] += static_cast<float>(w[a] * st.weight(b & 1, (b >> 1) & 1, (b >> 2) & 1));
+  // Each touched node's 27 coefficients (offsets (-1..1)^3, x fastest),
+  // contiguous in node order.
+  coefficients_.assign(27 * nodes.size(), 0.0f);
+  for (std::size_t q = 0; q < num_cells; ++q) {
+    const std::array<std::int64_t, 8>& corners = cell_nodes[q];
+    for (std::size_t s = first_of_cell[q]; s < first_of_cell[q + 1]; ++s) {
+      const TrilinearStencil st{samples[s].corner, samples[s].frac};
+      std::array<double, 8> w;
+      for (int c = 0; c < 8; ++c) w[c] = st.weight(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+      for (int a = 0; a < 8; ++a) {
+        if (corners[a] < 0) continue;
+        float* row = &coefficients_[27 * corners[a]];
+        for (int b = 0; b < 8; ++b) {
+          if (corners[b] < 0) continue;
+          const int o = ((b & 1) - (a & 1) + 1) + 3 * (((b >> 1) & 1) - ((a >> 1) & 1) + 1) +
+                        9 * (((b >> 2) & 1) - ((a >> 2) & 1) + 1);
+          row[o] += static_cast<float>(weight * w[a] * w[b]);
+        }
       }
     }
   }
-  // Runs of consecutive nodes on one row, coefficients transposed per run.
-  num_nodes_ = static_cast<std::int64_t>(nodes_.size());
-  coefficients_.resize(27 * nodes_.size());
-  for (std::size_t e = 0; e < nodes_.size();) {
+  // Runs of consecutive nodes on one row.
+  num_nodes_ = static_cast<std::int64_t>(nodes.size());
+  for (std::size_t e = 0; e < nodes.size();) {
     std::size_t last = e + 1;
-    while (last < nodes_.size() && nodes_[last] == nodes_[last - 1] + 1 &&
-           nodes_[last] % d.x() != 0) {
+    while (last < nodes.size() && nodes[last] == nodes[last - 1] + 1 && nodes[last] % d.x() != 0) {
       ++last;
     }
-    const std::int64_t len = static_cast<std::int64_t>(last - e);
     Run run;
-    run.first = nodes_[e];
-    run.begin = static_cast<int>(nodes_[e] % d.x());
-    run.end = run.begin + static_cast<int>(len);
-    run.j = static_cast<int>((nodes_[e] / d.x()) % d.y());
-    run.k = static_cast<int>(nodes_[e] / (std::int64_t{d.x()} * d.y()));
+    run.begin = static_cast<int>(nodes[e] % d.x());
+    run.end = run.begin + static_cast<int>(last - e);
+    run.j = static_cast<int>((nodes[e] / d.x()) % d.y());
+    run.k = static_cast<int>(nodes[e] / (std::int64_t{d.x()} * d.y()));
     run.coefficients = 27 * static_cast<std::int64_t>(e);
     run.interior = run.j > 0 && run.j < d.y() - 1 && run.k > 0 && run.k < d.z() - 1 &&
                    run.begin > 0 && run.end < d.x();
-    for (std::int64_t t = 0; t < len; ++t) {
-      std::copy(per_node[e + t].begin(), per_node[e + t].end(), &coefficients_[run.coefficients + 27 * t]);
-    }
     runs_.push_back(run);
     e = last;
   }

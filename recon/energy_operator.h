@@ -75,7 +75,6 @@ class ScreeningTerm {
   // meets are found without a search), each node's 27 coefficients (offsets
   // (-1..1)^3, x fastest) contiguous.
   struct Run {
-    std::int64_t first;       // node index of the run's first node
     int j, k, begin, end;     // grid row and nodes begin <= i < end
     std::int64_t coefficients;  // index of the run's first coefficient
     bool interior;            // all 27 neighbours of every node inside the grid
