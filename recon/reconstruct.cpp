@@ -56,12 +56,25 @@ double mean_at_samples(const ScalarGrid& f, const std::vector<Eigen::Vector3f>& 
   return sum / static_cast<double>(points.size());
 }
 
+// x, given on g coarsened `levels` times, prolongated to g.
+void prolongate_levels(const GridGeometry& g, int levels, std::vector<double>& x) {
+  for (int l = levels; l > 0; --l) {
+    GridGeometry fine = g;
+    for (int c = 1; c < l; ++c) fine = fine.coarsened();
+    std::vector<double> finer;
+    assign_large(finer, fine.num_nodes());
+    prolongate_add(fine.coarsened(), x, fine, finer);
+    x = std::move(finer);
+  }
+}
+
 // The isovalue (eq. 12) of the unscreened solution, estimated on the grid
-// coarsened up to twice; guess receives that coarse solution prolongated to the
-// grid coarsened guess_level times (a starting point for the solve there).
+// coarsened up to twice. guess receives that coarse solution prolongated to
+// the grid coarsened guess_level times (a starting point for the solve
+// there); guess_level is lowered when the grid coarsens fewer times.
 double coarse_isovalue(const EnergyOperator& fine, const std::vector<double>& rhs,
                        const std::vector<Eigen::Vector3f>& points, const SolverOptions& solver,
-                       Reporter& reporter, std::size_t guess_level, std::vector<double>& guess) {
+                       Reporter& reporter, int& guess_level, std::vector<double>& guess) {
   std::vector<EnergyOperator> ops{fine};
   std::vector<double> coarse_rhs;
   while (ops.size() < 3 && ops.back().geometry().can_coarsen(3)) {
@@ -82,52 +95,66 @@ double coarse_isovalue(const EnergyOperator& fine, const std::vector<double>& rh
   ScalarGrid coarse(ops.back().geometry());
   coarse.values = x;
   const double iso = mean_at_samples(coarse, points);
-  for (std::size_t l = ops.size() - 1; l > guess_level; --l) {
-    std::vector<double> finer;
-    assign_large(finer, ops[l - 1].geometry().num_nodes());
-    prolongate_add(ops[l].geometry(), x, ops[l - 1].geometry(), finer);
-    x = std::move(finer);
-  }
+  const int coarsest = static_cast<int>(ops.size()) - 1;
+  guess_level = std::min(guess_level, coarsest);
+  prolongate_levels(ops[guess_level].geometry(), coarsest - guess_level, x);
   guess = std::move(x);
   return iso;
 }
 
-// Solves op x = rhs, on a band around the samples when that is much smaller
-// than the grid: first the grid coarsened once everywhere (starting from x,
-// given on that coarse grid), then the fine band with the nodes outside held
-// at the coarse solution's prolongation. Without a band, the fine solve starts
-// from x given on the fine grid. solve(op, b, x) runs one linear solve.
+// The band around the samples on grid g, or null when it would not leave out
+// most of the grid (or g cannot hold the coarser levels a band needs).
+std::shared_ptr<const ActiveNodes> worthwhile_band(const GridGeometry& g,
+                                                   const std::vector<Eigen::Vector3f>& points,
+                                                   int voxels) {
+  if (voxels <= 0 || !g.can_coarsen(3)) return nullptr;
+  auto band = std::make_shared<const ActiveNodes>(band_around_samples(g, points, voxels));
+  if (2 * band->count() > g.num_nodes()) return nullptr;
+  return band;
+}
+
+// Solves op x = rhs, with x given on the grid coarsened x_level times. Where
+// the band around the samples is much smaller than the grid, the grid twice
+// as coarse is solved first (the same way, recursively, down to the level x
+// is given on), then only the band, with the nodes outside it held at the
+// coarse solution's prolongation. Otherwise x is prolongated and the whole
+// grid solved. solve(op, b, x) runs one linear solve. Returns the number of
+// nodes of this level's band (0: none).
 template <typename SolveFn>
-void solve_with_band(EnergyOperator& op, std::vector<double> rhs,
-                     std::shared_ptr<const ActiveNodes> band, std::vector<double>& x,
-                     Reporter& reporter, SolveFn&& solve) {
-  if (!band) {
-    solve(op, rhs, x);
-    return;
-  }
+std::int64_t solve_with_bands(EnergyOperator& op, std::vector<double> rhs,
+                              const std::vector<Eigen::Vector3f>& points, int band_voxels,
+                              int x_level, std::vector<double>& x, Reporter& reporter,
+                              SolveFn&& solve) {
   const GridGeometry& g = op.geometry();
-  reporter.info(format_message("recon: fine band of ", band->count(), " nodes (",
-                               100.0 * band->count() / g.num_nodes(), "% of the grid)"));
+  const std::shared_ptr<const ActiveNodes> band =
+      x_level > 0 ? worthwhile_band(g, points, band_voxels) : nullptr;
+  if (!band) {
+    prolongate_levels(g, x_level, x);
+    solve(op, rhs, x);
+    return 0;
+  }
+  reporter.info(format_message("recon: band of ", band->count(), " nodes (",
+                               100.0 * band->count() / g.num_nodes(), "% of the ", g.dims.x(),
+                               "x", g.dims.y(), "x", g.dims.z(), " grid)"));
   // The band's right-hand side in its compact layout, then the grid-sized one
   // is freed before any solver array exists (the peak memory).
   std::vector<double> band_rhs(band->storage_size()), band_x(band->storage_size());
   band->gather(rhs.data(), band_rhs.data());
   {
-    const EnergyOperator coarse = op.coarsened();
+    EnergyOperator coarse = op.coarsened();
     std::vector<double> coarse_rhs;
     restrict_to_coarse(g, rhs, coarse.geometry(), coarse_rhs);
     rhs = std::vector<double>{};
-    solve(coarse, coarse_rhs, x);
+    solve_with_bands(coarse, std::move(coarse_rhs), points, band_voxels, x_level - 1, x, reporter,
+                     solve);
   }
-  std::vector<double> fine;
-  assign_large(fine, g.num_nodes());
-  prolongate_add(op.geometry().coarsened(), x, g, fine);
-  x = std::move(fine);
+  prolongate_levels(g, 1, x);
   // The band's unknowns; its halo holds the coarse solution, fixed.
   band->gather(x.data(), band_x.data());
   op.set_active(band);
   solve(op, band_rhs, band_x);
   band->scatter_active(band_x.data(), x.data());
+  return band->count();
 }
 
 }  // namespace
@@ -262,32 +289,32 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
     const double weight =
         options.energy == SmoothnessEnergy::kMembrane ? options.lambda : options.lambda * ell * ell;
     EnergyOperator op(grid, options.energy, weight);
-    // The band pays off only when it leaves out most of the grid.
-    std::shared_ptr<const ActiveNodes> band;
-    if (solver.band_voxels > 0 && grid.can_coarsen(3)) {
-      band = std::make_shared<const ActiveNodes>(band_around_samples(grid, points, solver.band_voxels));
-      if (2 * band->count() > grid.num_nodes()) band.reset();
-    }
-    stats.band_nodes = band ? band->count() : 0;
+    // The solve starts on the grid coarsened twice (see solve_with_bands).
+    int x_level = solver.band_voxels > 0 ? 2 : 0;
     if (options.screening > 0.0) {
       // One screened solve. The target of the pinning is the isovalue (eq. 12)
       // of the unscreened solution, estimated on a grid coarsened twice (1/64
       // of the nodes), whose prolongation also starts the solve.
-      const double target =
-          coarse_isovalue(op, rhs.values, points, solver, reporter, band ? 1 : 0, f.values);
+      const double target = coarse_isovalue(op, rhs.values, points, solver, reporter, x_level, f.values);
       op.set_screening(std::make_shared<const std::vector<Eigen::Vector3f>>(points), 1.0);
       // Weighted so that at a typical surface node the term is screening
       // times the Laplacian's scale 1 / h^2, at any resolution and density.
       op.scale_screening(options.screening /
                          (grid.spacing * grid.spacing * std::max(op.screening().mean_row_sum(), 1e-12)));
       op.screening().add_target(target, rhs.values);
-    } else if (band) {
-      f.values.assign(grid.coarsened().num_nodes(), 0.0);
+    } else {
+      // From zero, on the coarsest grid the solve may start on.
+      GridGeometry start = grid;
+      int levels = 0;
+      for (; levels < x_level && start.can_coarsen(3); ++levels) start = start.coarsened();
+      x_level = levels;
+      f.values.assign(start.num_nodes(), 0.0);
     }
-    solve_with_band(op, std::move(rhs.values), std::move(band), f.values, reporter,
-                    [&](const EnergyOperator& o, const std::vector<double>& b, std::vector<double>& x) {
-                      run(o, b, x, solver);
-                    });
+    stats.band_nodes =
+        solve_with_bands(op, std::move(rhs.values), points, solver.band_voxels, x_level, f.values, reporter,
+                         [&](const EnergyOperator& o, const std::vector<double>& b, std::vector<double>& x) {
+                           run(o, b, x, solver);
+                         });
   }
   for (double v : f.values) {
     if (!std::isfinite(v)) throw NumericalError("recon", "the implicit function is not finite");
