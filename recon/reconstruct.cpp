@@ -233,18 +233,18 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   reporter.info(format_message("recon: grid ", grid.dims.x(), "x", grid.dims.y(), "x",
                                grid.dims.z(), ", voxel ", grid.spacing, ", ", points.size(),
                                " samples"));
-  VectorGrid field;
+  // A f = -div F
+  ScalarGrid rhs;
   if (options.uniform_flux) {
-    field = density_scaled_field(grid, points, normals, weights, options.filter_passes,
-                                 options.direction_filter_passes);
+    rhs = density_scaled_rhs(grid, points, normals, weights, options.filter_passes,
+                             options.direction_filter_passes, options.filter_passes);
   } else {
-    field = splat_normals(grid, points, normals, weights);
+    VectorGrid field = splat_normals(grid, points, normals, weights);
     box_filter(field, options.filter_passes);
+    normalize_field(field, points, options.filter_passes);
+    rhs = divergence(field);
+    for (double& v : rhs.values) v = -v;
   }
-  normalize_field(field, points, options.filter_passes);
-  ScalarGrid rhs = divergence(field);
-  field = VectorGrid{};
-  for (double& v : rhs.values) v = -v;  // A f = -div F
   reporter.end();
   stats.seconds_field = seconds_since(t_field);
 

@@ -1,7 +1,12 @@
 #include "recon/vector_field.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 namespace hos::recon {
 namespace {
@@ -47,6 +52,58 @@ void box_filter_axis(const GridGeometry& g, std::vector<double>& v, int axis, in
     }
   }
 }
+
+// Central differences in one plane of nodes (zero beyond the grid) times
+// factor: fx, fy the x and y components in the plane, fz_below and fz_above
+// the z components in the planes below and above (null beyond the grid).
+void divergence_plane(const Eigen::Vector3i& d, double factor, const double* fx, const double* fy,
+                      const double* fz_below, const double* fz_above, double* out) {
+  for (int j = 0; j < d.y(); ++j) {
+    for (int i = 0; i < d.x(); ++i) {
+      const std::int64_t q = std::int64_t{j} * d.x() + i;
+      double s = 0.0;
+      s += ((i < d.x() - 1 ? fx[q + 1] : 0.0) - (i > 0 ? fx[q - 1] : 0.0)) * factor;
+      s += ((j < d.y() - 1 ? fy[q + d.x()] : 0.0) - (j > 0 ? fy[q - d.x()] : 0.0)) * factor;
+      s += ((fz_above ? fz_above[q] : 0.0) - (fz_below ? fz_below[q] : 0.0)) * factor;
+      out[q] = s;
+    }
+  }
+}
+
+// The smoothed directions on the grid coarsened once, and the coarse density
+// that tells where opposite orientations cancel (density_scaled_field).
+struct CoarseDirections {
+  GridGeometry coarse;
+  VectorGrid directions;
+  std::vector<double> density;
+
+  // F at a fine node at x whose smoothed fine density is fine_density.
+  Eigen::Vector3d field_at(const Eigen::Vector3d& x, double fine_density) const {
+    if (fine_density == 0.0) return Eigen::Vector3d::Zero();
+    // Trilinear samples of the directions and the coarse density, as
+    // sample_trilinear but with one stencil for the four.
+    const TrilinearStencil s = trilinear_stencil(coarse, x);
+    Eigen::Vector3d v = Eigen::Vector3d::Zero();
+    double mass = 0.0;
+    for (int oz = 0; oz < 2; ++oz) {
+      for (int oy = 0; oy < 2; ++oy) {
+        for (int ox = 0; ox < 2; ++ox) {
+          const int i = s.corner.x() + ox, j = s.corner.y() + oy, k = s.corner.z() + oz;
+          if (!coarse.contains(i, j, k)) continue;
+          const double w = s.weight(ox, oy, oz);
+          const std::int64_t n = coarse.index(i, j, k);
+          for (int a = 0; a < 3; ++a) v[a] += w * directions.components[a][n];
+          mass += w * density[n];
+        }
+      }
+    }
+    const double len = v.norm();
+    // As in use_density_magnitude: where orientations cancel (thin parts),
+    // keep the smoothed sum, here relative to the coarse density.
+    const double scale = len > 1e-3 * mass ? fine_density / len : mass > 0.0 ? fine_density / mass : 0.0;
+    return scale * v;
+  }
+};
 
 }  // namespace
 
@@ -113,6 +170,56 @@ void use_density_magnitude(VectorGrid& field, const std::vector<double>& density
   }
 }
 
+namespace {
+
+CoarseDirections coarse_directions(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+                                   const std::vector<Eigen::Vector3f>& normals,
+                                   const std::vector<float>& weights, int direction_passes) {
+  CoarseDirections c{geometry.coarsened(), {}, {}};
+  c.directions = splat_normals(c.coarse, points, normals, weights);
+  box_filter(c.directions, direction_passes / 4);
+  c.density = splat_density(c.coarse, points, weights);
+  box_filter(c.coarse, c.density, direction_passes / 4);
+  return c;
+}
+
+// Mean |F| over a subset of the samples (a subset suffices for a mean), F
+// trilinear from node_field(i, j, k), its value at the 8 nodes around each
+// sample (zero beyond the grid).
+template <typename NodeField>
+double mean_norm_at_samples(const GridGeometry& g, const std::vector<Eigen::Vector3f>& points,
+                            const NodeField& node_field) {
+  double sum = 0.0;
+  std::size_t count = 0;
+  const std::size_t step = std::max<std::size_t>(1, points.size() / 20000);
+  for (std::size_t p = 0; p < points.size(); p += step) {
+    const TrilinearStencil s = trilinear_stencil(g, points[p].cast<double>());
+    Eigen::Vector3d f = Eigen::Vector3d::Zero();
+    for (int oz = 0; oz < 2; ++oz) {
+      for (int oy = 0; oy < 2; ++oy) {
+        for (int ox = 0; ox < 2; ++ox) {
+          const int i = s.corner.x() + ox, j = s.corner.y() + oy, k = s.corner.z() + oz;
+          if (g.contains(i, j, k)) f += s.weight(ox, oy, oz) * node_field(i, j, k);
+        }
+      }
+    }
+    sum += f.norm();
+    ++count;
+  }
+  return count ? sum / static_cast<double>(count) : 0.0;
+}
+
+// The factor of normalize_field for a mean |F| at the samples (1 if none).
+double normalization_scale(const GridGeometry& g, double mean, int filter_passes) {
+  if (!(mean > 0.0)) return 1.0;
+  // The smoothed splat of a surface has a cross-section about (1 + passes)
+  // nodes wide; its integral across the surface is mean * width * h.
+  const double width = (1.0 + filter_passes) * g.spacing;
+  return 1.0 / (mean * width);
+}
+
+}  // namespace
+
 VectorGrid density_scaled_field(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
                                 const std::vector<Eigen::Vector3f>& normals,
                                 const std::vector<float>& weights, int density_passes,
@@ -125,13 +232,7 @@ VectorGrid density_scaled_field(const GridGeometry& geometry, const std::vector<
     use_density_magnitude(field, density);
     return field;
   }
-  const GridGeometry coarse = geometry.coarsened();
-  VectorGrid directions = splat_normals(coarse, points, normals, weights);
-  box_filter(directions, direction_passes / 4);
-  // The coarse density tells where opposite orientations cancel.
-  std::vector<double> coarse_density = splat_density(coarse, points, weights);
-  box_filter(coarse, coarse_density, direction_passes / 4);
-
+  const CoarseDirections dirs = coarse_directions(geometry, points, normals, weights, direction_passes);
   VectorGrid field{geometry, {}};
   for (auto& c : field.components) assign_large(c, geometry.num_nodes());
   const Eigen::Vector3i d = geometry.dims;
@@ -140,15 +241,7 @@ VectorGrid density_scaled_field(const GridGeometry& geometry, const std::vector<
     for (int j = 0; j < d.y(); ++j) {
       for (int i = 0; i < d.x(); ++i) {
         const std::int64_t n = geometry.index(i, j, k);
-        if (density[n] == 0.0) continue;
-        const Eigen::Vector3d x = geometry.position(i, j, k);
-        Eigen::Vector3d v;
-        for (int a = 0; a < 3; ++a) v[a] = sample_trilinear(coarse, directions.components[a], x);
-        const double len = v.norm(), mass = sample_trilinear(coarse, coarse_density, x);
-        // As in use_density_magnitude: where orientations cancel (thin parts),
-        // keep the smoothed sum, here relative to the coarse density.
-        const double scale = len > 1e-3 * mass ? density[n] / len : mass > 0.0 ? density[n] / mass : 0.0;
-        const Eigen::Vector3d f = scale * v;
+        const Eigen::Vector3d f = dirs.field_at(geometry.position(i, j, k), density[n]);
         for (int a = 0; a < 3; ++a) field.components[a][n] = f[a];
       }
     }
@@ -158,23 +251,13 @@ VectorGrid density_scaled_field(const GridGeometry& geometry, const std::vector<
 
 void normalize_field(VectorGrid& field, const std::vector<Eigen::Vector3f>& points,
                      int filter_passes) {
-  double sum = 0.0;
-  std::size_t count = 0;
-  // A subset of the samples suffices for a mean.
-  const std::size_t step = std::max<std::size_t>(1, points.size() / 20000);
-  for (std::size_t p = 0; p < points.size(); p += step) {
-    const Eigen::Vector3d x = points[p].cast<double>();
-    Eigen::Vector3d f;
-    for (int a = 0; a < 3; ++a) f[a] = sample_trilinear(field.geometry, field.components[a], x);
-    sum += f.norm();
-    ++count;
-  }
-  const double mean = count ? sum / static_cast<double>(count) : 0.0;
-  if (!(mean > 0.0)) return;
-  // The smoothed splat of a surface has a cross-section about (1 + passes)
-  // nodes wide; its integral across the surface is mean * width * h.
-  const double width = (1.0 + filter_passes) * field.geometry.spacing;
-  const double scale = 1.0 / (mean * width);
+  const GridGeometry& g = field.geometry;
+  const auto node_field = [&](int i, int j, int k) {
+    const std::int64_t n = g.index(i, j, k);
+    return Eigen::Vector3d(field.components[0][n], field.components[1][n], field.components[2][n]);
+  };
+  const double scale = normalization_scale(g, mean_norm_at_samples(g, points, node_field), filter_passes);
+  if (scale == 1.0) return;
   for (auto& c : field.components) {
     const std::int64_t n = static_cast<std::int64_t>(c.size());
 #pragma omp parallel for schedule(static)
@@ -187,25 +270,90 @@ ScalarGrid divergence(const VectorGrid& field) {
   ScalarGrid div(g);
   const double inv2h = 1.0 / (2.0 * g.spacing);
   const Eigen::Vector3i d = g.dims;
-  const std::int64_t strides[3] = {1, d.x(), std::int64_t{d.x()} * d.y()};
-#pragma omp parallel for collapse(2) schedule(static)
+  const std::int64_t plane = std::int64_t{d.x()} * d.y();
+  const auto& c = field.components;
+#pragma omp parallel for schedule(static)
   for (int k = 0; k < d.z(); ++k) {
-    for (int j = 0; j < d.y(); ++j) {
-      for (int i = 0; i < d.x(); ++i) {
-        const Eigen::Vector3i p(i, j, k);
-        const std::int64_t idx = g.index(i, j, k);
-        double s = 0.0;
-        for (int a = 0; a < 3; ++a) {
-          const auto& c = field.components[a];
-          const double plus = p[a] < d[a] - 1 ? c[idx + strides[a]] : 0.0;
-          const double minus = p[a] > 0 ? c[idx - strides[a]] : 0.0;
-          s += (plus - minus) * inv2h;
+    const std::int64_t at = k * plane;
+    divergence_plane(d, inv2h, c[0].data() + at, c[1].data() + at,
+                    k > 0 ? c[2].data() + at - plane : nullptr,
+                    k < d.z() - 1 ? c[2].data() + at + plane : nullptr, div.values.data() + at);
+  }
+  return div;
+}
+
+ScalarGrid density_scaled_rhs(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+                              const std::vector<Eigen::Vector3f>& normals,
+                              const std::vector<float>& weights, int density_passes,
+                              int direction_passes, int filter_passes) {
+  if (direction_passes % 4 != 0 || !geometry.can_coarsen(3)) {
+    VectorGrid field = density_scaled_field(geometry, points, normals, weights, density_passes,
+                                            direction_passes);
+    normalize_field(field, points, filter_passes);
+    ScalarGrid rhs = divergence(field);
+    for (double& v : rhs.values) v = -v;
+    return rhs;
+  }
+  // The result first: where freed memory is kept for reuse (hos-recon), the
+  // temporaries above it then leave one free block at the heap's top for the
+  // solver's arrays instead of a hole below the result.
+  ScalarGrid rhs(geometry);
+  std::vector<double> density = splat_density(geometry, points, weights);
+  box_filter(geometry, density, density_passes);
+  const CoarseDirections dirs = coarse_directions(geometry, points, normals, weights, direction_passes);
+  const auto node_field = [&](int i, int j, int k) {
+    return dirs.field_at(geometry.position(i, j, k), density[geometry.index(i, j, k)]);
+  };
+  const double scale =
+      normalization_scale(geometry, mean_norm_at_samples(geometry, points, node_field), filter_passes);
+
+  // -div of the scaled F, the scale and the sign folded into the difference
+  // factor (divergence is linear).
+  const double factor = -scale / (2.0 * geometry.spacing);
+  const Eigen::Vector3i d = geometry.dims;
+  const std::int64_t plane = std::int64_t{d.x()} * d.y();
+  // Blocks of planes, each with its own window of F in planes k - 1, k, k + 1
+  // (the two planes around a block are evaluated twice); a few blocks per
+  // thread balance the planes that cut more of the surface.
+  int blocks = 1;
+#ifdef _OPENMP
+  if (worth_threads(geometry.num_nodes())) blocks = 4 * omp_get_max_threads();
+#endif
+  blocks = std::min(blocks, d.z());
+#pragma omp parallel
+  {
+    // window[k mod 3][a]: component a of F in plane k.
+    std::array<std::array<std::vector<double>, 3>, 3> window;
+    for (auto& slot : window) {
+      for (auto& c : slot) c.resize(plane);
+    }
+    const auto slot = [&](int k) -> std::array<std::vector<double>, 3>& { return window[k % 3]; };
+    const auto fill = [&](int k) {
+      auto& w = slot(k);
+      for (int j = 0; j < d.y(); ++j) {
+        for (int i = 0; i < d.x(); ++i) {
+          const Eigen::Vector3d f = node_field(i, j, k);
+          const std::int64_t q = std::int64_t{j} * d.x() + i;
+          for (int a = 0; a < 3; ++a) w[a][q] = f[a];
         }
-        div.values[idx] = s;
+      }
+    };
+#pragma omp for schedule(dynamic, 1)
+    for (int b = 0; b < blocks; ++b) {
+      const int k_begin = static_cast<int>(std::int64_t{d.z()} * b / blocks);
+      const int k_end = static_cast<int>(std::int64_t{d.z()} * (b + 1) / blocks);
+      if (k_begin > 0) fill(k_begin - 1);
+      fill(k_begin);
+      for (int k = k_begin; k < k_end; ++k) {
+        if (k + 1 < d.z()) fill(k + 1);
+        divergence_plane(d, factor, slot(k)[0].data(), slot(k)[1].data(),
+                        k > 0 ? slot(k - 1)[2].data() : nullptr,
+                        k + 1 < d.z() ? slot(k + 1)[2].data() : nullptr,
+                        rhs.values.data() + k * plane);
       }
     }
   }
-  return div;
+  return rhs;
 }
 
 }  // namespace hos::recon

@@ -57,4 +57,15 @@ void normalize_field(VectorGrid& field, const std::vector<Eigen::Vector3f>& poin
 // Divergence by central differences (zero beyond the grid).
 ScalarGrid divergence(const VectorGrid& field);
 
+// The right-hand side -div F of the energy (paper sec. 4.1) for the field of
+// density_scaled_field scaled by normalize_field (filter_passes), the same
+// values up to rounding. With coarse directions it evaluates F plane by plane
+// from the fine density and the coarse directions, so the fine density and the
+// result are its only grid-sized arrays (the materialised field is 3 more);
+// otherwise it materialises F.
+ScalarGrid density_scaled_rhs(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+                              const std::vector<Eigen::Vector3f>& normals,
+                              const std::vector<float>& weights, int density_passes,
+                              int direction_passes, int filter_passes);
+
 }  // namespace hos::recon
