@@ -116,6 +116,20 @@ ActiveNodes ActiveNodes::from_mask(const GridGeometry& g, std::vector<std::uint8
   return a;
 }
 
+std::vector<NodeSpan> ActiveNodes::stored_spans() const {
+  if (is_all()) return spans_;
+  std::vector<NodeSpan> spans;
+  spans.reserve(stored_.size());
+  const std::int64_t rows = static_cast<std::int64_t>(row_runs_.size()) - 1;
+  for (std::int64_t row = 0; row < rows; ++row) {
+    const int j = static_cast<int>(row % dims_.y()), k = static_cast<int>(row / dims_.y());
+    for (std::int64_t r = row_runs_[row]; r < row_runs_[row + 1]; ++r) {
+      spans.push_back({j, k, stored_[r].lo, stored_[r].hi, stored_[r].base + stored_[r].lo});
+    }
+  }
+  return spans;
+}
+
 template <typename T>
 void ActiveNodes::gather(const T* dense, T* stored) const {
   if (is_all()) {

@@ -49,6 +49,8 @@ class ActiveNodes {
   const std::vector<NodeSpan>& spans() const { return spans_; }
   // Values per array in this layout.
   std::int64_t storage_size() const { return storage_size_; }
+  // Every stored node (active or halo) as spans in the same layout.
+  std::vector<NodeSpan> stored_spans() const;
   // Is the node (dense grid index) active?
   bool contains(std::int64_t node) const { return mask_.empty() || mask_[node] != 0; }
   // A base b such that node i' of row (j, k) is stored at b + i' for every i'

@@ -584,19 +584,22 @@ void restrict_to_coarse(const GridGeometry& fine, const ActiveNodes& fine_nodes,
   }
 }
 
+namespace {
+
+// prolongate_add on the fine nodes of these spans.
 template <typename T>
-void prolongate_add(const GridGeometry& coarse, const ActiveNodes& coarse_nodes, const T* ec,
-                    const GridGeometry& /*fine*/, const ActiveNodes& fine_active, T* x) {
+void prolongate_add_spans(const GridGeometry& coarse, const ActiveNodes& coarse_nodes, const T* ec,
+                          const std::vector<NodeSpan>& spans, std::int64_t count, T* x) {
   const Eigen::Vector3i dc = coarse.dims;
-#pragma omp parallel if (worth_threads(fine_active.count()))
+#pragma omp parallel if (worth_threads(count))
   {
     // The coarse values interpolated in y and z for one fine row, padded by a
     // zero each side (the ghost nodes), and one coarse row.
     std::vector<double> line(dc.x() + 2);
     std::vector<T> coarse_row(dc.x());
 #pragma omp for schedule(static)
-    for (std::int64_t s = 0; s < static_cast<std::int64_t>(fine_active.spans().size()); ++s) {
-      const NodeSpan& span = fine_active.spans()[s];
+    for (std::int64_t s = 0; s < static_cast<std::int64_t>(spans.size()); ++s) {
+      const NodeSpan& span = spans[s];
       const AxisWeights wz = axis_weights(span.k), wy = axis_weights(span.j);
       // Fine i odd sits on coarse (i - 1) / 2, even i halfway between i/2 - 1
       // and i/2: the span reads coarse columns c0 <= i < c1.
@@ -620,6 +623,20 @@ void prolongate_add(const GridGeometry& coarse, const ActiveNodes& coarse_nodes,
       }
     }
   }
+}
+
+}  // namespace
+
+template <typename T>
+void prolongate_add(const GridGeometry& coarse, const ActiveNodes& coarse_nodes, const T* ec,
+                    const GridGeometry& /*fine*/, const ActiveNodes& fine_active, T* x) {
+  prolongate_add_spans(coarse, coarse_nodes, ec, fine_active.spans(), fine_active.count(), x);
+}
+
+void prolongate_add_to_stored(const GridGeometry& coarse, const std::vector<double>& ec,
+                              const ActiveNodes& fine_nodes, double* x) {
+  prolongate_add_spans(coarse, ActiveNodes::all(coarse), ec.data(), fine_nodes.stored_spans(),
+                       fine_nodes.storage_size(), x);
 }
 
 template void restrict_to_coarse<float>(const GridGeometry&, const ActiveNodes&, const float*,

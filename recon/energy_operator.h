@@ -161,5 +161,9 @@ void restrict_to_coarse(const GridGeometry& fine, const ActiveNodes& fine_nodes,
 template <typename T>
 void prolongate_add(const GridGeometry& coarse, const ActiveNodes& coarse_nodes, const T* ec,
                     const GridGeometry& fine, const ActiveNodes& fine_active, T* x);
+// The same from a whole coarse grid to every node a fine layout stores (its
+// active nodes and halo): starts a banded solve without a grid-sized array.
+void prolongate_add_to_stored(const GridGeometry& coarse, const std::vector<double>& ec,
+                              const ActiveNodes& fine_nodes, double* x);
 
 }  // namespace hos::recon

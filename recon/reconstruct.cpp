@@ -148,11 +148,13 @@ std::int64_t solve_with_bands(EnergyOperator& op, std::vector<double> rhs,
     solve_with_bands(coarse, std::move(coarse_rhs), points, band_voxels, x_level - 1, x, reporter,
                      solve);
   }
-  prolongate_levels(g, 1, x);
-  // The band's unknowns; its halo holds the coarse solution, fixed.
-  band->gather(x.data(), band_x.data());
+  // The band's unknowns; its halo holds the coarse solution, fixed. The
+  // grid-sized solution is made after the band's solver arrays are freed.
+  prolongate_add_to_stored(g.coarsened(), x, *band, band_x.data());
   op.set_active(band);
   solve(op, band_rhs, band_x);
+  band_rhs = std::vector<double>{};
+  prolongate_levels(g, 1, x);
   band->scatter_active(band_x.data(), x.data());
   return band->count();
 }

@@ -197,6 +197,16 @@ TEST(ActiveNodes, BandedTransfersMatchTheDenseOnesAndStayAdjoint) {
     rhs += r[i] * pe[i];
   }
   EXPECT_NEAR(lhs, rhs, 1e-9 * std::abs(rhs));
+
+  // From a whole coarse grid to every stored node (active and halo): the
+  // dense prolongation, gathered.
+  std::vector<double> e_all(coarse.num_nodes());
+  for (std::int64_t i = 0; i < coarse.num_nodes(); ++i) e_all[i] = std::cos(0.91 * i);
+  std::vector<double> dense(fine.num_nodes(), 0.0), expected(band.storage_size()), stored(band.storage_size(), 0.0);
+  prolongate_add(coarse, e_all, fine, dense);
+  band.gather(dense.data(), expected.data());
+  prolongate_add_to_stored(coarse, e_all, band, stored.data());
+  for (std::int64_t i = 0; i < band.storage_size(); ++i) ASSERT_NEAR(stored[i], expected[i], 1e-12) << i;
 }
 
 }  // namespace
