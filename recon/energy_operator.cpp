@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <parallel/algorithm>
 #include <stdexcept>
 
 namespace hos::recon {
@@ -180,6 +181,7 @@ ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vec
     : geometry_(g), weight_(weight) {
   struct Sample {
     std::int64_t cell;  // lower corner on the grid padded by two nodes: a sort key
+    std::size_t input;  // index in points
     Eigen::Vector3i corner;
     Eigen::Vector3d frac;
   };
@@ -191,15 +193,18 @@ ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vec
     // Clamped to [-2, d]: a clamped cell has every corner outside the grid
     // along that axis, so cells that share a key touch the same nodes.
     const Eigen::Vector3i c = st.corner.cwiseMax(-2).cwiseMin(d);
-    samples[s] = {(std::int64_t{c.z() + 2} * (d.y() + 3) + c.y() + 2) * (d.x() + 3) + c.x() + 2,
+    samples[s] = {(std::int64_t{c.z() + 2} * (d.y() + 3) + c.y() + 2) * (d.x() + 3) + c.x() + 2, s,
                   st.corner, st.frac};
   }
   // Sorted by cell, each corner's node index ascends with the cell: the
   // touched nodes are the merge of 8 sorted lists (one per corner) instead of
   // a sort of all corners, and every corner's compact index is found by a
   // forward walk.
-  std::sort(samples.begin(), samples.end(),
-            [](const Sample& a, const Sample& b) { return a.cell < b.cell; });
+  // Ties broken by the input order: the sums below, and so the result, do not
+  // depend on the sort or the thread count.
+  __gnu_parallel::sort(samples.begin(), samples.end(), [](const Sample& a, const Sample& b) {
+    return a.cell < b.cell || (a.cell == b.cell && a.input < b.input);
+  });
   std::vector<std::size_t> first_of_cell;  // samples of cell q: [first_of_cell[q], first_of_cell[q + 1])
   for (std::size_t s = 0; s < samples.size(); ++s) {
     if (s == 0 || samples[s].cell != samples[s - 1].cell) first_of_cell.push_back(s);
@@ -226,6 +231,7 @@ ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vec
   }
   // Compact node index of every cell's 8 corners (-1 outside the grid).
   std::vector<std::array<std::int64_t, 8>> cell_nodes(num_cells);
+#pragma omp parallel for schedule(static, 1)
   for (int c = 0; c < 8; ++c) {
     std::size_t walk = 0;
     for (std::size_t q = 0; q < num_cells; ++q) {
@@ -238,21 +244,40 @@ ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vec
   }
   // Each touched node's 27 coefficients (offsets (-1..1)^3, x fastest),
   // contiguous in node order.
-  coefficients_.assign(27 * nodes.size(), 0.0f);
+  // The cells of one plane of cells (one z) write node planes z and z + 1
+  // only: planes of one parity run in parallel without write conflicts.
+  std::vector<std::size_t> first_of_plane;  // cells of plane p: [first_of_plane[p], first_of_plane[p + 1])
+  const std::int64_t cells_per_plane = std::int64_t{d.x() + 3} * (d.y() + 3);
   for (std::size_t q = 0; q < num_cells; ++q) {
-    const std::array<std::int64_t, 8>& corners = cell_nodes[q];
-    for (std::size_t s = first_of_cell[q]; s < first_of_cell[q + 1]; ++s) {
-      const TrilinearStencil st{samples[s].corner, samples[s].frac};
-      std::array<double, 8> w;
-      for (int c = 0; c < 8; ++c) w[c] = st.weight(c & 1, (c >> 1) & 1, (c >> 2) & 1);
-      for (int a = 0; a < 8; ++a) {
-        if (corners[a] < 0) continue;
-        float* row = &coefficients_[27 * corners[a]];
-        for (int b = 0; b < 8; ++b) {
-          if (corners[b] < 0) continue;
-          const int o = ((b & 1) - (a & 1) + 1) + 3 * (((b >> 1) & 1) - ((a >> 1) & 1) + 1) +
-                        9 * (((b >> 2) & 1) - ((a >> 2) & 1) + 1);
-          row[o] += static_cast<float>(weight * w[a] * w[b]);
+    if (q == 0 || samples[first_of_cell[q]].cell / cells_per_plane !=
+                      samples[first_of_cell[q - 1]].cell / cells_per_plane) {
+      first_of_plane.push_back(q);
+    }
+  }
+  const std::int64_t num_planes = static_cast<std::int64_t>(first_of_plane.size());
+  first_of_plane.push_back(num_cells);
+  coefficients_.assign(27 * nodes.size(), 0.0f);
+  for (int parity = 0; parity < 2; ++parity) {
+#pragma omp parallel for schedule(dynamic, 4)
+    for (std::int64_t p = 0; p < num_planes; ++p) {
+      const std::size_t first = first_of_plane[p];
+      if ((samples[first_of_cell[first]].cell / cells_per_plane) % 2 != parity) continue;
+      for (std::size_t q = first; q < first_of_plane[p + 1]; ++q) {
+        const std::array<std::int64_t, 8>& corners = cell_nodes[q];
+        for (std::size_t s = first_of_cell[q]; s < first_of_cell[q + 1]; ++s) {
+          const TrilinearStencil st{samples[s].corner, samples[s].frac};
+          std::array<double, 8> w;
+          for (int c = 0; c < 8; ++c) w[c] = st.weight(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+          for (int a = 0; a < 8; ++a) {
+            if (corners[a] < 0) continue;
+            float* row = &coefficients_[27 * corners[a]];
+            for (int b = 0; b < 8; ++b) {
+              if (corners[b] < 0) continue;
+              const int o = ((b & 1) - (a & 1) + 1) + 3 * (((b >> 1) & 1) - ((a >> 1) & 1) + 1) +
+                            9 * (((b >> 2) & 1) - ((a >> 2) & 1) + 1);
+              row[o] += static_cast<float>(weight * w[a] * w[b]);
+            }
+          }
         }
       }
     }
