@@ -359,10 +359,16 @@ void ScreeningTerm::add_row(std::int64_t row, int begin, int end, const std::arr
     const int i0 = std::max(run.begin, begin), i1 = std::min(run.end, end);
     const float* c = coefficients_.data() + run.coefficients + 27 * (i0 - run.begin);
     if (run.interior) {
-      // Every neighbour inside the grid: a fixed 27-term sum per node.
+      // Every neighbour inside the grid: a fixed 27-term sum per node, three
+      // neighbours along x from each of the 9 rows.
+      const std::array<const T*, 9> r = x_rows;
       for (int i = i0; i < i1; ++i, c += 27) {
         T sum = 0;
-        for (int q = 0; q < 27; ++q) sum += static_cast<T>(c[q]) * x_rows[q / 3][i + q % 3 - 1];
+        for (int q = 0; q < 9; ++q) {
+          const T* p = r[q] + (i - 1);
+          sum += static_cast<T>(c[3 * q]) * p[0] + static_cast<T>(c[3 * q + 1]) * p[1] +
+                 static_cast<T>(c[3 * q + 2]) * p[2];
+        }
         y_row[i] += sum;
       }
       continue;

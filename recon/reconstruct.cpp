@@ -126,8 +126,10 @@ std::int64_t solve_with_bands(EnergyOperator& op, std::vector<double> rhs,
                               int x_level, std::vector<double>& x, Reporter& reporter,
                               SolveFn&& solve) {
   const GridGeometry& g = op.geometry();
+  const auto t_band = Clock::now();
   const std::shared_ptr<const ActiveNodes> band =
       x_level > 0 ? worthwhile_band(g, points, band_voxels) : nullptr;
+  reporter.debug(format_message("recon: band construction ", seconds_since(t_band), " s"));
   if (!band) {
     prolongate_levels(g, x_level, x);
     solve(op, rhs, x);
@@ -150,12 +152,16 @@ std::int64_t solve_with_bands(EnergyOperator& op, std::vector<double> rhs,
   }
   // The band's unknowns; its halo holds the coarse solution, fixed. The
   // grid-sized solution is made after the band's solver arrays are freed.
+  auto t_transfer = Clock::now();
   prolongate_add_to_stored(g.coarsened(), x, *band, band_x.data());
   op.set_active(band);
+  reporter.debug(format_message("recon: band start ", seconds_since(t_transfer), " s"));
   solve(op, band_rhs, band_x);
   band_rhs = std::vector<double>{};
+  t_transfer = Clock::now();
   prolongate_levels(g, 1, x);
   band->scatter_active(band_x.data(), x.data());
+  reporter.debug(format_message("recon: band result to the grid ", seconds_since(t_transfer), " s"));
   return band->count();
 }
 
@@ -298,12 +304,14 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
       // of the unscreened solution, estimated on a grid coarsened twice (1/64
       // of the nodes), whose prolongation also starts the solve.
       const double target = coarse_isovalue(op, rhs.values, points, solver, reporter, x_level, f.values);
+      const auto t_screening = Clock::now();
       op.set_screening(std::make_shared<const std::vector<Eigen::Vector3f>>(points), 1.0);
       // Weighted so that at a typical surface node the term is screening
       // times the Laplacian's scale 1 / h^2, at any resolution and density.
       op.scale_screening(options.screening /
                          (grid.spacing * grid.spacing * std::max(op.screening().mean_row_sum(), 1e-12)));
       op.screening().add_target(target, rhs.values);
+      reporter.debug(format_message("recon: screening term ", seconds_since(t_screening), " s"));
     } else {
       // From zero, on the coarsest grid the solve may start on.
       GridGeometry start = grid;
