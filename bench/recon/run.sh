@@ -3,20 +3,25 @@
 # (poisson_mesher, depth 8 / 9) on the same oriented points, in one run.
 # Prints a markdown table: wall time, CPU time (user + sys: steadier than wall
 # time when other jobs share the cores), peak memory, triangles, accuracy, and
-# the load average before each input.
+# the load average before each input. Each pair runs --repeat times (default
+# 3), alternating, and the table gives the median times (all of them in
+# brackets): on a VM, one run's time can swing by a third. A last table gives
+# the ratio of the medians per input.
 # COLMAP runs with PoissonMeshing.trim 0: its default density trim (10)
 # removed every face of these inputs; hos-recon trims by distance instead.
-#   bench/recon/run.sh [--large] [--data DIR]   (DIR holds stanford_bunny/)
+#   bench/recon/run.sh [--large] [--data DIR] [--repeat N]   (DIR holds stanford_bunny/)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 bin="${HOS_BUILD_DIR:-$root/build}/bin"
 data=""
 pairs=("256 8")
+repeat=3
 while [ $# -gt 0 ]; do
   case "$1" in
     --large) pairs=("256 8" "512 9"); shift ;;
     --data) data="$2"; shift 2 ;;
-    *) echo "usage: $0 [--large] [--data DIR]" >&2; exit 2 ;;
+    --repeat) repeat="$2"; shift 2 ;;
+    *) echo "usage: $0 [--large] [--data DIR] [--repeat N]" >&2; exit 2 ;;
   esac
 done
 work="$(mktemp -d)"
@@ -54,20 +59,37 @@ accuracy() {  # mesh input_points name
 
 faces() { "$bin/hos-recon-bench" sphere-error --mesh "$1" | awk '{print $6}'; }
 
-echo "| input | method | resolution | time (s) | CPU (s) | peak memory (MB) | triangles | accuracy vs truth | load |"
+# Median of numbers on stdin.
+median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
+# "median (all)" of a space-separated list.
+summary() { echo "$(tr ' ' '\n' <<< "$1" | grep . | median) ($(echo $1 | tr ' ' '/'))"; }
+
+echo "| input | method | resolution | time (s), median (runs) | CPU (s), median (runs) | peak memory (MB) | triangles | accuracy vs truth | load |"
 echo "|---|---|---|---|---|---|---|---|---|"
+ratios=()
 for name in "${inputs[@]}"; do
   for pair in "${pairs[@]}"; do
     set -- $pair
     res=$1 depth=$2
     l=$(load)
-    read -r t c m < <(timed "$bin/hos-recon" --input "$work/$name.ply" --output "$work/hos.ply" --resolution "$res" --progress none)
-    echo "| $name | hos-recon (energy 4) | grid $res | $t | $c | $m | $(faces "$work/hos.ply") | $(accuracy "$work/hos.ply" "$work/$name.ply" "$name") | $l |"
-    l=$(load)
-    read -r t c m < <(timed env QT_QPA_PLATFORM=offscreen colmap poisson_mesher --input_path "$work/$name.ply" --output_path "$work/poisson.ply" --PoissonMeshing.depth "$depth" --PoissonMeshing.trim 0)
-    if [ -f "$work/poisson.ply" ]; then
-      echo "| $name | COLMAP poisson_mesher | depth $depth | $t | $c | $m | $(faces "$work/poisson.ply") | $(accuracy "$work/poisson.ply" "$work/$name.ply" "$name") | $l |"
+    hos_t="" hos_c="" hos_m=0 poi_t="" poi_c="" poi_m=0
+    for ((r = 0; r < repeat; ++r)); do
+      read -r t c m < <(timed "$bin/hos-recon" --input "$work/$name.ply" --output "$work/hos.ply" --resolution "$res" --progress none)
+      [[ $m =~ ^[0-9]+$ ]] || m=0
+      hos_t+="$t " hos_c+="$c " hos_m=$((m > hos_m ? m : hos_m))
       rm -f "$work/poisson.ply"
+      read -r t c m < <(timed env QT_QPA_PLATFORM=offscreen colmap poisson_mesher --input_path "$work/$name.ply" --output_path "$work/poisson.ply" --PoissonMeshing.depth "$depth" --PoissonMeshing.trim 0)
+      [[ $m =~ ^[0-9]+$ ]] || m=0
+      poi_t+="$t " poi_c+="$c " poi_m=$((m > poi_m ? m : poi_m))
+    done
+    echo "| $name | hos-recon (energy 4) | grid $res | $(summary "$hos_t") | $(summary "$hos_c") | $hos_m | $(faces "$work/hos.ply") | $(accuracy "$work/hos.ply" "$work/$name.ply" "$name") | $l |"
+    if [ -f "$work/poisson.ply" ]; then
+      echo "| $name | COLMAP poisson_mesher | depth $depth | $(summary "$poi_t") | $(summary "$poi_c") | $poi_m | $(faces "$work/poisson.ply") | $(accuracy "$work/poisson.ply" "$work/$name.ply" "$name") | $l |"
+      ratios+=("| $name | grid $res / depth $depth | $(awk -v a="$(tr ' ' '\n' <<< "$poi_t" | grep . | median)" -v b="$(tr ' ' '\n' <<< "$hos_t" | grep . | median)" 'BEGIN {printf "%.2f", a / b}') |")
     fi
   done
 done
+echo
+echo "| input | resolutions | Poisson time / hos-recon time (medians) |"
+echo "|---|---|---|"
+for row in "${ratios[@]}"; do echo "$row"; done
