@@ -138,17 +138,20 @@ std::int64_t solve_with_bands(EnergyOperator& op, std::vector<double> rhs,
   reporter.info(format_message("recon: band of ", band->count(), " nodes (",
                                100.0 * band->count() / g.num_nodes(), "% of the ", g.dims.x(),
                                "x", g.dims.y(), "x", g.dims.z(), " grid)"));
-  // The band's right-hand side in its compact layout.
+  // The band's right-hand side in its compact layout, then the grid-sized one
+  // is freed before any solver array exists (the peak memory).
   std::vector<double> band_rhs(band->storage_size()), band_x(band->storage_size());
   band->gather(rhs.data(), band_rhs.data());
   {
     EnergyOperator coarse = op.coarsened();
     std::vector<double> coarse_rhs;
     restrict_to_coarse(g, rhs, coarse.geometry(), coarse_rhs);
+    rhs = std::vector<double>{};
     solve_with_bands(coarse, std::move(coarse_rhs), points, band_voxels, x_level - 1, x, reporter,
                      solve);
   }
-  // The band's unknowns; its halo holds the coarse solution, fixed.
+  // The band's unknowns; its halo holds the coarse solution, fixed. The
+  // grid-sized solution is made after the band's solver arrays are freed.
   auto t_transfer = Clock::now();
   prolongate_add_to_stored(g.coarsened(), x, *band, band_x.data());
   op.set_active(band);
@@ -156,12 +159,7 @@ std::int64_t solve_with_bands(EnergyOperator& op, std::vector<double> rhs,
   solve(op, band_rhs, band_x);
   band_rhs = std::vector<double>{};
   t_transfer = Clock::now();
-  // The grid-sized solution reuses the right-hand side's pages (fresh pages
-  // cost more than the copy on this kind of machine).
-  std::vector<double> fine = std::move(rhs);
-  std::fill(fine.begin(), fine.end(), 0.0);
-  prolongate_add(g.coarsened(), x, g, fine);
-  x = std::move(fine);
+  prolongate_levels(g, 1, x);
   band->scatter_active(band_x.data(), x.data());
   reporter.debug(format_message("recon: band result to the grid ", seconds_since(t_transfer), " s"));
   return band->count();
