@@ -34,7 +34,10 @@ struct SolverOptions {
   // Fine-grid nodes farther than this many voxels (per axis) from every
   // sample's cell keep the solution of the grid twice as coarse, and only the
   // band is solved at full resolution (see active_nodes.h). 0 = solve every node.
-  int band_voxels = 8;
+  // 6 rather than 8: 22% fewer band nodes, the same surfaces (re-render of one
+  // sfm and mvs result: temple 22.77 -> 22.78 dB, Herz-Jesu-P8 24.84 -> 24.83
+  // dB; bunny mean distance to the reference 6.154e-5 -> 6.178e-5).
+  int band_voxels = 6;
 };
 
 struct TrimOptions {
