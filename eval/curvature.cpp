@@ -1,6 +1,7 @@
 #include "eval/curvature.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -101,6 +102,7 @@ CurvatureStats compute_curvature_stats(const TriangleMesh& mesh, const std::vect
   s.triangles = mesh.faces.size();
   const VertexCurvature vc = compute_vertex_curvature(mesh);
   double sum_h = 0.0, sum_k = 0.0;
+  std::vector<double> abs_h, abs_k;
   for (std::size_t i = 0; i < vc.defined.size(); ++i) {
     if (!vc.defined[i]) continue;
     ++s.vertices_measured;
@@ -109,10 +111,19 @@ CurvatureStats compute_curvature_stats(const TriangleMesh& mesh, const std::vect
     sum_k += k;
     s.max_abs_h = std::max(s.max_abs_h, h);
     s.max_abs_k = std::max(s.max_abs_k, k);
+    abs_h.push_back(h);
+    abs_k.push_back(k);
   }
   if (s.vertices_measured > 0) {
     s.mean_abs_h = sum_h / static_cast<double>(s.vertices_measured);
     s.mean_abs_k = sum_k / static_cast<double>(s.vertices_measured);
+    const auto p99 = [](std::vector<double>& v) {
+      const auto at = v.begin() + static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(v.size() - 1));
+      std::nth_element(v.begin(), at, v.end());
+      return *at;
+    };
+    s.p99_abs_h = p99(abs_h);
+    s.p99_abs_k = p99(abs_k);
   }
   if (points != nullptr && !points->empty()) {
     reporter.begin("point distances", static_cast<std::int64_t>(points->size()));

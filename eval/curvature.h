@@ -40,6 +40,9 @@ struct CurvatureStats {
   std::optional<double> rms_point_distance;  // input points -> surface, if points were given
   double mean_abs_h = 0.0, max_abs_h = 0.0;  // unweighted mean over measured vertices
   double mean_abs_k = 0.0, max_abs_k = 0.0;
+  // 99th percentiles: the rough parts of a surface without its single worst
+  // vertices (a marching-cubes sliver can set the maximum on its own).
+  double p99_abs_h = 0.0, p99_abs_k = 0.0;
 };
 
 // points may be null (no RMS figure then).

@@ -259,12 +259,14 @@ int main(int argc, char** argv) {
       j = {{"triangles", s.triangles}, {"vertices_measured", s.vertices_measured},
            {"mean_abs_mean_curvature", s.mean_abs_h}, {"max_abs_mean_curvature", s.max_abs_h},
            {"mean_abs_gaussian_curvature", s.mean_abs_k}, {"max_abs_gaussian_curvature", s.max_abs_k},
+           {"p99_abs_mean_curvature", s.p99_abs_h}, {"p99_abs_gaussian_curvature", s.p99_abs_k},
            {"rms_point_distance", s.rms_point_distance ? json(*s.rms_point_distance) : json(nullptr)}};
       table += "curvature: " + curvature_mesh + " (cotangent Laplacian H, angle-defect K, mixed Voronoi areas)\n";
       table += row("triangles", std::to_string(s.triangles));
       table += row("RMS points -> surface", s.rms_point_distance ? fmt(*s.rms_point_distance) : "-");
       table += row("avg / max |H|", fmt(s.mean_abs_h) + " / " + fmt(s.max_abs_h));
       table += row("avg / max |K|", fmt(s.mean_abs_k) + " / " + fmt(s.max_abs_k));
+      table += row("p99 |H| / |K|", fmt(s.p99_abs_h) + " / " + fmt(s.p99_abs_k));
     } else if (sanity_cmd->parsed()) {
       const hos::MeshSanity s = hos::check_mesh_sanity(read_surface(sanity_mesh));
       j = {{"vertices", s.vertices}, {"unreferenced_vertices", s.unreferenced_vertices}, {"faces", s.faces},

@@ -61,6 +61,11 @@ TEST(CurvatureStats, TableOneFigures) {
   EXPECT_NEAR(s.mean_abs_h, 1.0 / r, 0.005 / r);
   EXPECT_NEAR(s.max_abs_h, 1.0 / r, 0.03 / r);
   EXPECT_NEAR(s.mean_abs_k, 1.0 / (r * r), 0.01 / (r * r));
+  // A sphere is evenly curved: the 99th percentiles lie between mean and max.
+  EXPECT_NEAR(s.p99_abs_h, 1.0 / r, 0.03 / r);
+  EXPECT_NEAR(s.p99_abs_k, 1.0 / (r * r), 0.05 / (r * r));
+  EXPECT_LE(s.p99_abs_h, s.max_abs_h);
+  EXPECT_LE(s.p99_abs_k, s.max_abs_k);
   ASSERT_TRUE(s.rms_point_distance.has_value());
   EXPECT_NEAR(*s.rms_point_distance, 0.01 * r, 1e-5);
   EXPECT_FALSE(compute_curvature_stats(mesh, nullptr, null_reporter()).rms_point_distance.has_value());
