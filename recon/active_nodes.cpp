@@ -54,6 +54,20 @@ void dilate_axis(const GridGeometry& g, std::vector<std::uint8_t>& mask, int axi
   }
 }
 
+// Calls fn(begin, end) for every run of nonzero bytes of a row of n.
+template <typename Fn>
+void for_each_run(const std::uint8_t* row, int n, Fn&& fn) {
+  for (int i = 0; i < n;) {
+    if (!row[i]) {
+      ++i;
+      continue;
+    }
+    const int begin = i;
+    while (i < n && row[i]) ++i;
+    fn(begin, i);
+  }
+}
+
 }  // namespace
 
 ActiveNodes ActiveNodes::all(const GridGeometry& g) {
@@ -87,28 +101,13 @@ ActiveNodes ActiveNodes::from_mask(const GridGeometry& g, std::vector<std::uint8
   std::int64_t offset = 0;
   for (std::int64_t row = 0; row < rows; ++row) {
     a.row_runs_[row] = static_cast<std::int64_t>(a.stored_.size());
-    const std::uint8_t* s = stored.data() + row * nx;
-    for (int i = 0; i < nx;) {
-      if (!s[i]) {
-        ++i;
-        continue;
-      }
-      const int lo = i;
-      while (i < nx && s[i]) ++i;
-      a.stored_.push_back({lo, i, offset - lo});
-      offset += i - lo;
-    }
-    const std::uint8_t* m = a.mask_.data() + row * nx;
+    for_each_run(stored.data() + row * nx, nx, [&](int lo, int hi) {
+      a.stored_.push_back({lo, hi, offset - lo});
+      offset += hi - lo;
+    });
     const int j = static_cast<int>(row % g.dims.y()), k = static_cast<int>(row / g.dims.y());
-    for (int i = 0; i < nx;) {
-      if (!m[i]) {
-        ++i;
-        continue;
-      }
-      const int begin = i;
-      while (i < nx && m[i]) ++i;
-      a.spans_.push_back({j, k, begin, i, 0});
-    }
+    for_each_run(a.mask_.data() + row * nx, nx,
+                 [&](int begin, int end) { a.spans_.push_back({j, k, begin, end, 0}); });
   }
   a.row_runs_[rows] = static_cast<std::int64_t>(a.stored_.size());
   a.storage_size_ = offset;
