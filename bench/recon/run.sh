@@ -9,7 +9,9 @@
 # the ratio of the medians per input.
 # COLMAP runs with PoissonMeshing.trim 0: its default density trim (10)
 # removed every face of these inputs; hos-recon trims by distance instead.
-#   bench/recon/run.sh [--large] [--data DIR] [--repeat N]   (DIR holds stanford_bunny/)
+#   bench/recon/run.sh [--large] [--data DIR] [--repeat N]
+# DIR holds stanford_bunny/ (scored against its reference surface) and,
+# optionally, stanford_dragon_stand/ (no reference: time and memory only).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 bin="${HOS_BUILD_DIR:-$root/build}/bin"
@@ -34,6 +36,10 @@ if [ -n "$data" ] && [ -f "$data/stanford_bunny/data/bun.conf" ]; then
   "$bin/hos-recon-bench" scans --conf "$data/stanford_bunny/data/bun.conf" --output "$work/bunny.ply"
   inputs+=(bunny)
 fi
+if [ -n "$data" ] && [ -f "$data/stanford_dragon_stand/dragonStandRight.conf" ]; then
+  "$bin/hos-recon-bench" scans --conf "$data/stanford_dragon_stand/dragonStandRight.conf" --output "$work/dragon.ply"
+  inputs+=(dragon)
+fi
 
 # Runs a command under /usr/bin/time; prints "seconds cpu_seconds peak_MB".
 timed() {
@@ -44,7 +50,9 @@ timed() {
 load() { awk '{print $1}' /proc/loadavg; }
 
 accuracy() {  # mesh input_points name
-  if [ "$3" = bunny ]; then
+  if [ "$3" = dragon ]; then
+    echo "n/a (no reference)"
+  elif [ "$3" = bunny ]; then
     if [ -x "$bin/hos-eval" ]; then
       "$bin/hos-eval" mesh --result "$1" --truth "$data/stanford_bunny/reconstruction/bun_zipper.ply" --json "$work/acc.json" > /dev/null 2>&1 \
         && python3 -c "import json;d=json.load(open('$work/acc.json'));a=d.get('accuracy',{});print('truth mean %.2e' % a.get('mean',float('nan')))" 2>/dev/null \
