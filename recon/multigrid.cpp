@@ -33,6 +33,10 @@ void axpy(const EnergyOperator& op, double a, const double* x, double* y) {
 }
 
 constexpr int kCoarsestSweeps = 40;
+// The smoother damps the eigenvalues of M A in [1 / kChebyshevRatio, 1]
+// (bunny at grid 256, degree 2: fine band 9 CG iterations with 10, 10 with
+// 20, 11 with 30).
+constexpr double kChebyshevRatio = 10.0;
 
 }  // namespace
 
@@ -47,7 +51,7 @@ MultigridPreconditioner::MultigridPreconditioner(const EnergyOperator& fine, int
   for (auto& op : ops) {
     const std::size_t n = static_cast<std::size_t>(op.active().storage_size());
     Level level{std::move(op), ZeroedArray<float>(n), ZeroedArray<float>(n), ZeroedArray<float>(n),
-                ZeroedArray<float>(n)};
+                ZeroedArray<float>(n), ZeroedArray<float>(n)};
     level.op.l1_diagonals(level.inv_l1.data());
     for_each_active_range(level.op.active(), [&](std::int64_t first, std::int64_t last) {
       for (std::int64_t i = first; i < last; ++i) level.inv_l1[i] = 1.0f / level.inv_l1[i];
@@ -56,7 +60,45 @@ MultigridPreconditioner::MultigridPreconditioner(const EnergyOperator& fine, int
   }
 }
 
-void MultigridPreconditioner::smooth(const Level& l, int sweeps, bool from_zero) const {
+void MultigridPreconditioner::smooth(const Level& l, int degree, bool from_zero) const {
+  // The Chebyshev polynomial of this degree in M A, M = diag(inv_l1), that is
+  // smallest over [1 / kChebyshevRatio, 1]: the eigenvalues of M A lie in
+  // (0, 1] for l1 row sums, and the upper part of the spectrum is what the
+  // coarse levels cannot correct. Three-term recurrence, one residual per
+  // step after the first.
+  const double upper = 1.0, lower = upper / kChebyshevRatio;
+  const double theta = 0.5 * (upper + lower), delta = 0.5 * (upper - lower), sigma = theta / delta;
+  double rho = 1.0 / sigma;
+  const ActiveNodes& active = l.op.active();
+  for (int s = 0; s < degree; ++s) {
+    const float* r = l.b.data();
+    if (!(from_zero && s == 0)) {
+      l.op.residual(l.b.data(), l.x.data(), l.scratch.data());
+      r = l.scratch.data();
+    }
+    if (s == 0) {
+      const float a = static_cast<float>(1.0 / theta);
+      for_each_active_range(active, [&](std::int64_t first, std::int64_t last) {
+        for (std::int64_t i = first; i < last; ++i) {
+          l.step[i] = a * r[i] * l.inv_l1[i];
+          l.x[i] = (from_zero ? 0.0f : l.x[i]) + l.step[i];
+        }
+      });
+      continue;
+    }
+    const double rho_next = 1.0 / (2.0 * sigma - rho);
+    const float keep = static_cast<float>(rho_next * rho), a = static_cast<float>(2.0 * rho_next / delta);
+    rho = rho_next;
+    for_each_active_range(active, [&](std::int64_t first, std::int64_t last) {
+      for (std::int64_t i = first; i < last; ++i) {
+        l.step[i] = keep * l.step[i] + a * r[i] * l.inv_l1[i];
+        l.x[i] += l.step[i];
+      }
+    });
+  }
+}
+
+void MultigridPreconditioner::smooth_jacobi(const Level& l, int sweeps, bool from_zero) const {
   int s = 0;
   if (from_zero && sweeps > 0) {
     // The first sweep from x = 0 needs no operator application.
@@ -74,7 +116,7 @@ void MultigridPreconditioner::smooth(const Level& l, int sweeps, bool from_zero)
 void MultigridPreconditioner::v_cycle(int level) const {
   const Level& l = levels_[level];
   if (level == num_levels() - 1) {
-    smooth(l, kCoarsestSweeps, true);
+    smooth_jacobi(l, kCoarsestSweeps, true);
     return;
   }
   smooth(l, smoothing_steps_, true);

@@ -3,9 +3,16 @@
 // Gauss-Seidel as a cascade; a V-cycle inside CG converges to a stated residual
 // in a number of iterations that hardly grows with the grid).
 //
-// Smoother: l1-Jacobi (x += r / sum_j |a_ij|), convergent for any symmetric
-// positive definite operator including the fourth-order ones, parallel, and
-// symmetric, so the V-cycle is a valid CG preconditioner.
+// Smoother: a Chebyshev polynomial in M A with M the inverse l1 row sums
+// (M = 1 / sum_j |a_ij|): for any symmetric positive definite operator,
+// including the fourth-order ones, the eigenvalues of M A lie in (0, 1], so
+// the polynomial that is smallest over [1/10, 1] damps the high frequencies
+// without an eigenvalue estimate. It is parallel, and the same polynomial
+// before and after the coarse correction keeps the V-cycle symmetric, a valid
+// CG preconditioner. Against l1-Jacobi with the same number of operator
+// applications it cut the bunny's fine-band iterations from 18 to 9-10 and
+// fixed the iteration count's growth with the resolution. The coarsest level
+// runs 40 sweeps of l1-Jacobi.
 #pragma once
 
 #include <string>
@@ -46,12 +53,15 @@ class MultigridPreconditioner {
   struct Level {
     EnergyOperator op;
     ZeroedArray<float> inv_l1;     // 1 / l1 row sums
-    mutable ZeroedArray<float> b, x, scratch;
+    mutable ZeroedArray<float> b, x, scratch, step;  // step: the Chebyshev recurrence's
   };
   // Levels_[level].x = approximately A^-1 levels_[level].b.
   void v_cycle(int level) const;
-  // Sweeps of l1-Jacobi on a level; from_zero: x starts at zero.
-  void smooth(const Level& l, int sweeps, bool from_zero) const;
+  // Chebyshev smoothing of the given degree (operator applications) on a
+  // level; from_zero: x starts at zero.
+  void smooth(const Level& l, int degree, bool from_zero) const;
+  // Sweeps of l1-Jacobi (the coarsest level).
+  void smooth_jacobi(const Level& l, int sweeps, bool from_zero) const;
 
   std::vector<Level> levels_;
   int smoothing_steps_;

@@ -53,7 +53,7 @@ void register_options(OptionSet& set, ReconOptions& o) {
   set.add("solver.max_iterations", o.solver.max_iterations, "CG iterations per linear solve", 1,
           100000);
   set.add("solver.max_levels", o.solver.max_levels, "multigrid levels (0 = automatic)", 0, 16);
-  set.add("solver.smoothing_steps", o.solver.smoothing_steps, "smoothing sweeps per level", 1, 20);
+  set.add("solver.smoothing_steps", o.solver.smoothing_steps, "Chebyshev smoother degree per level (operator applications)", 1, 20);
   set.add("solver.tv_iterations", o.solver.tv_iterations, "reweighting rounds for energy 2", 1,
           100);
   set.add("solver.multigrid", o.solver.multigrid,

@@ -25,10 +25,10 @@ struct SolverOptions {
   double tolerance = 1e-5;
   int max_iterations = 200;   // conjugate-gradient iterations per linear solve
   int max_levels = 0;         // multigrid levels; 0 = as many as the grid allows
-  // l1-Jacobi sweeps before and after each coarse correction. 1: more
-  // iterations than 2 (bunny fine band 24 against 18) but fewer sweeps in
-  // all; 5-8% faster end to end (bench/recon, docs/benchmarks.md).
-  int smoothing_steps = 1;
+  // Degree of the Chebyshev smoother (operator applications) before and
+  // after each coarse correction (see multigrid.h). 2: the bunny's fine band
+  // at grid 256 takes 9-10 CG iterations (1: 17, 3: 9).
+  int smoothing_steps = 2;
   int tv_iterations = 8;      // reweighting rounds for energy (2)
   bool multigrid = true;      // false: Jacobi-preconditioned CG (for comparisons)
   // Fine-grid nodes farther than this many voxels (per axis) from every
