@@ -47,21 +47,18 @@ bool band_possible(const GridGeometry& grid, const ReconOptions& options) {
          grid.can_coarsen(3);
 }
 
-}  // namespace
-
-std::int64_t band_stored_nodes_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points,
-                                     int voxels) {
-  // A sample marks the corners c and c + 1 of its cell (per axis); the band
-  // dilates them by `voxels` and stores a halo of kHalo more, so every stored
-  // node lies in [c - r, c + 1 + r] per axis of some sample's corner c, with
-  // r = voxels + kHalo. With blocks of b nodes per axis, a corner in block K
-  // reaches blocks K - ceil(r / b) to K + 1 + floor(r / b): those are marked.
+// An upper bound of the nodes within [c - r, c + 1 + r] per axis of some
+// sample's cell corner c (the lower corner of the cell holding it), at most
+// the grid's nodes. With blocks of b nodes per axis, a corner in block K
+// reaches blocks K - ceil(r / b) to K + 1 + floor(r / b): those are marked
+// around every block holding a corner, and their nodes counted.
+std::int64_t nodes_near_samples_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points,
+                                      int r) {
   // Blocks of 4 nodes keep the bound within 1.32-1.38x of the stored band on
   // the sphere and the bunny (1.95x on isolated points); grids above 1024
   // nodes use larger blocks so that the block grid stays small.
   const Eigen::Vector3i& dims = grid.dims;
   const int b = std::max(4, (dims.maxCoeff() + 255) / 256);
-  const int r = std::max(voxels, 0) + ActiveNodes::kHalo;
   const int below = (r + b - 1) / b, above = 1 + r / b;
   const Eigen::Vector3i blocks = (dims.array() + b - 1) / b;
   const auto block_index = [&](int x, int y, int z) {
@@ -97,6 +94,20 @@ std::int64_t band_stored_nodes_bound(const GridGeometry& grid, const std::vector
   return std::min(nodes, grid.num_nodes());
 }
 
+}  // namespace
+
+// A sample marks the corners c and c + 1 of its cell (per axis); the band
+// dilates them by `voxels` (the active nodes) and stores a halo of kHalo more.
+std::int64_t band_active_nodes_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points,
+                                     int voxels) {
+  return nodes_near_samples_bound(grid, points, std::max(voxels, 0));
+}
+
+std::int64_t band_stored_nodes_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points,
+                                     int voxels) {
+  return nodes_near_samples_bound(grid, points, std::max(voxels, 0) + ActiveNodes::kHalo);
+}
+
 std::size_t estimate_peak_bytes(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points,
                                 const ReconOptions& options) {
   const double nodes = static_cast<double>(grid.num_nodes());
@@ -108,10 +119,13 @@ std::size_t estimate_peak_bytes(const GridGeometry& grid, const std::vector<Eige
   if (!band_possible(grid, options)) return static_cast<std::size_t>(whole);
   const double stored = static_cast<double>(band_stored_nodes_bound(grid, points, options.solver.band_voxels));
   const double banded = common + kBytesPerNodeBanded * nodes + kBytesPerBandNode * stored;
-  // The solve uses the band when the band's active nodes are at most half of
-  // the grid (worthwhile_band). The bound holds the active nodes, so within
-  // half the band is surely used; above, either may be.
-  if (2.0 * stored <= nodes) return static_cast<std::size_t>(banded);
+  // The solve uses the band when its active nodes are at most half of the
+  // grid (worthwhile_band): surely when their bound is (the stored nodes'
+  // bound, when within half, bounds them too); above, either may be.
+  if (2.0 * stored <= nodes ||
+      2.0 * static_cast<double>(band_active_nodes_bound(grid, points, options.solver.band_voxels)) <= nodes) {
+    return static_cast<std::size_t>(banded);
+  }
   return static_cast<std::size_t>(std::max(whole, banded));
 }
 

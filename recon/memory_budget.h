@@ -15,10 +15,12 @@
 
 namespace hos::recon {
 
-// An upper bound of the nodes a band of `voxels` voxels around `points`
-// stores on `grid` (band_around_samples: its active nodes and their halo),
-// found on blocks of nodes without a grid-sized array; at most the grid's
-// nodes.
+// Upper bounds of the active nodes (ActiveNodes::count) and of the stored
+// nodes (active and halo, storage_size) of the band of `voxels` voxels around
+// `points` on `grid` (band_around_samples), found on blocks of nodes without
+// a grid-sized array; at most the grid's nodes.
+std::int64_t band_active_nodes_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points,
+                                     int voxels);
 std::int64_t band_stored_nodes_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points,
                                      int voxels);
 

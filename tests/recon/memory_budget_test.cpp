@@ -30,7 +30,7 @@ std::size_t estimate_at(int resolution, const ReconOptions& base, const std::vec
   return estimate_peak_bytes(make_domain(unit_box(), options), points, options);
 }
 
-// The bound must hold every node the band stores, and be close enough to be
+// The bounds must hold every node the band makes active or stores, and be close enough to be
 // useful (the estimate's band term is this bound times its bytes per node).
 TEST(MemoryBudget, BandBoundCoversTheStoredBand) {
   const std::vector<Eigen::Vector3f> sphere = sphere_points();
@@ -45,10 +45,14 @@ TEST(MemoryBudget, BandBoundCoversTheStoredBand) {
         ReconOptions options;
         options.resolution = resolution;
         const GridGeometry grid = make_domain(unit_box(), options);
-        const std::int64_t stored = band_around_samples(grid, *points, voxels).storage_size();
+        const ActiveNodes band = band_around_samples(grid, *points, voxels);
+        const std::int64_t stored = band.storage_size();
         const std::int64_t bound = band_stored_nodes_bound(grid, *points, voxels);
         EXPECT_GE(bound, stored) << "resolution " << resolution << ", " << voxels << " voxels";
         EXPECT_LE(bound, grid.num_nodes());
+        const std::int64_t active_bound = band_active_nodes_bound(grid, *points, voxels);
+        EXPECT_GE(active_bound, band.count()) << "resolution " << resolution << ", " << voxels << " voxels";
+        EXPECT_LE(active_bound, bound);
         if (points == &sphere && resolution == 100 && voxels == 6) {
           EXPECT_LE(bound, 1.5 * static_cast<double>(stored));  // measured 1.34x at grids of 64 to 384
         }
@@ -132,10 +136,10 @@ void expect_estimate_covers_a_run(int resolution, int band_voxels) {
   const GridGeometry grid = make_domain(box, options);
   const double estimate = static_cast<double>(estimate_peak_bytes(grid, points.positions, options));
   // The run and the estimate take the path this case is for: with a band, the
-  // bound is within half of the grid, so the banded model alone is used.
+  // active bound is within half of the grid, so the banded model alone is used.
   EXPECT_EQ(result.stats.band_nodes > 0, band_voxels > 0);
   if (band_voxels > 0) {
-    EXPECT_LE(2 * band_stored_nodes_bound(grid, points.positions, band_voxels), grid.num_nodes());
+    EXPECT_LE(2 * band_active_nodes_bound(grid, points.positions, band_voxels), grid.num_nodes());
   }
   EXPECT_GE(estimate, measured) << "peak RSS " << measured / 1048576.0 << " MB, before the run "
                                 << before_kb / 1024.0 << " MB";
