@@ -1,11 +1,13 @@
 // Memory guard (issue item "estimate memory before allocating"): the peak
-// memory of a reconstruction is estimated from the grid and the sample count
+// memory of a reconstruction is estimated from the grid and the samples
 // before anything grid-sized is allocated, and a resolution whose estimate
 // exceeds the budget is refused with the largest resolution that fits.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "core/types.h"
 #include "recon/grid.h"
@@ -13,22 +15,34 @@
 
 namespace hos::recon {
 
-// Estimated peak bytes of reconstruct_surface on `grid` with `num_samples`
-// oriented points (field, solver with its multigrid hierarchy, meshing).
-std::size_t estimate_peak_bytes(const GridGeometry& grid, std::size_t num_samples, const ReconOptions& options);
+// Upper bounds of the active nodes (ActiveNodes::count) and of the stored
+// nodes (active and halo, storage_size) of the band of `voxels` voxels around
+// `points` on `grid` (band_around_samples), found on blocks of nodes without
+// a grid-sized array; at most the grid's nodes.
+std::int64_t band_active_nodes_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points,
+                                     int voxels);
+std::int64_t band_stored_nodes_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points,
+                                     int voxels);
+
+// Estimated peak bytes of reconstruct_surface on `grid` with the oriented
+// samples at `points` (field, solver with its multigrid hierarchy on the band
+// or the whole grid, meshing).
+std::size_t estimate_peak_bytes(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points,
+                                const ReconOptions& options);
 
 // recon.max_memory_mb in bytes, or, when it is 0, three quarters of the
 // machine's physical memory.
 std::size_t memory_budget_bytes(const ReconOptions& options);
 
-// The largest recon.resolution whose estimate fits `budget` for points in
-// `box`, or 0 if not even the smallest grid fits.
-int largest_resolution_within(const BoundingBox& box, std::size_t num_samples, const ReconOptions& options,
-                              std::size_t budget);
+// The largest recon.resolution whose estimate fits `budget` for `points`
+// (whose bounding box is `box`), or 0 if not even the smallest grid fits.
+int largest_resolution_within(const BoundingBox& box, const std::vector<Eigen::Vector3f>& points,
+                              const ReconOptions& options, std::size_t budget);
 
 // Throws ConfigError("recon.resolution" or "recon.voxel_size") naming the
 // estimate, the budget and the largest resolution that fits when the grid for
-// `box` would exceed the budget.
-void check_memory_budget(const BoundingBox& box, std::size_t num_samples, const ReconOptions& options);
+// `box` (the bounding box of `points`) would exceed the budget.
+void check_memory_budget(const BoundingBox& box, const std::vector<Eigen::Vector3f>& points,
+                         const ReconOptions& options);
 
 }  // namespace hos::recon

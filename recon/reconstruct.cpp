@@ -234,7 +234,7 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   const auto t_field = Clock::now();
   reporter.begin("orientation field", 0);
   const BoundingBox box = bounding_box(points);
-  check_memory_budget(box, points.size(), options);  // before anything grid-sized exists
+  check_memory_budget(box, points, options);  // before anything grid-sized exists
   const GridGeometry grid = make_domain(box, options);
   stats.grid_dims = grid.dims;
   stats.voxel_size = grid.spacing;

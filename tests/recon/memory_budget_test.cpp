@@ -3,8 +3,11 @@
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 
+#include <cmath>
+
 #include "core/error.h"
 #include "core/reporter.h"
+#include "recon/active_nodes.h"
 #include "recon/reconstruct.h"
 #include "tests/recon/shape_samples.h"
 
@@ -18,33 +21,79 @@ BoundingBox unit_box() {
   return box;
 }
 
-std::size_t estimate_at(int resolution, const ReconOptions& base) {
+// 100 k samples on the unit sphere, whose bounding box is about unit_box().
+std::vector<Eigen::Vector3f> sphere_points() { return testing::sample_sphere(100000, 1.0, 0.0, 7).positions; }
+
+std::size_t estimate_at(int resolution, const ReconOptions& base, const std::vector<Eigen::Vector3f>& points) {
   ReconOptions options = base;
   options.resolution = resolution;
-  return estimate_peak_bytes(make_domain(unit_box(), options), 100000, options);
+  return estimate_peak_bytes(make_domain(unit_box(), options), points, options);
+}
+
+// The bounds must hold every node the band makes active or stores, and be close enough to be
+// useful (the estimate's band term is this bound times its bytes per node).
+TEST(MemoryBudget, BandBoundCoversTheStoredBand) {
+  const std::vector<Eigen::Vector3f> sphere = sphere_points();
+  std::vector<Eigen::Vector3f> scattered;  // a few far-apart samples: a band of isolated boxes
+  for (int i = 0; i < 40; ++i) {
+    scattered.emplace_back(std::sin(1.7f * i), std::cos(2.3f * i), std::sin(0.9f * i + 0.5f));
+  }
+  const std::vector<const std::vector<Eigen::Vector3f>*> sets = {&sphere, &scattered};
+  for (const std::vector<Eigen::Vector3f>* points : sets) {
+    for (int resolution : {24, 64, 100}) {
+      for (int voxels : {0, 1, 6, 9}) {
+        ReconOptions options;
+        options.resolution = resolution;
+        const GridGeometry grid = make_domain(unit_box(), options);
+        const ActiveNodes band = band_around_samples(grid, *points, voxels);
+        const std::int64_t stored = band.storage_size();
+        const std::int64_t bound = band_stored_nodes_bound(grid, *points, voxels);
+        EXPECT_GE(bound, stored) << "resolution " << resolution << ", " << voxels << " voxels";
+        EXPECT_LE(bound, grid.num_nodes());
+        const std::int64_t active_bound = band_active_nodes_bound(grid, *points, voxels);
+        EXPECT_GE(active_bound, band.count()) << "resolution " << resolution << ", " << voxels << " voxels";
+        EXPECT_LE(active_bound, bound);
+        if (points == &sphere && resolution == 100 && voxels == 6) {
+          EXPECT_LE(bound, 1.5 * static_cast<double>(stored));  // measured 1.34x at grids of 64 to 384
+        }
+      }
+    }
+  }
 }
 
 TEST(MemoryBudget, EstimateGrowsWithTheGrid) {
-  const ReconOptions options;
-  EXPECT_LT(estimate_at(64, options), estimate_at(128, options));
-  // The grid term dominates: doubling the resolution multiplies it by about 8.
-  const double ratio = static_cast<double>(estimate_at(512, options)) / static_cast<double>(estimate_at(256, options));
-  EXPECT_GT(ratio, 6.0);
-  EXPECT_LT(ratio, 9.0);
+  const std::vector<Eigen::Vector3f> points = sphere_points();
+  ReconOptions options;
+  EXPECT_LT(estimate_at(64, options, points), estimate_at(128, options, points));
+  // The grid-sized arrays dominate: doubling the resolution multiplies the
+  // whole-grid estimate by about 8; the band's term grows only with the
+  // surface (about 4x), so the banded estimate grows by less.
+  const double banded =
+      static_cast<double>(estimate_at(512, options, points)) / static_cast<double>(estimate_at(256, options, points));
+  options.solver.band_voxels = 0;
+  const double whole =
+      static_cast<double>(estimate_at(512, options, points)) / static_cast<double>(estimate_at(256, options, points));
+  EXPECT_GT(whole, 7.0);
+  EXPECT_LT(whole, 8.5);
+  EXPECT_GT(banded, 4.0);
+  EXPECT_LT(banded, whole);
+  // The band's estimate is well below the whole grid's at a large grid.
+  EXPECT_LT(2 * estimate_at(512, ReconOptions{}, points), estimate_at(512, options, points));
 }
 
 TEST(MemoryBudget, RefusesWithTheLargestResolutionThatFits) {
   ReconOptions options;
   options.resolution = 1024;
   options.max_memory_mb = 512;
+  const std::vector<Eigen::Vector3f> points = sphere_points();
   const std::size_t budget = memory_budget_bytes(options);
   ASSERT_EQ(budget, std::size_t{512} << 20);
-  const int fitting = largest_resolution_within(unit_box(), 100000, options, budget);
+  const int fitting = largest_resolution_within(unit_box(), points, options, budget);
   ASSERT_GT(fitting, 8);
-  EXPECT_LE(estimate_at(fitting, options), budget);
-  EXPECT_GT(estimate_at(fitting + 1, options), budget);
+  EXPECT_LE(estimate_at(fitting, options, points), budget);
+  EXPECT_GT(estimate_at(fitting + 1, options, points), budget);
   try {
-    check_memory_budget(unit_box(), 100000, options);
+    check_memory_budget(unit_box(), points, options);
     FAIL() << "a 1024 grid within 512 MB was accepted";
   } catch (const ConfigError& e) {
     const std::string message = e.what();
@@ -53,7 +102,7 @@ TEST(MemoryBudget, RefusesWithTheLargestResolutionThatFits) {
         << message;
   }
   options.resolution = fitting;
-  EXPECT_NO_THROW(check_memory_budget(unit_box(), 100000, options));
+  EXPECT_NO_THROW(check_memory_budget(unit_box(), points, options));
 }
 
 TEST(MemoryBudget, ReconstructRefusesBeforeAllocating) {
@@ -73,22 +122,36 @@ long peak_rss_kb() {
 
 // The estimate must not be below what a run really takes. ctest runs each
 // test in its own process, so the peak resident size grows from this run.
-TEST(MemoryBudget, EstimateCoversAMeasuredRun) {
+// band_voxels = 0 solves the whole grid; otherwise the band is used.
+void expect_estimate_covers_a_run(int resolution, int band_voxels) {
   ReconOptions options;
-  options.resolution = 96;
+  options.resolution = resolution;
+  options.solver.band_voxels = band_voxels;
   const PointCloud points = testing::sample_sphere(50000, 1.0, 0.002, 5);
   const long before_kb = peak_rss_kb();
   Reporter reporter;
   const ReconResult result = reconstruct_surface(points, options, reporter);
   const double measured = 1024.0 * static_cast<double>(peak_rss_kb());
   const BoundingBox box = bounding_box(points.positions);
-  const double estimate = static_cast<double>(estimate_peak_bytes(make_domain(box, options), points.size(), options));
+  const GridGeometry grid = make_domain(box, options);
+  const double estimate = static_cast<double>(estimate_peak_bytes(grid, points.positions, options));
+  // The run and the estimate take the path this case is for: with a band, the
+  // active bound is within half of the grid, so the banded model alone is used.
+  EXPECT_EQ(result.stats.band_nodes > 0, band_voxels > 0);
+  if (band_voxels > 0) {
+    EXPECT_LE(2 * band_active_nodes_bound(grid, points.positions, band_voxels), grid.num_nodes());
+  }
   EXPECT_GE(estimate, measured) << "peak RSS " << measured / 1048576.0 << " MB, before the run "
                                 << before_kb / 1024.0 << " MB";
   // ...and not wildly above it (it would refuse grids that fit).
-  EXPECT_LE(estimate, 3.0 * measured);
+  EXPECT_LE(estimate, 3.0 * measured) << "peak RSS " << measured / 1048576.0 << " MB, estimate "
+                                      << estimate / 1048576.0 << " MB";
   EXPECT_GT(result.mesh.num_faces(), 0u);
 }
+
+TEST(MemoryBudget, EstimateCoversAMeasuredBandedRun) { expect_estimate_covers_a_run(128, 6); }
+
+TEST(MemoryBudget, EstimateCoversAMeasuredWholeGridRun) { expect_estimate_covers_a_run(96, 0); }
 
 }  // namespace
 }  // namespace hos::recon
