@@ -14,21 +14,23 @@ namespace {
 // One pass of [1 1 1] / 3 along lines of n values, each line's t-th value at
 // in + t * m (m interleaved lines, contiguous): vectorises along the lines.
 // Values beyond the line's ends are zero.
-void box_pass(const double* __restrict in, double* __restrict out, int n, int m) {
-  constexpr double third = 1.0 / 3.0;
+template <typename T>
+void box_pass(const T* __restrict in, T* __restrict out, int n, int m) {
+  constexpr T third = T(1) / T(3);
   for (int t = 0; t < n; ++t) {
-    const double* c = in + std::int64_t{t} * m;
-    double* o = out + std::int64_t{t} * m;
+    const T* c = in + std::int64_t{t} * m;
+    T* o = out + std::int64_t{t} * m;
     const bool lo = t > 0, hi = t < n - 1;
     for (int q = 0; q < m; ++q) {
-      o[q] = (c[q] + (lo ? c[q - m] : 0.0) + (hi ? c[q + m] : 0.0)) * third;
+      o[q] = (c[q] + (lo ? c[q - m] : T(0)) + (hi ? c[q + m] : T(0))) * third;
     }
   }
 }
 
 // All passes along one axis while the lines stay in cache: the 1-D filters
 // along different axes commute, so x, y, z passes may be grouped per axis.
-void box_filter_axis(const GridGeometry& g, std::vector<double>& v, int axis, int passes) {
+template <typename T>
+void box_filter_axis(const GridGeometry& g, std::vector<T>& v, int axis, int passes) {
   const Eigen::Vector3i d = g.dims;
   const std::int64_t plane = std::int64_t{d.x()} * d.y();
   // A slab: n values along the axis times m interleaved lines.
@@ -38,11 +40,11 @@ void box_filter_axis(const GridGeometry& g, std::vector<double>& v, int axis, in
   const std::int64_t stride = axis == 0 ? 1 : axis == 1 ? d.x() : plane;
 #pragma omp parallel
   {
-    std::vector<double> a(std::int64_t{n} * m), b(a.size());
+    std::vector<T> a(std::int64_t{n} * m), b(a.size());
 #pragma omp for schedule(static)
     for (int s = 0; s < slabs; ++s) {
       // First value of the slab: row s (x), plane s (y) or row s of plane 0 (z).
-      double* base = v.data() + (axis == 0 ? std::int64_t{s} * d.x() : axis == 1 ? s * plane : std::int64_t{s} * d.x());
+      T* base = v.data() + (axis == 0 ? std::int64_t{s} * d.x() : axis == 1 ? s * plane : std::int64_t{s} * d.x());
       for (int t = 0; t < n; ++t) std::copy(base + t * stride, base + t * stride + m, a.data() + std::int64_t{t} * m);
       for (int p = 0; p < passes; ++p) {
         box_pass(a.data(), b.data(), n, m);
@@ -51,6 +53,27 @@ void box_filter_axis(const GridGeometry& g, std::vector<double>& v, int axis, in
       for (int t = 0; t < n; ++t) std::copy(a.data() + std::int64_t{t} * m, a.data() + std::int64_t{t + 1} * m, base + t * stride);
     }
   }
+}
+
+// Splats the weights (1 per point if empty) trilinearly onto a grid-sized array.
+template <typename T>
+std::vector<T> splat_weights(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+                             const std::vector<float>& weights) {
+  std::vector<T> density;
+  assign_large(density, geometry.num_nodes());
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    const double w = weights.empty() ? 1.0 : weights[p];
+    const TrilinearStencil s = trilinear_stencil(geometry, points[p].cast<double>());
+    for (int oz = 0; oz < 2; ++oz) {
+      for (int oy = 0; oy < 2; ++oy) {
+        for (int ox = 0; ox < 2; ++ox) {
+          const int i = s.corner.x() + ox, j = s.corner.y() + oy, k = s.corner.z() + oz;
+          if (geometry.contains(i, j, k)) density[geometry.index(i, j, k)] += static_cast<T>(w * s.weight(ox, oy, oz));
+        }
+      }
+    }
+  }
+  return density;
 }
 
 // Central differences in one plane of nodes (zero beyond the grid) times
@@ -130,10 +153,13 @@ VectorGrid splat_normals(const GridGeometry& geometry, const std::vector<Eigen::
   return field;
 }
 
-void box_filter(const GridGeometry& geometry, std::vector<double>& values, int passes) {
+template <typename T>
+void box_filter(const GridGeometry& geometry, std::vector<T>& values, int passes) {
   if (passes <= 0) return;
   for (int axis = 0; axis < 3; ++axis) box_filter_axis(geometry, values, axis, passes);
 }
+template void box_filter<double>(const GridGeometry&, std::vector<double>&, int);
+template void box_filter<float>(const GridGeometry&, std::vector<float>&, int);
 
 void box_filter(VectorGrid& field, int passes) {
   for (auto& c : field.components) box_filter(field.geometry, c, passes);
@@ -141,21 +167,7 @@ void box_filter(VectorGrid& field, int passes) {
 
 std::vector<double> splat_density(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
                                   const std::vector<float>& weights) {
-  std::vector<double> density;
-  assign_large(density, geometry.num_nodes());
-  for (std::size_t p = 0; p < points.size(); ++p) {
-    const double w = weights.empty() ? 1.0 : weights[p];
-    const TrilinearStencil s = trilinear_stencil(geometry, points[p].cast<double>());
-    for (int oz = 0; oz < 2; ++oz) {
-      for (int oy = 0; oy < 2; ++oy) {
-        for (int ox = 0; ox < 2; ++ox) {
-          const int i = s.corner.x() + ox, j = s.corner.y() + oy, k = s.corner.z() + oz;
-          if (geometry.contains(i, j, k)) density[geometry.index(i, j, k)] += w * s.weight(ox, oy, oz);
-        }
-      }
-    }
-  }
-  return density;
+  return splat_weights<double>(geometry, points, weights);
 }
 
 void use_density_magnitude(VectorGrid& field, const std::vector<double>& density) {
@@ -298,7 +310,9 @@ ScalarGrid density_scaled_rhs(const GridGeometry& geometry, const std::vector<Ei
   // temporaries above it then leave one free block at the heap's top for the
   // solver's arrays instead of a hole below the result.
   ScalarGrid rhs(geometry);
-  std::vector<double> density = splat_density(geometry, points, weights);
+  // Single precision: the density only scales F, and it is one of the two
+  // grid-sized arrays that set hos-recon's peak memory.
+  std::vector<float> density = splat_weights<float>(geometry, points, weights);
   box_filter(geometry, density, density_passes);
   const CoarseDirections dirs = coarse_directions(geometry, points, normals, weights, direction_passes);
   const auto node_field = [&](int i, int j, int k) {

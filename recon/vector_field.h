@@ -47,7 +47,8 @@ std::vector<double> splat_density(const GridGeometry& geometry, const std::vecto
 
 // Applies the 3-tap box filter [1 1 1]/3 along x, y and z, passes times.
 void box_filter(VectorGrid& field, int passes);
-void box_filter(const GridGeometry& geometry, std::vector<double>& values, int passes);
+template <typename T>  // float or double
+void box_filter(const GridGeometry& geometry, std::vector<T>& values, int passes);
 
 // Scales F so that integrating it across the surface gives a jump of about
 // one in f: mean |F| at the samples times the filter's width becomes 1.

@@ -14,6 +14,10 @@ namespace hos::recon {
 namespace {
 
 constexpr int kDensityPasses = 3, kFilterPasses = 3;
+// The fused path keeps the fine density in single precision (the
+// materialised one in double): agreement to float rounding. A window off by
+// one plane gave relative errors of 0.26-0.89.
+constexpr double kFusedTolerance = 1e-5;
 
 // -div F of density_scaled_field after normalize_field: the path that
 // density_scaled_rhs must reproduce without the field.
@@ -73,14 +77,15 @@ TEST(VectorField, RhsEqualsMaterialisedFieldForRandomOrientedPoints) {
     const ScalarGrid rhs = density_scaled_rhs(g, points, normals, weights, kDensityPasses,
                                               direction_passes, kFilterPasses);
     EXPECT_LT(relative_difference(rhs.values, materialised_rhs(g, points, normals, weights, direction_passes)),
-              1e-9)
+              kFusedTolerance)
         << direction_passes;
   }
   // Without weights, and on the fine-grid fallback (passes not a multiple of 4).
   for (int direction_passes : {12, 3}) {
     const ScalarGrid rhs =
         density_scaled_rhs(g, points, normals, {}, kDensityPasses, direction_passes, kFilterPasses);
-    EXPECT_LT(relative_difference(rhs.values, materialised_rhs(g, points, normals, {}, direction_passes)), 1e-9)
+    EXPECT_LT(relative_difference(rhs.values, materialised_rhs(g, points, normals, {}, direction_passes)),
+              direction_passes % 4 == 0 ? kFusedTolerance : 1e-9)
         << direction_passes;
   }
 }
@@ -94,7 +99,7 @@ TEST(VectorField, RhsEqualsMaterialisedFieldForSphereScannedFromSixDirections) {
   const ScalarGrid rhs = density_scaled_rhs(g, sphere.positions, sphere.normals, {}, kDensityPasses, 12,
                                             kFilterPasses);
   EXPECT_LT(relative_difference(rhs.values, materialised_rhs(g, sphere.positions, sphere.normals, {}, 12)),
-            1e-9);
+            kFusedTolerance);
   // The flux points outwards: the rhs (-div F) is negative inside the shell
   // near the surface and positive outside, so it is not trivially zero.
   const Eigen::Vector3d centre(-0.1, 0.15, -0.05);
