@@ -59,16 +59,8 @@ TrilinearStencil trilinear_stencil(const GridGeometry& g, const Eigen::Vector3d&
 
 double sample_trilinear(const GridGeometry& g, const std::vector<double>& values,
                         const Eigen::Vector3d& x) {
-  const TrilinearStencil s = trilinear_stencil(g, x);
   double v = 0.0;
-  for (int oz = 0; oz < 2; ++oz) {
-    for (int oy = 0; oy < 2; ++oy) {
-      for (int ox = 0; ox < 2; ++ox) {
-        const int i = s.corner.x() + ox, j = s.corner.y() + oy, k = s.corner.z() + oz;
-        if (g.contains(i, j, k)) v += s.weight(ox, oy, oz) * values[g.index(i, j, k)];
-      }
-    }
-  }
+  for_each_trilinear_corner(g, x, [&](int i, int j, int k, double w) { v += w * values[g.index(i, j, k)]; });
   return v;
 }
 

@@ -115,4 +115,20 @@ struct TrilinearStencil {
 };
 TrilinearStencil trilinear_stencil(const GridGeometry& g, const Eigen::Vector3d& x);
 
+// Calls fn(i, j, k, weight) for the corners of the cell holding x that lie
+// inside the grid, z slowest, with their trilinear weights (ghost nodes are
+// zero, so the others add nothing).
+template <typename Fn>
+void for_each_trilinear_corner(const GridGeometry& g, const Eigen::Vector3d& x, Fn&& fn) {
+  const TrilinearStencil s = trilinear_stencil(g, x);
+  for (int oz = 0; oz < 2; ++oz) {
+    for (int oy = 0; oy < 2; ++oy) {
+      for (int ox = 0; ox < 2; ++ox) {
+        const int i = s.corner.x() + ox, j = s.corner.y() + oy, k = s.corner.z() + oz;
+        if (g.contains(i, j, k)) fn(i, j, k, s.weight(ox, oy, oz));
+      }
+    }
+  }
+}
+
 }  // namespace hos::recon

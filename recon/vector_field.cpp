@@ -63,15 +63,9 @@ std::vector<T> splat_weights(const GridGeometry& geometry, const std::vector<Eig
   assign_large(density, geometry.num_nodes());
   for (std::size_t p = 0; p < points.size(); ++p) {
     const double w = weights.empty() ? 1.0 : weights[p];
-    const TrilinearStencil s = trilinear_stencil(geometry, points[p].cast<double>());
-    for (int oz = 0; oz < 2; ++oz) {
-      for (int oy = 0; oy < 2; ++oy) {
-        for (int ox = 0; ox < 2; ++ox) {
-          const int i = s.corner.x() + ox, j = s.corner.y() + oy, k = s.corner.z() + oz;
-          if (geometry.contains(i, j, k)) density[geometry.index(i, j, k)] += static_cast<T>(w * s.weight(ox, oy, oz));
-        }
-      }
-    }
+    for_each_trilinear_corner(geometry, points[p].cast<double>(), [&](int i, int j, int k, double c) {
+      density[geometry.index(i, j, k)] += static_cast<T>(w * c);
+    });
   }
   return density;
 }
@@ -105,21 +99,13 @@ struct CoarseDirections {
     if (fine_density == 0.0) return Eigen::Vector3d::Zero();
     // Trilinear samples of the directions and the coarse density, as
     // sample_trilinear but with one stencil for the four.
-    const TrilinearStencil s = trilinear_stencil(coarse, x);
     Eigen::Vector3d v = Eigen::Vector3d::Zero();
     double mass = 0.0;
-    for (int oz = 0; oz < 2; ++oz) {
-      for (int oy = 0; oy < 2; ++oy) {
-        for (int ox = 0; ox < 2; ++ox) {
-          const int i = s.corner.x() + ox, j = s.corner.y() + oy, k = s.corner.z() + oz;
-          if (!coarse.contains(i, j, k)) continue;
-          const double w = s.weight(ox, oy, oz);
-          const std::int64_t n = coarse.index(i, j, k);
-          for (int a = 0; a < 3; ++a) v[a] += w * directions.components[a][n];
-          mass += w * density[n];
-        }
-      }
-    }
+    for_each_trilinear_corner(coarse, x, [&](int i, int j, int k, double w) {
+      const std::int64_t n = coarse.index(i, j, k);
+      for (int a = 0; a < 3; ++a) v[a] += w * directions.components[a][n];
+      mass += w * density[n];
+    });
     const double len = v.norm();
     // As in use_density_magnitude: where orientations cancel (thin parts),
     // keep the smoothed sum, here relative to the coarse density.
@@ -137,18 +123,10 @@ VectorGrid splat_normals(const GridGeometry& geometry, const std::vector<Eigen::
   for (auto& c : field.components) assign_large(c, geometry.num_nodes());
   for (std::size_t p = 0; p < points.size(); ++p) {
     const Eigen::Vector3d n = normals[p].cast<double>() * (weights.empty() ? 1.0 : weights[p]);
-    const TrilinearStencil s = trilinear_stencil(geometry, points[p].cast<double>());
-    for (int oz = 0; oz < 2; ++oz) {
-      for (int oy = 0; oy < 2; ++oy) {
-        for (int ox = 0; ox < 2; ++ox) {
-          const int i = s.corner.x() + ox, j = s.corner.y() + oy, k = s.corner.z() + oz;
-          if (!geometry.contains(i, j, k)) continue;
-          const double w = s.weight(ox, oy, oz);
-          const std::int64_t idx = geometry.index(i, j, k);
-          for (int a = 0; a < 3; ++a) field.components[a][idx] += w * n[a];
-        }
-      }
-    }
+    for_each_trilinear_corner(geometry, points[p].cast<double>(), [&](int i, int j, int k, double w) {
+      const std::int64_t idx = geometry.index(i, j, k);
+      for (int a = 0; a < 3; ++a) field.components[a][idx] += w * n[a];
+    });
   }
   return field;
 }
@@ -205,16 +183,9 @@ double mean_norm_at_samples(const GridGeometry& g, const std::vector<Eigen::Vect
   std::size_t count = 0;
   const std::size_t step = std::max<std::size_t>(1, points.size() / 20000);
   for (std::size_t p = 0; p < points.size(); p += step) {
-    const TrilinearStencil s = trilinear_stencil(g, points[p].cast<double>());
     Eigen::Vector3d f = Eigen::Vector3d::Zero();
-    for (int oz = 0; oz < 2; ++oz) {
-      for (int oy = 0; oy < 2; ++oy) {
-        for (int ox = 0; ox < 2; ++ox) {
-          const int i = s.corner.x() + ox, j = s.corner.y() + oy, k = s.corner.z() + oz;
-          if (g.contains(i, j, k)) f += s.weight(ox, oy, oz) * node_field(i, j, k);
-        }
-      }
-    }
+    for_each_trilinear_corner(g, points[p].cast<double>(),
+                              [&](int i, int j, int k, double w) { f += w * node_field(i, j, k); });
     sum += f.norm();
     ++count;
   }
