@@ -474,30 +474,26 @@ class CellMesher {
       }
       middle[len - 1] = middle[0];
     }
-    const auto face = [&](int v0, int v1, int v2) { out_.faces.emplace_back(v0, v1, v2); };
+    // Triangle u v w; split, with the rungs' vertices m_vw on edge v-w and
+    // m_wu on edge w-u, into u v m_vw, u m_vw m_wu and m_vw w m_wu.
+    const auto triangle = [&](int u, int v, int w, int m_vw, int m_wu) {
+      if (!split) {
+        out_.faces.emplace_back(u, v, w);
+        return;
+      }
+      out_.faces.emplace_back(u, v, m_vw);
+      out_.faces.emplace_back(u, m_vw, m_wu);
+      out_.faces.emplace_back(m_vw, w, m_wu);
+    };
     for (int r = 0; r + 1 < len; ++r) {
       const auto [i, j] = walk[r];
       const int m0 = middle[r], m1 = middle[r + 1];
       if (walk[r + 1].first > i) {
-        // Triangle a_i a_i+1 b_j, split: rung r on edge b_j-a_i, rung r+1 on a_i+1-b_j.
-        const int a0 = vertex_[a[i % na]], a1 = vertex_[a[(i + 1) % na]], b0 = vertex_[b_at(j)];
-        if (!split) {
-          face(a0, a1, b0);
-        } else {
-          face(a0, a1, m1);
-          face(a0, m1, m0);
-          face(m1, b0, m0);
-        }
+        // Triangle a_i a_i+1 b_j: rung r on edge b_j-a_i, rung r+1 on a_i+1-b_j.
+        triangle(vertex_[a[i % na]], vertex_[a[(i + 1) % na]], vertex_[b_at(j)], m1, m0);
       } else {
-        // Triangle b_j+1 b_j a_i, split: rung r on edge b_j-a_i, rung r+1 on a_i-b_j+1.
-        const int b1 = vertex_[b_at(j + 1)], b0 = vertex_[b_at(j)], a0 = vertex_[a[i % na]];
-        if (!split) {
-          face(b1, b0, a0);
-        } else {
-          face(b1, b0, m0);
-          face(b1, m0, m1);
-          face(m0, a0, m1);
-        }
+        // Triangle b_j+1 b_j a_i: rung r on edge b_j-a_i, rung r+1 on a_i-b_j+1.
+        triangle(vertex_[b_at(j + 1)], vertex_[b_at(j)], vertex_[a[i % na]], m0, m1);
       }
     }
   }
