@@ -113,6 +113,23 @@ double Stencil::center() const {
   return 0.0;
 }
 
+std::vector<StencilRow> Stencil::rows() const {
+  std::vector<StencilRow> rows;
+  for (std::size_t t = 0; t < offsets.size(); ++t) {
+    const Eigen::Vector3i& o = offsets[t];
+    auto it = std::find_if(rows.begin(), rows.end(),
+                           [&](const StencilRow& r) { return r.dy == o.y() && r.dz == o.z(); });
+    if (it == rows.end()) {
+      it = rows.insert(rows.end(), StencilRow{});
+      it->dy = o.y();
+      it->dz = o.z();
+    }
+    it->ox[it->count] = o.x();
+    it->c[it->count++] = coefficients[t];
+  }
+  return rows;
+}
+
 double Stencil::abs_sum() const {
   double s = 0.0;
   for (double c : coefficients) s += std::abs(c);
@@ -165,6 +182,7 @@ EnergyOperator::EnergyOperator(const GridGeometry& geometry, SmoothnessEnergy en
       tv_node_weights_(std::move(tv_node_weights)),
       tv_weight_(tv_weight) {
   stencil_abs_sum_ = stencil_.abs_sum();
+  stencil_rows_ = stencil_.rows();
   active_ = std::make_shared<const ActiveNodes>(ActiveNodes::all(geometry_));
   screening_ = std::make_shared<const ScreeningTerm>();
 }
@@ -390,27 +408,12 @@ void EnergyOperator::for_each_span(const T* x, SpanFn&& span_fn) const {
   const GridGeometry& g = geometry_;
   const Eigen::Vector3i d = g.dims;
   const int nx = d.x();
-  const std::size_t nt = stencil_.offsets.size();
-  // The stencil's terms grouped by the row (dy, dz) they read: each span
-  // looks up a neighbour row's storage once and adds all its taps in one pass
-  // (energy (4): 13 rows of 1, 3 or 5 taps instead of 25 passes).
-  struct RowTaps {
-    int dy = 0, dz = 0, count = 0;
-    std::array<int, 5> ox{};
-    std::array<T, 5> c{};
-  };
-  std::vector<RowTaps> rows;
-  for (std::size_t t = 0; t < nt; ++t) {
-    const Eigen::Vector3i& o = stencil_.offsets[t];
-    auto it = std::find_if(rows.begin(), rows.end(),
-                           [&](const RowTaps& r) { return r.dy == o.y() && r.dz == o.z(); });
-    if (it == rows.end()) {
-      it = rows.insert(rows.end(), RowTaps{});
-      it->dy = o.y();
-      it->dz = o.z();
-    }
-    it->ox[it->count] = o.x();  // offsets lie within +-2: at most 5 per row
-    it->c[it->count++] = static_cast<T>(stencil_.coefficients[t]);
+  // The stencil's terms grouped by the row they read: each span looks up a
+  // neighbour row's storage once and adds all its taps in one pass (energy
+  // (4): 13 rows of 1, 3 or 5 taps instead of 25 passes).
+  std::vector<std::array<T, 5>> row_coefficients(stencil_rows_.size());
+  for (std::size_t r = 0; r < stencil_rows_.size(); ++r) {
+    for (int q = 0; q < stencil_rows_[r].count; ++q) row_coefficients[r][q] = static_cast<T>(stencil_rows_[r].c[q]);
   }
   const bool tv = !tv_node_weights_.empty();
   const double tv_scale = tv_weight_ / (g.spacing * g.spacing);
@@ -433,10 +436,11 @@ void EnergyOperator::for_each_span(const T* x, SpanFn&& span_fn) const {
       T* __restrict row = row_buffer.data();
       std::fill(row + b, row + e, T(0));
       const bool inner = b >= 2 && e <= nx - 2;  // every tap of every node inside the grid
-      for (const RowTaps& taps : rows) {
+      for (std::size_t r = 0; r < stencil_rows_.size(); ++r) {
+        const StencilRow& taps = stencil_rows_[r];
         const T* src = x_row(taps.dy, taps.dz);
         if (!src) continue;
-        add_taps(taps.count, taps.ox.data(), taps.c.data(), src, b, e, inner ? -1 : nx, row);
+        add_taps(taps.count, taps.ox.data(), row_coefficients[r].data(), src, b, e, inner ? -1 : nx, row);
       }
       // Storage index of node i of this span: start + i.
       const std::int64_t start = span.first - b;

@@ -20,12 +20,22 @@
 
 namespace hos::recon {
 
+// The terms of a stencil that read one neighbour row (dy, dz): x offsets and
+// coefficients (offsets lie within +-2, so at most 5).
+struct StencilRow {
+  int dy = 0, dz = 0, count = 0;
+  std::array<int, 5> ox{};
+  std::array<double, 5> c{};
+};
+
 // A constant-coefficient stencil: offsets (within +-2) and coefficients.
 struct Stencil {
   std::vector<Eigen::Vector3i> offsets;
   std::vector<double> coefficients;
   double center() const;
   double abs_sum() const;
+  // The terms grouped by the row they read, in order of first appearance.
+  std::vector<StencilRow> rows() const;
 };
 
 // The stencil of -Lap + 2 hessian_weight H for the energy on spacing h
@@ -137,6 +147,7 @@ class EnergyOperator {
   SmoothnessEnergy energy_;
   double hessian_weight_;
   Stencil stencil_;
+  std::vector<StencilRow> stencil_rows_;  // stencil_.rows()
   std::vector<double> tv_node_weights_;
   double tv_weight_;
   std::shared_ptr<const std::vector<Eigen::Vector3f>> screening_points_;

@@ -53,7 +53,7 @@ class MultigridPreconditioner {
   struct Level {
     EnergyOperator op;
     ZeroedArray<float> inv_l1;     // 1 / l1 row sums
-    mutable ZeroedArray<float> b, x, scratch, step;  // step: the Chebyshev recurrence's
+    mutable ZeroedArray<float> b, x, scratch, step;  // step: the Chebyshev update
   };
   // Levels_[level].x = approximately A^-1 levels_[level].b.
   void v_cycle(int level) const;
