@@ -161,6 +161,13 @@ TEST(ActiveNodes, BandedOperatorComputesTheBandRowsOnly) {
   EXPECT_LE(written, band->count()) << "entries of the halo were written";
 }
 
+TEST(ActiveNodes, TotalVariationOperatorRefusesABand) {
+  const GridGeometry g = cube_grid(31, 0.1);
+  EnergyOperator tv(g, SmoothnessEnergy::kTotalVariation, 0.0, std::vector<double>(g.num_nodes(), 1.0), 0.1);
+  auto band = std::make_shared<const ActiveNodes>(band_around_samples(g, sphere_points(g, 1.0, 5000), 2));
+  EXPECT_THROW(tv.set_active(band), std::invalid_argument);
+}
+
 TEST(ActiveNodes, BandedTransfersMatchTheDenseOnesAndStayAdjoint) {
   const GridGeometry fine = cube_grid(31, 0.1);
   const GridGeometry coarse = fine.coarsened();

@@ -115,6 +115,15 @@ TEST(Multigrid, PreconditionerCutsIterationsAgainstJacobi) {
   EXPECT_LE(with_mg.iterations, 40);
 }
 
+TEST(Multigrid, RightHandSideMustMatchTheOperatorsLayout) {
+  const GridGeometry g = small_grid(15);
+  const EnergyOperator op(g, SmoothnessEnergy::kFullHessian, 0.01);
+  std::vector<double> x;
+  EXPECT_THROW(solve_linear_system(op, std::vector<double>(g.num_nodes() - 1, 1.0), x, SolverOptions{},
+                                   null_reporter()),
+               std::invalid_argument);
+}
+
 // The Chebyshev smoother keeps the iterations nearly constant as the grid is
 // refined: 6, 6, 8 at 31^3, 63^3, 127^3 (with one l1-Jacobi sweep before and
 // after each coarse correction: 13, 15, 19, which fails both bounds).
