@@ -4,31 +4,24 @@
 
 #include <algorithm>
 #include <charconv>
-#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
 #include "core/error.h"
 
 namespace hos {
-namespace {
 
 template <typename T>
-T parse_number(const std::string& text) {
+std::optional<T> parse_number(const std::string& text) {
   T value{};
-  const char* begin = text.data();
   const char* end = text.data() + text.size();
-  auto [ptr, ec] = std::from_chars(begin, end, value);
-  if (ec != std::errc() || ptr != end) throw std::invalid_argument("not a number");
+  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+  if (ec != std::errc() || ptr != end) return std::nullopt;
   return value;
 }
-
-template <typename T>
-std::string range_text(const char* type, T min, T max) {
-  std::ostringstream s;
-  s << type << " in [" << min << ", " << max << "]";
-  return s.str();
-}
+template std::optional<int> parse_number<int>(const std::string&);
+template std::optional<double> parse_number<double>(const std::string&);
+template std::optional<float> parse_number<float>(const std::string&);
 
 template <typename T>
 std::string print_number(T value) {
@@ -36,6 +29,11 @@ std::string print_number(T value) {
   s << value;
   return s.str();
 }
+template std::string print_number<int>(int);
+template std::string print_number<double>(double);
+template std::string print_number<float>(float);
+
+namespace {
 
 void flatten(const YAML::Node& node, const std::string& prefix,
              std::vector<std::pair<std::string, YAML::Node>>& out) {
@@ -96,54 +94,6 @@ void OptionSet::add(const std::string& key, bool& value, std::string doc) {
              [&value]() { return std::string(value ? "true" : "false"); }});
 }
 
-void OptionSet::add(const std::string& key, int& value, std::string doc, int min, int max) {
-  const std::string allowed = range_text("an integer", min, max);
-  add_entry({key, std::move(doc), allowed,
-             [&value, min, max, allowed](const std::string& t) {
-               int v = 0;
-               try {
-                 v = parse_number<int>(t);
-               } catch (const std::invalid_argument&) {
-                 throw std::invalid_argument("must be " + allowed);
-               }
-               if (v < min || v > max) throw std::invalid_argument("must be " + allowed);
-               value = v;
-             },
-             [&value]() { return std::to_string(value); }});
-}
-
-void OptionSet::add(const std::string& key, double& value, std::string doc, double min, double max) {
-  const std::string allowed = range_text("a number", min, max);
-  add_entry({key, std::move(doc), allowed,
-             [&value, min, max, allowed](const std::string& t) {
-               double v = 0;
-               try {
-                 v = parse_number<double>(t);
-               } catch (const std::invalid_argument&) {
-                 throw std::invalid_argument("must be " + allowed);
-               }
-               if (!std::isfinite(v) || v < min || v > max) throw std::invalid_argument("must be " + allowed);
-               value = v;
-             },
-             [&value]() { return print_number(value); }});
-}
-
-void OptionSet::add(const std::string& key, float& value, std::string doc, float min, float max) {
-  const std::string allowed = range_text("a number", min, max);
-  add_entry({key, std::move(doc), allowed,
-             [&value, min, max, allowed](const std::string& t) {
-               float v = 0;
-               try {
-                 v = parse_number<float>(t);
-               } catch (const std::invalid_argument&) {
-                 throw std::invalid_argument("must be " + allowed);
-               }
-               if (!std::isfinite(v) || v < min || v > max) throw std::invalid_argument("must be " + allowed);
-               value = v;
-             },
-             [&value]() { return print_number(value); }});
-}
-
 void OptionSet::add(const std::string& key, std::string& value, std::string doc) {
   add_entry({key, std::move(doc), "a string", [&value](const std::string& t) { value = t; },
              [&value]() { return value; }});
@@ -160,7 +110,34 @@ void OptionSet::add_choice(const std::string& key, std::string& value,
                }
                value = t;
              },
-             [&value]() { return value; }});
+             [&value]() { return value; },
+             [&value, choices, allowed]() {
+               if (std::find(choices.begin(), choices.end(), value) == choices.end()) {
+                 throw std::invalid_argument("must be " + allowed);
+               }
+             }});
+}
+
+void OptionSet::check_values() const {
+  for (const auto& e : entries_) {
+    if (!e.check) continue;
+    try {
+      e.check();
+    } catch (const std::invalid_argument& error) {
+      throw ConfigError(section_ + "." + e.key, "value " + e.print() + " " + error.what());
+    }
+  }
+}
+
+void OptionSet::add_flag(std::string flag, const std::string& key, std::string fixed_value) {
+  if (!find(key)) throw std::logic_error("flag " + flag + " for unregistered option " + key);
+  flags_.push_back({std::move(flag), key, std::move(fixed_value)});
+}
+
+std::string OptionSet::documentation(const std::string& key) const {
+  const Entry* entry = find(key);
+  if (!entry) throw std::logic_error("no option " + key);
+  return entry->doc + " [" + entry->allowed + "]";
 }
 
 std::string OptionSet::closest_key(const std::string& key) const {

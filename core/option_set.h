@@ -6,13 +6,17 @@
 //   ReconOptions options;
 //   OptionSet set("recon");
 //   set.add("lambda", options.lambda, "smoothness weight", 1e-4, 100.0);
+//   set.add_flag("--lambda", "lambda");         // a stage executable's short flag
 //   set.apply_yaml(root["recon"], "my.yaml");   // throws ConfigError
-//   options.validate();
+//   options.validate();                         // check_option_table + cross-option rules
 #pragma once
 
 #include <functional>
+#include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -31,9 +35,10 @@ class OptionSet {
 
   // Keys may be dotted ("multigrid.max_levels"); in YAML they nest.
   void add(const std::string& key, bool& value, std::string doc);
-  void add(const std::string& key, int& value, std::string doc, int min, int max);
-  void add(const std::string& key, double& value, std::string doc, double min, double max);
-  void add(const std::string& key, float& value, std::string doc, float min, float max);
+  // A number in [min, max]; NaN and infinities are refused.
+  template <typename Number>
+    requires std::is_arithmetic_v<Number> && (!std::is_same_v<Number, bool>)
+  void add(const std::string& key, Number& value, std::string doc, Number min, Number max);
   void add(const std::string& key, std::string& value, std::string doc);
   // A string restricted to a list of choices.
   void add_choice(const std::string& key, std::string& value, std::vector<std::string> choices,
@@ -52,6 +57,24 @@ class OptionSet {
                         const std::string& source = "command line");
   bool has_key(const std::string& key) const;
 
+  // Throws ConfigError for the first option whose current value is outside
+  // its table range or choices (values set in code rather than parsed).
+  void check_values() const;
+
+  // A stage executable's short flag for an option ("--resolution" for
+  // "resolution"): it takes the option's value, or sets fixed_value when one
+  // is given ("--no-trim" sets "trim.enabled" to "false"). Flags are applied
+  // like --set, through the same parse and range check.
+  struct Flag {
+    std::string flag;
+    std::string key;
+    std::string fixed_value;  // empty: the flag takes a value
+  };
+  void add_flag(std::string flag, const std::string& key, std::string fixed_value = "");
+  const std::vector<Flag>& flags() const { return flags_; }
+  // The documentation of key, with its allowed values ("doc [range]").
+  std::string documentation(const std::string& key) const;
+
   // Current values as a nested YAML map.
   YAML::Node to_yaml() const;
   // "section:\n  key: value  # doc [range]\n" for config/default.yaml and --help.
@@ -67,13 +90,42 @@ class OptionSet {
     std::string allowed;  // "integer in [1, 64]", "one of: a, b"
     std::function<void(const std::string&)> parse;  // throws std::invalid_argument
     std::function<std::string()> print;
+    std::function<void()> check;  // throws std::invalid_argument when the current value is not allowed
   };
   void add_entry(Entry entry);
   const Entry* find(const std::string& key) const;
 
   std::string section_;
   std::vector<Entry> entries_;
+  std::vector<Flag> flags_;
 };
+
+// Checks every option of `options` against its table (register_options of
+// its stage, found by argument-dependent lookup): the one place where ranges
+// are written. Options::validate() calls it and adds only the rules that
+// involve two options.
+template <typename Options>
+void check_option_table(const std::string& section, const Options& options) {
+  Options copy = options;
+  OptionSet set(section);
+  register_options(set, copy);
+  set.check_values();
+}
+
+// Parses a whole string as a number of type T (from_chars: no locale, no
+// silent truncation); nothing when the text is not exactly one number or
+// does not fit T (e.g. "1e-7" for an int, "1e400" for a double).
+template <typename T>
+std::optional<T> parse_number(const std::string& text);
+extern template std::optional<int> parse_number<int>(const std::string&);
+extern template std::optional<double> parse_number<double>(const std::string&);
+extern template std::optional<float> parse_number<float>(const std::string&);
+// The value as the config dump writes it (6 significant digits).
+template <typename T>
+std::string print_number(T value);
+extern template std::string print_number<int>(int);
+extern template std::string print_number<double>(double);
+extern template std::string print_number<float>(float);
 
 // Edit distance, for "did you mean" messages.
 std::size_t edit_distance(const std::string& a, const std::string& b);
@@ -81,6 +133,30 @@ std::size_t edit_distance(const std::string& a, const std::string& b);
 // Loads a YAML file; throws InputError with the file name and the parser's
 // line and column on a syntax error.
 YAML::Node load_yaml_file(const std::string& path);
+
+template <typename Number>
+  requires std::is_arithmetic_v<Number> && (!std::is_same_v<Number, bool>)
+void OptionSet::add(const std::string& key, Number& value, std::string doc, Number min, Number max) {
+  std::ostringstream range;
+  range << (std::is_integral_v<Number> ? "an integer" : "a number") << " in [" << min << ", " << max << "]";
+  const std::string allowed = range.str();
+  // Written with ! so that NaN fails too.
+  auto in_range = [min, max](Number v) { return !(v < min) && !(v > max) && v == v; };
+  Entry entry;
+  entry.key = key;
+  entry.doc = std::move(doc);
+  entry.allowed = allowed;
+  entry.parse = [&value, in_range, allowed](const std::string& text) {
+    const std::optional<Number> v = parse_number<Number>(text);
+    if (!v || !in_range(*v)) throw std::invalid_argument("must be " + allowed);
+    value = *v;
+  };
+  entry.print = [&value]() { return print_number(value); };
+  entry.check = [&value, in_range, allowed]() {
+    if (!in_range(value)) throw std::invalid_argument("must be " + allowed);
+  };
+  add_entry(std::move(entry));
+}
 
 template <typename Enum>
 void OptionSet::add_enum(const std::string& key, Enum& value,
@@ -105,6 +181,12 @@ void OptionSet::add_enum(const std::string& key, Enum& value,
       if (e == value) return name;
     }
     return std::string("?");
+  };
+  entry.check = [&value, table, allowed]() {
+    for (const auto& [name, e] : table) {
+      if (e == value) return;
+    }
+    throw std::invalid_argument("must be " + allowed);
   };
   add_entry(std::move(entry));
 }

@@ -7,7 +7,7 @@
 
 #include "core/error.h"
 
-namespace hos {
+namespace hos::eval {
 namespace {
 
 double median_of(std::vector<double> v) {
@@ -155,4 +155,4 @@ void transform_points(PointCloud& cloud, const Similarity3& s) {
   for (auto& n : cloud.normals) n = R * n;
 }
 
-}  // namespace hos
+}  // namespace hos::eval

@@ -10,7 +10,7 @@
 #include "core/sparse_model.h"
 #include "core/types.h"
 
-namespace hos {
+namespace hos::eval {
 
 // x' = scale * R * x + t.
 struct Similarity3 {
@@ -61,4 +61,4 @@ CameraPoseComparison compare_camera_poses(const SparseModel& recovered, const Sp
 void transform_mesh(TriangleMesh& mesh, const Similarity3& s);
 void transform_points(PointCloud& cloud, const Similarity3& s);
 
-}  // namespace hos
+}  // namespace hos::eval

@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "eval/surface_distance.h"
 
-namespace hos {
+namespace hos::eval {
 namespace {
 
 double cotangent(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
@@ -134,4 +134,4 @@ CurvatureStats compute_curvature_stats(const TriangleMesh& mesh, const std::vect
   return s;
 }
 
-}  // namespace hos
+}  // namespace hos::eval

@@ -23,7 +23,7 @@
 #include "core/reporter.h"
 #include "core/types.h"
 
-namespace hos {
+namespace hos::eval {
 
 struct VertexCurvature {
   std::vector<double> mean;         // H per vertex (NaN where not defined)
@@ -49,4 +49,4 @@ struct CurvatureStats {
 CurvatureStats compute_curvature_stats(const TriangleMesh& mesh, const std::vector<Eigen::Vector3f>* points,
                                        Reporter& reporter);
 
-}  // namespace hos
+}  // namespace hos::eval

@@ -11,7 +11,7 @@
 
 #include "core/error.h"
 
-namespace hos {
+namespace hos::eval {
 namespace {
 
 // Decodes embedded images with OpenCV into 8-bit BGR (component 3).
@@ -98,7 +98,7 @@ Eigen::Matrix4d local_matrix(const tinygltf::Node& node) {
 struct Builder {
   const tinygltf::Model& model;
   std::string path;
-  RenderObject out;
+  render::RenderObject out;
   std::unordered_map<int, int> texture_of_image;       // glTF image -> Material texture
   std::unordered_map<std::string, int> weld;           // position bits -> vertex
 
@@ -209,7 +209,7 @@ struct Builder {
 
 }  // namespace
 
-RenderObject read_glb(const std::filesystem::path& path, GlbFrame frame) {
+render::RenderObject read_glb(const std::filesystem::path& path, GlbFrame frame) {
   if (!std::filesystem::is_regular_file(path)) throw InputError(path.string(), "no such file");
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&decode_image, nullptr);
@@ -238,4 +238,4 @@ RenderObject read_glb(const std::filesystem::path& path, GlbFrame frame) {
   return std::move(builder.out);
 }
 
-}  // namespace hos
+}  // namespace hos::eval

@@ -11,13 +11,13 @@
 
 #include "render/rasterizer.h"
 
-namespace hos {
+namespace hos::eval {
 
 // Throws InputError naming the file for a missing/malformed file, a primitive
 // that is not a triangle list, or an image that cannot be decoded. Base-colour
 // textures are decoded with OpenCV (BGR); a primitive without a texture gets a
 // 1x1 texture of its base colour factor so every face has a texture.
 enum class GlbFrame { kModel, kScene };
-RenderObject read_glb(const std::filesystem::path& path, GlbFrame frame = GlbFrame::kModel);
+render::RenderObject read_glb(const std::filesystem::path& path, GlbFrame frame = GlbFrame::kModel);
 
-}  // namespace hos
+}  // namespace hos::eval

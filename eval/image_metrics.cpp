@@ -5,7 +5,7 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
-namespace hos {
+namespace hos::eval {
 namespace {
 
 cv::Mat checked_mask(const cv::Mat& a, const cv::Mat& b, const cv::Mat& mask) {
@@ -62,4 +62,4 @@ double masked_ssim(const cv::Mat& a, const cv::Mat& b, const cv::Mat& mask) {
   return total / (static_cast<double>(cv::countNonZero(m)) * a.channels());
 }
 
-}  // namespace hos
+}  // namespace hos::eval

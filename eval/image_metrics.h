@@ -4,7 +4,7 @@
 
 #include <opencv2/core.hpp>
 
-namespace hos {
+namespace hos::eval {
 
 // Peak signal-to-noise ratio in dB over the pixels where mask != 0 (all
 // pixels when mask is empty), all channels, peak 255. +infinity when the
@@ -17,4 +17,4 @@ double masked_psnr(const cv::Mat& a, const cv::Mat& b, const cv::Mat& mask = cv:
 // channels and masked pixels. 1 for identical images.
 double masked_ssim(const cv::Mat& a, const cv::Mat& b, const cv::Mat& mask = cv::Mat());
 
-}  // namespace hos
+}  // namespace hos::eval

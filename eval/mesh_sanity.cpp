@@ -5,7 +5,7 @@
 #include <numeric>
 #include <vector>
 
-namespace hos {
+namespace hos::eval {
 namespace {
 
 class UnionFind {
@@ -122,4 +122,4 @@ MeshSanity check_mesh_sanity(const TriangleMesh& mesh, double relative_area_epsi
   return s;
 }
 
-}  // namespace hos
+}  // namespace hos::eval

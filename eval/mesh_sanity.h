@@ -7,7 +7,7 @@
 
 #include "core/types.h"
 
-namespace hos {
+namespace hos::eval {
 
 struct MeshSanity {
   std::size_t vertices = 0;             // referenced by at least one face
@@ -34,4 +34,4 @@ struct MeshSanity {
 // relative_area_epsilon * (bounding-box diagonal)^2.
 MeshSanity check_mesh_sanity(const TriangleMesh& mesh, double relative_area_epsilon = 1e-14);
 
-}  // namespace hos
+}  // namespace hos::eval

@@ -7,15 +7,15 @@
 #include "core/error.h"
 #include "eval/image_metrics.h"
 
-namespace hos {
+namespace hos::eval {
 
-RenderComparison compare_renders(const RenderObject& object, const SparseModel& model,
+RenderComparison compare_renders(const render::RenderObject& object, const SparseModel& model,
                                  const std::filesystem::path& images_dir, Reporter& reporter,
                                  const std::filesystem::path& save_dir) {
   RenderComparison out;
   if (!save_dir.empty()) std::filesystem::create_directories(save_dir);
-  const std::vector<RenderObject> objects{object};
-  RenderOptions options;
+  const std::vector<render::RenderObject> objects{object};
+  render::RenderOptions options;
   options.lighting.unlit = true;  // the texture already holds the photographed shading
   reporter.begin("render", static_cast<std::int64_t>(model.images.size()));
   double sum_psnr = 0.0, sum_ssim = 0.0;
@@ -29,7 +29,7 @@ RenderComparison compare_renders(const RenderObject& object, const SparseModel& 
     if (photo.cols != camera.width || photo.rows != camera.height) {
       throw InputError(photo_path.string(), "image size differs from its camera in the model");
     }
-    const RenderedView view = render_view(objects, camera, image, options);
+    const render::RenderedView view = render::render_view(objects, camera, image, options);
     reporter.advance();
     if (!save_dir.empty()) {
       cv::Mat side_by_side;
@@ -62,4 +62,4 @@ RenderComparison compare_renders(const RenderObject& object, const SparseModel& 
   return out;
 }
 
-}  // namespace hos
+}  // namespace hos::eval

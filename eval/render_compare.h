@@ -11,7 +11,7 @@
 #include "core/sparse_model.h"
 #include "render/rasterizer.h"
 
-namespace hos {
+namespace hos::eval {
 
 struct ViewComparison {
   std::string name;
@@ -31,8 +31,8 @@ struct RenderComparison {
 // size. Throws InputError naming a missing or unreadable photo. With a
 // non-empty save_dir, each view is also written there as a PNG: the render
 // beside the photo (for looking at what the figures measure).
-RenderComparison compare_renders(const RenderObject& object, const SparseModel& model,
+RenderComparison compare_renders(const render::RenderObject& object, const SparseModel& model,
                                  const std::filesystem::path& images_dir, Reporter& reporter,
                                  const std::filesystem::path& save_dir = {});
 
-}  // namespace hos
+}  // namespace hos::eval

@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "eval/triangle_tree.h"
 
-namespace hos {
+namespace hos::eval {
 namespace {
 
 struct PointAdaptor {
@@ -173,4 +173,4 @@ SurfaceComparison compare_surfaces(const TriangleMesh& result, const TriangleMes
   return out;
 }
 
-}  // namespace hos
+}  // namespace hos::eval

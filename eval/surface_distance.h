@@ -10,7 +10,7 @@
 #include "core/reporter.h"
 #include "core/types.h"
 
-namespace hos {
+namespace hos::eval {
 
 // n points uniformly distributed by area over the mesh (a face is picked with
 // probability proportional to its area, then a uniform barycentric point), from
@@ -63,4 +63,4 @@ SurfaceComparison compare_surfaces(const TriangleMesh& result, const TriangleMes
 std::vector<double> distances_to_mesh(const std::vector<Eigen::Vector3f>& points,
                                       const TriangleMesh& mesh, Reporter& reporter);
 
-}  // namespace hos
+}  // namespace hos::eval

@@ -7,7 +7,7 @@
 
 #include "core/error.h"
 
-namespace hos {
+namespace hos::eval {
 namespace {
 
 constexpr int kLeafSize = 4;
@@ -175,4 +175,4 @@ NearestSurfacePoint TriangleTree::nearest(const Eigen::Vector3d& p) const {
   return best;
 }
 
-}  // namespace hos
+}  // namespace hos::eval

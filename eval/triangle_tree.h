@@ -8,7 +8,7 @@
 
 #include "core/types.h"
 
-namespace hos {
+namespace hos::eval {
 
 // Closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision
 // Detection, Sec. 5.1.5): Voronoi regions of vertices, edges, then the face.
@@ -47,4 +47,4 @@ class TriangleTree {
   std::vector<Node> nodes_;
 };
 
-}  // namespace hos
+}  // namespace hos::eval

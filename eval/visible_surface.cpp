@@ -2,20 +2,20 @@
 
 #include "render/rasterizer.h"
 
-namespace hos {
+namespace hos::eval {
 
 TriangleMesh visible_part(const TriangleMesh& truth, const SparseModel& model, int min_views,
                           Reporter& reporter) {
   std::vector<int> views_seeing(truth.num_faces(), 0);
-  RenderObject object;
+  render::RenderObject object;
   object.mesh = truth;
-  RenderOptions options;
+  render::RenderOptions options;
   options.supersampling = 1;
   options.lighting.unlit = true;
   reporter.begin("visible surface", static_cast<std::int64_t>(model.images.size()));
   for (const auto& [id, image] : model.images) {
     reporter.throw_if_cancelled();
-    const RenderedView view = render_view({object}, model.camera_of(image), image, options);
+    const render::RenderedView view = render::render_view({object}, model.camera_of(image), image, options);
     std::vector<char> seen(truth.num_faces(), 0);
     for (int y = 0; y < view.face_id.rows; ++y) {
       for (int x = 0; x < view.face_id.cols; ++x) {
@@ -35,4 +35,4 @@ TriangleMesh visible_part(const TriangleMesh& truth, const SparseModel& model, i
   return part;
 }
 
-}  // namespace hos
+}  // namespace hos::eval

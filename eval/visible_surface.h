@@ -8,11 +8,11 @@
 #include "core/sparse_model.h"
 #include "core/types.h"
 
-namespace hos {
+namespace hos::eval {
 
 // Faces of truth that cover at least one pixel centre, depth-tested against
 // the whole truth, in at least min_views cameras of model (in truth's frame).
 TriangleMesh visible_part(const TriangleMesh& truth, const SparseModel& model, int min_views,
                           Reporter& reporter);
 
-}  // namespace hos
+}  // namespace hos::eval

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-namespace hos {
+namespace hos::mvs {
 namespace {
 
 struct Observation {
@@ -160,4 +160,4 @@ PointCloud fuse_depth_maps(const std::vector<FusionView>& views, const MvsOption
   return cloud;
 }
 
-}  // namespace hos
+}  // namespace hos::mvs

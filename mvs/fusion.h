@@ -18,7 +18,7 @@
 #include "mvs/mvs_options.h"
 #include "mvs/patch_match.h"
 
-namespace hos {
+namespace hos::mvs {
 
 // The parts of a view fusion needs (kept for every view, images are not).
 struct FusionView {
@@ -33,4 +33,4 @@ FusionView make_fusion_view(const MvsView& view, DepthMap map);
 
 PointCloud fuse_depth_maps(const std::vector<FusionView>& views, const MvsOptions& options, Reporter& reporter);
 
-}  // namespace hos
+}  // namespace hos::mvs

@@ -3,17 +3,11 @@
 #include "core/error.h"
 #include "core/option_set.h"
 
-namespace hos {
+namespace hos::mvs {
 
 void MvsOptions::validate() const {
-  if (backend != "cpu" && backend != "colmap") throw ConfigError("mvs.backend", "must be cpu or colmap");
-  if (max_image_size < 64) throw ConfigError("mvs.max_image_size", "must be >= 64");
-  if (num_source_views < 1) throw ConfigError("mvs.num_source_views", "must be >= 1");
-  if (best_k < 1) throw ConfigError("mvs.best_k", "must be >= 1");
-  if (window_radius < 1 || window_step < 1 || window_step > window_radius) {
-    throw ConfigError("mvs.window_radius", "needs 1 <= window_step <= window_radius");
-  }
-  if (min_consistent_views < 1) throw ConfigError("mvs.min_consistent_views", "must be >= 1");
+  check_option_table("mvs", *this);
+  if (window_step > window_radius) throw ConfigError("mvs.window_step", "must be at most mvs.window_radius");
 }
 
 void register_options(OptionSet& set, MvsOptions& o) {
@@ -44,6 +38,7 @@ void register_options(OptionSet& set, MvsOptions& o) {
   set.add("max_reprojection_error_px", o.max_reprojection_error_px,
           "forward-backward reprojection error to agree (pixels)", 0.1, 20.0);
   set.add("threads", o.threads, "OpenMP threads (0 = all cores)", 0, 1024);
+  set.add_flag("--max-image-size", "max_image_size");
 }
 
-}  // namespace hos
+}  // namespace hos::mvs

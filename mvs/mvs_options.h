@@ -5,6 +5,9 @@
 
 namespace hos {
 class OptionSet;
+}
+
+namespace hos::mvs {
 
 struct MvsOptions {
   std::string backend = "cpu";   // cpu | colmap (COLMAP's CUDA PatchMatch, only when available)
@@ -50,4 +53,4 @@ struct MvsOptions {
 
 void register_options(OptionSet& set, MvsOptions& options);
 
-}  // namespace hos
+}  // namespace hos::mvs

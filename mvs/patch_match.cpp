@@ -8,7 +8,7 @@
 
 #include "core/error.h"
 
-namespace hos {
+namespace hos::mvs {
 namespace {
 
 // Deterministic per-(pixel, iteration, draw) random numbers, so results do
@@ -440,4 +440,4 @@ DepthMap estimate_depth_map(const MvsView& ref, const std::vector<const MvsView*
   return matcher.result(stats);
 }
 
-}  // namespace hos
+}  // namespace hos::mvs

@@ -16,7 +16,7 @@
 #include "core/undistorted_workspace.h"
 #include "mvs/mvs_options.h"
 
-namespace hos {
+namespace hos::mvs {
 
 // One image prepared for matching, at the matching scale. Pixel coordinates
 // follow COLMAP: the centre of the top-left pixel is (0.5, 0.5).
@@ -55,4 +55,4 @@ DepthMap estimate_depth_map(const MvsView& ref, const std::vector<const MvsView*
                             double depth_max, const std::vector<Eigen::Vector3d>& seed_points,
                             const MvsOptions& options, Reporter& reporter, PatchMatchStats* stats = nullptr);
 
-}  // namespace hos
+}  // namespace hos::mvs

@@ -13,7 +13,7 @@
 #include <omp.h>
 #endif
 
-namespace hos {
+namespace hos::mvs {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -136,4 +136,4 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace, const MvsOptions& optio
   return result;
 }
 
-}  // namespace hos
+}  // namespace hos::mvs

@@ -10,7 +10,7 @@
 #include "core/undistorted_workspace.h"
 #include "mvs/mvs_options.h"
 
-namespace hos {
+namespace hos::mvs {
 
 struct MvsViewStats {
   std::string name;
@@ -43,4 +43,4 @@ struct MvsResult {
 MvsResult run_mvs(const UndistortedWorkspace& workspace, const MvsOptions& options, Reporter& reporter,
                   const std::filesystem::path& depth_map_folder = {});
 
-}  // namespace hos
+}  // namespace hos::mvs

@@ -5,7 +5,7 @@
 #include <map>
 #include <set>
 
-namespace hos {
+namespace hos::mvs {
 
 std::vector<std::vector<int>> select_source_views(const SparseModel& model, const MvsOptions& options) {
   const double min_angle = options.min_triangulation_angle_deg * M_PI / 180.0;
@@ -51,4 +51,4 @@ std::vector<std::vector<int>> select_source_views(const SparseModel& model, cons
   return sources;
 }
 
-}  // namespace hos
+}  // namespace hos::mvs

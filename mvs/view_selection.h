@@ -6,7 +6,7 @@
 #include "core/sparse_model.h"
 #include "mvs/mvs_options.h"
 
-namespace hos {
+namespace hos::mvs {
 
 // For each image id of the model (in map order), up to num_source_views
 // other image ids, best first. A source scores by the sparse points both
@@ -16,4 +16,4 @@ namespace hos {
 // baseline. Views that share nothing usable get no sources.
 std::vector<std::vector<int>> select_source_views(const SparseModel& model, const MvsOptions& options);
 
-}  // namespace hos
+}  // namespace hos::mvs

@@ -145,7 +145,7 @@ int largest_resolution_within(const BoundingBox& box, const std::vector<Eigen::V
     trial.resolution = resolution;
     return estimate_peak_bytes(make_domain(box, trial), points, trial) <= budget;
   };
-  int lo = 8, hi = 2048;  // recon.resolution's range
+  int lo = kMinResolution, hi = kMaxResolution;
   if (!fits(lo)) return 0;
   while (lo < hi) {  // the estimate grows with the resolution: bisect
     const int mid = (lo + hi + 1) / 2;

@@ -5,25 +5,7 @@
 
 namespace hos::recon {
 
-void ReconOptions::validate() const {
-  if (!(lambda >= 0.0)) throw ConfigError("recon.lambda", "must be >= 0");
-  if (voxel_size <= 0.0 && (resolution < 8 || resolution > 2048)) {
-    throw ConfigError("recon.resolution", "must be in [8, 2048]");
-  }
-  if (!(margin >= 0.0 && margin <= 2.0)) throw ConfigError("recon.margin", "must be in [0, 2]");
-  if (filter_passes < 0 || filter_passes > 10) {
-    throw ConfigError("recon.filter_passes", "must be in [0, 10]");
-  }
-  if (!(solver.tolerance > 0.0 && solver.tolerance < 1.0)) {
-    throw ConfigError("recon.solver.tolerance", "must be in (0, 1)");
-  }
-  if (direction_filter_passes < 0 || direction_filter_passes > 100) {
-    throw ConfigError("recon.direction_filter_passes", "must be in [0, 100]");
-  }
-  if (solver.max_iterations < 1) throw ConfigError("recon.solver.max_iterations", "must be >= 1");
-  if (max_memory_mb < 0) throw ConfigError("recon.max_memory_mb", "must be >= 0 (0 = 3/4 of the RAM)");
-  if (trim.distance_voxels <= 0.0) throw ConfigError("recon.trim.distance_voxels", "must be > 0");
-}
+void ReconOptions::validate() const { check_option_table("recon", *this); }
 
 void register_options(OptionSet& set, ReconOptions& o) {
   set.add_enum("energy", o.energy,
@@ -35,7 +17,8 @@ void register_options(OptionSet& set, ReconOptions& o) {
                "derivatives, 4 full Hessian");
   set.add("lambda", o.lambda, "smoothness weight (resolution independent; paper range 0.1-0.3)",
           0.0, 1e6);
-  set.add("resolution", o.resolution, "grid cells along the longest side of the domain", 8, 2048);
+  set.add("resolution", o.resolution, "grid cells along the longest side of the domain",
+          kMinResolution, kMaxResolution);
   set.add("voxel_size", o.voxel_size, "grid spacing in scene units; 0 = use resolution", 0.0,
           1e12);
   set.add("margin", o.margin, "domain margin around the points, fraction of their extent", 0.0,
@@ -68,6 +51,12 @@ void register_options(OptionSet& set, ReconOptions& o) {
   set.add("threads", o.threads, "OpenMP threads (0 = all cores)", 0, 1024);
   set.add("max_memory_mb", o.max_memory_mb,
           "memory budget (MB): larger grids are refused before allocating (0 = 3/4 of the RAM)", 0, 1 << 30);
+  set.add_flag("--energy", "energy");
+  set.add_flag("--lambda", "lambda");
+  set.add_flag("--resolution", "resolution");
+  set.add_flag("--voxel-size", "voxel_size");
+  set.add_flag("--max-memory", "max_memory_mb");
+  set.add_flag("--no-trim", "trim.enabled", "false");
 }
 
 }  // namespace hos::recon

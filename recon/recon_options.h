@@ -10,6 +10,10 @@ class OptionSet;
 
 namespace hos::recon {
 
+// recon.resolution's range (the option table's and the memory budget's).
+constexpr int kMinResolution = 8;
+constexpr int kMaxResolution = 2048;
+
 // The smoothness energies of the paper, sec. 3.2.
 enum class SmoothnessEnergy {
   kMembrane = 1,        // eq. (1): |grad f|^2
@@ -60,7 +64,7 @@ struct ReconOptions {
   // 192 lost texture detail (re-render PSNR on one sfm and mvs result each,
   // 192 -> 256: temple 22.36 -> 22.78 dB, Herz-Jesu-P8 24.57 -> 24.84 dB);
   // recon stays small beside mvs (temple 1.5 -> 8 s against 69 s).
-  int resolution = 256;
+  int resolution = 256;        // in [kMinResolution, kMaxResolution]
   double voxel_size = 0.0;     // if > 0, overrides resolution
   double margin = 0.1;         // domain margin as a fraction of the points' longest extent
   int filter_passes = 3;       // box filter passes approximating a Gaussian (sec. 4.1)
@@ -93,9 +97,3 @@ struct ReconOptions {
 void register_options(OptionSet& set, ReconOptions& options);
 
 }  // namespace hos::recon
-
-namespace hos {
-// The stage's options under the names every stage uses (hos::XOptions).
-using recon::ReconOptions;
-using recon::register_options;
-}  // namespace hos

@@ -14,7 +14,7 @@
 #include <limits>
 #include <stdexcept>
 
-namespace hos {
+namespace hos::render {
 namespace {
 
 constexpr double kNear = 1e-4;
@@ -360,4 +360,4 @@ RenderedView render_view(const std::vector<RenderObject>& objects, const Camera&
   return view;
 }
 
-}  // namespace hos
+}  // namespace hos::render

@@ -13,7 +13,7 @@
 #include "core/sparse_model.h"
 #include "core/types.h"
 
-namespace hos {
+namespace hos::render {
 
 // Albedo of a point on the surface, in linear [0, 1] RGB.
 using ProceduralAlbedo = std::function<Eigen::Vector3f(const Eigen::Vector3f& x_in_world)>;
@@ -74,4 +74,4 @@ struct RenderedView {
 RenderedView render_view(const std::vector<RenderObject>& objects, const Camera& camera,
                          const ImageRecord& pose, const RenderOptions& options = {});
 
-}  // namespace hos
+}  // namespace hos::render

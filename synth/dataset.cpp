@@ -16,7 +16,7 @@
 #include "core/error.h"
 #include "core/ply_io.h"
 
-namespace hos {
+namespace hos::synth {
 namespace fs = std::filesystem;
 namespace {
 
@@ -108,7 +108,7 @@ struct SurfaceSampler {
   }
 };
 
-void add_sparse_points(const Scene& scene, const std::vector<RenderedView>& views, int target,
+void add_sparse_points(const Scene& scene, const std::vector<render::RenderedView>& views, int target,
                        SparseModel& model) {
   if (scene.objects.empty() || target <= 0) return;
   SurfaceSampler sampler(scene);
@@ -275,20 +275,20 @@ RenderedDataset render_dataset(const Scene& scene, const DatasetOptions& o, Repo
   RenderedDataset data;
   data.model = make_cameras(scene, o);
   const Camera& camera = data.model.cameras.at(1);
-  RenderOptions render_options;
+  render::RenderOptions render_options;
   render_options.supersampling = o.supersampling;
   reporter.begin("rendering", o.num_views + o.holdout);
   for (const auto& [id, image] : data.model.images) {
     reporter.throw_if_cancelled();
     render_options.exposure_gain = o.exposure_gains.empty() ? 1.0f : o.exposure_gains[id - 1];
-    data.views.push_back(render_view(scene.objects, camera, image, render_options));
+    data.views.push_back(render::render_view(scene.objects, camera, image, render_options));
     reporter.advance();
   }
   render_options.exposure_gain = 1.0f;
   data.holdout = make_holdout_cameras(scene, o);
   for (const auto& [id, image] : data.holdout.images) {
     reporter.throw_if_cancelled();
-    data.holdout_views.push_back(render_view(scene.objects, camera, image, render_options));
+    data.holdout_views.push_back(render::render_view(scene.objects, camera, image, render_options));
     reporter.advance();
   }
   reporter.end();
@@ -342,7 +342,7 @@ void write_dataset(const fs::path& folder, const Scene& scene, const SceneOption
                          {"bbox_min", vec_json(b.min)},
                          {"bbox_max", vec_json(b.max)}});
     }
-    const Lighting lighting;
+    const render::Lighting lighting;
     const nlohmann::json json = {
         {"seed", scene_options.seed},
         {"scene", scene_options.name},
@@ -371,4 +371,4 @@ void write_dataset(const fs::path& folder, const Scene& scene, const SceneOption
   });
 }
 
-}  // namespace hos
+}  // namespace hos::synth

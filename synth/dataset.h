@@ -35,7 +35,7 @@
 #include "render/rasterizer.h"
 #include "synth/scene.h"
 
-namespace hos {
+namespace hos::synth {
 
 struct DatasetOptions {
   int num_views = 24;
@@ -57,8 +57,8 @@ struct DatasetOptions {
 struct RenderedDataset {
   SparseModel model;             // cameras, poses, ground-truth sparse points
   SparseModel holdout;           // held-out views (no points)
-  std::vector<RenderedView> views;
-  std::vector<RenderedView> holdout_views;
+  std::vector<render::RenderedView> views;
+  std::vector<render::RenderedView> holdout_views;
 };
 
 // The camera poses: rings around the scene centre, looking at it, objects in frame.
@@ -79,4 +79,4 @@ cv::Mat decode_normal_map(const cv::Mat& encoded);
 // The file name of view i ("view_007.png").
 std::string view_name(int index, bool jpeg);
 
-}  // namespace hos
+}  // namespace hos::synth

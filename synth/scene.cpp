@@ -8,8 +8,9 @@
 #include <tuple>
 
 #include "core/error.h"
+#include "synth/shapes.h"
 
-namespace hos {
+namespace hos::synth {
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
@@ -89,7 +90,7 @@ Eigen::Vector3f random_colour(std::mt19937& rng) {
 // An albedo function: a blend of palette colours by multi-scale noise, spots
 // of a contrasting colour and warped stripes. scale is the feature size of the
 // coarsest pattern in world units.
-ProceduralAlbedo make_albedo(std::uint32_t seed, float scale) {
+render::ProceduralAlbedo make_albedo(std::uint32_t seed, float scale) {
   std::mt19937 rng(seed);
   const Eigen::Vector3f a = random_colour(rng), b = random_colour(rng), c = random_colour(rng);
   const Eigen::Vector3f spot = random_colour(rng), stripe = random_colour(rng);
@@ -123,40 +124,6 @@ void compute_normals(TriangleMesh& mesh) {
     for (int k = 0; k < 3; ++k) mesh.normals[f[k]] += n;
   }
   for (Eigen::Vector3f& n : mesh.normals) n = n.squaredNorm() > 0 ? n.normalized() : Eigen::Vector3f::UnitY();
-}
-
-TriangleMesh icosphere(int subdivisions) {
-  TriangleMesh m;
-  const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
-  m.vertices = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  for (auto& v : m.vertices) v.normalize();
-  m.faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-             {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-             {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  for (int s = 0; s < subdivisions; ++s) {
-    std::map<std::pair<int, int>, int> mid;
-    auto midpoint = [&](int a, int b) {
-      const auto key = std::minmax(a, b);
-      const auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      m.vertices.push_back((m.vertices[a] + m.vertices[b]).normalized());
-      const int id = static_cast<int>(m.vertices.size()) - 1;
-      mid.emplace(key, id);
-      return id;
-    };
-    std::vector<Eigen::Vector3i> faces;
-    faces.reserve(4 * m.faces.size());
-    for (const Eigen::Vector3i& f : m.faces) {
-      const int ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]), ca = midpoint(f[2], f[0]);
-      faces.emplace_back(f[0], ab, ca);
-      faces.emplace_back(f[1], bc, ab);
-      faces.emplace_back(f[2], ca, bc);
-      faces.emplace_back(ab, bc, ca);
-    }
-    m.faces = std::move(faces);
-  }
-  return m;
 }
 
 TriangleMesh make_rock(std::uint32_t seed, float radius) {
@@ -282,7 +249,7 @@ Scene make_scene(const SceneOptions& options) {
   const bool all = options.name == "default";
   auto add = [&](TriangleMesh mesh, const std::string& name, std::uint32_t salt, float pattern_scale) {
     compute_normals(mesh);
-    RenderObject obj;
+    render::RenderObject obj;
     obj.material.procedural = make_albedo(options.seed * 1000u + salt, pattern_scale);
     mesh.colors.resize(mesh.vertices.size());
     for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
@@ -312,11 +279,11 @@ Scene make_scene(const SceneOptions& options) {
     add(std::move(box), "box", 3, 0.6f);
   }
   BoundingBox box;
-  for (const RenderObject& o : scene.objects)
+  for (const render::RenderObject& o : scene.objects)
     for (const Eigen::Vector3f& v : o.mesh.vertices) box.extend(v);
   scene.centre = box.center();
   scene.radius = 0.0f;
-  for (const RenderObject& o : scene.objects)
+  for (const render::RenderObject& o : scene.objects)
     for (const Eigen::Vector3f& v : o.mesh.vertices) scene.radius = std::max(scene.radius, (v - scene.centre).norm());
   if (options.ground_plane) {
     // Just below the lowest point (largest y, since up is -y).
@@ -342,4 +309,4 @@ TriangleMesh merged_mesh(const Scene& scene, bool with_ground) {
   return out;
 }
 
-}  // namespace hos
+}  // namespace hos::synth

@@ -13,7 +13,7 @@
 
 #include "render/rasterizer.h"
 
-namespace hos {
+namespace hos::synth {
 
 struct SceneOptions {
   std::uint32_t seed = 1;
@@ -24,7 +24,7 @@ struct SceneOptions {
 };
 
 struct Scene {
-  std::vector<RenderObject> objects;  // procedural materials, vertex colours = albedo
+  std::vector<render::RenderObject> objects;  // procedural materials, vertex colours = albedo
   std::vector<bool> is_ground;        // per object
   std::vector<std::string> names;     // per object
   Eigen::Vector3f centre = Eigen::Vector3f::Zero();  // of the non-ground objects
@@ -41,4 +41,4 @@ TriangleMesh merged_mesh(const Scene& scene, bool with_ground);
 // Names make_scene accepts.
 std::vector<std::string> scene_names();
 
-}  // namespace hos
+}  // namespace hos::synth

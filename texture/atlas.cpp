@@ -5,7 +5,7 @@
 #include <numeric>
 #include <stdexcept>
 
-namespace hos {
+namespace hos::texture {
 
 std::vector<int> pack_shelves(std::vector<Rect>& rects, int page_width, int page_height,
                               int* num_pages) {
@@ -324,4 +324,4 @@ Atlas build_atlas(const TriangleMesh& mesh, const MeshTopology& topology,
   return atlas;
 }
 
-}  // namespace hos
+}  // namespace hos::texture

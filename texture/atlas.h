@@ -19,7 +19,7 @@
 #include "texture/texture_view.h"
 #include "texture/visibility.h"
 
-namespace hos {
+namespace hos::texture {
 
 struct Rect {
   int x = 0, y = 0, width = 0, height = 0;
@@ -58,4 +58,4 @@ Atlas build_atlas(const TriangleMesh& mesh, const MeshTopology& topology,
                   const SeamLeveling& leveling, const std::vector<FlatFace>& flat_faces,
                   const TextureOptions& options, Reporter& reporter);
 
-}  // namespace hos
+}  // namespace hos::texture

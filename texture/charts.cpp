@@ -2,7 +2,7 @@
 
 #include <unordered_map>
 
-namespace hos {
+namespace hos::texture {
 
 std::vector<Chart> build_charts(const TriangleMesh& mesh, const MeshTopology& topology,
                                 const std::vector<int>& labels) {
@@ -47,4 +47,4 @@ std::vector<Chart> build_charts(const TriangleMesh& mesh, const MeshTopology& to
   return charts;
 }
 
-}  // namespace hos
+}  // namespace hos::texture

@@ -9,7 +9,7 @@
 #include "core/types.h"
 #include "texture/mesh_topology.h"
 
-namespace hos {
+namespace hos::texture {
 
 struct Chart {
   int view = -1;
@@ -22,4 +22,4 @@ struct Chart {
 std::vector<Chart> build_charts(const TriangleMesh& mesh, const MeshTopology& topology,
                                 const std::vector<int>& labels);
 
-}  // namespace hos
+}  // namespace hos::texture

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace hos {
+namespace hos::texture {
 
 TriangleMesh decimate_mesh(const TriangleMesh& mesh, std::size_t max_faces,
                            DecimationStats* stats) {
@@ -52,4 +52,4 @@ TriangleMesh decimate_mesh(const TriangleMesh& mesh, std::size_t max_faces,
   return out;
 }
 
-}  // namespace hos
+}  // namespace hos::texture

@@ -5,7 +5,7 @@
 
 #include "core/types.h"
 
-namespace hos {
+namespace hos::texture {
 
 struct DecimationStats {
   std::size_t faces_before = 0;
@@ -18,4 +18,4 @@ struct DecimationStats {
 TriangleMesh decimate_mesh(const TriangleMesh& mesh, std::size_t max_faces,
                            DecimationStats* stats = nullptr);
 
-}  // namespace hos
+}  // namespace hos::texture

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace hos {
+namespace hos::texture {
 
 namespace {
 
@@ -101,4 +101,4 @@ void apply_exposure_gains(const std::vector<Eigen::Vector3f>& gains,
   for (auto& s : candidates.samples) s.mean_rgb = s.mean_rgb.cwiseProduct(gains[s.view]);
 }
 
-}  // namespace hos
+}  // namespace hos::texture

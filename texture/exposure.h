@@ -9,7 +9,7 @@
 #include "core/reporter.h"
 #include "texture/visibility.h"
 
-namespace hos {
+namespace hos::texture {
 
 // Multiplicative RGB gain per view that makes the views agree (geometric mean
 // 1 per channel), so differences in exposure and white balance are undone.
@@ -23,4 +23,4 @@ std::vector<Eigen::Vector3f> estimate_exposure_gains(const FaceViewCandidates& c
 void apply_exposure_gains(const std::vector<Eigen::Vector3f>& gains,
                           FaceViewCandidates& candidates);
 
-}  // namespace hos
+}  // namespace hos::texture

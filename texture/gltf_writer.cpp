@@ -10,7 +10,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 
-namespace hos {
+namespace hos::texture {
 
 namespace {
 
@@ -171,4 +171,4 @@ void write_glb(const std::filesystem::path& path, const TexturedMesh& mesh,
   });
 }
 
-}  // namespace hos
+}  // namespace hos::texture

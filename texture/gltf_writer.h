@@ -11,7 +11,7 @@
 
 #include "texture/textured_mesh.h"
 
-namespace hos {
+namespace hos::texture {
 
 struct GltfWriteOptions {
   std::string image_format = "png";  // png | jpeg
@@ -23,4 +23,4 @@ struct GltfWriteOptions {
 void write_glb(const std::filesystem::path& path, const TexturedMesh& mesh,
                const GltfWriteOptions& options = {});
 
-}  // namespace hos
+}  // namespace hos::texture

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cstdint>
 
-namespace hos {
+namespace hos::texture {
 
 MeshTopology build_topology(const TriangleMesh& mesh) {
   const int num_faces = static_cast<int>(mesh.faces.size());
@@ -76,4 +76,4 @@ MeshTopology build_topology(const TriangleMesh& mesh) {
   return t;
 }
 
-}  // namespace hos
+}  // namespace hos::texture

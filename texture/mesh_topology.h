@@ -7,7 +7,7 @@
 
 #include "core/types.h"
 
-namespace hos {
+namespace hos::texture {
 
 struct MeshTopology {
   // Faces sharing edge c (vertices c, c+1) of face f, or -1 on a boundary.
@@ -23,4 +23,4 @@ struct MeshTopology {
 
 MeshTopology build_topology(const TriangleMesh& mesh);
 
-}  // namespace hos
+}  // namespace hos::texture

@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 
-namespace hos {
+namespace hos::texture {
 
 SeamLeveling level_seams(const TriangleMesh& mesh, const std::vector<Chart>& charts,
                          const std::vector<TextureView>& views, const std::vector<Eigen::Vector3f>& gains,
@@ -137,4 +137,4 @@ SeamLeveling level_seams(const TriangleMesh& mesh, const std::vector<Chart>& cha
   return result;
 }
 
-}  // namespace hos
+}  // namespace hos::texture

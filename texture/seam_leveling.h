@@ -16,7 +16,7 @@
 #include "texture/texture_options.h"
 #include "texture/texture_view.h"
 
-namespace hos {
+namespace hos::texture {
 
 struct SeamLeveling {
   // Per chart, per chart vertex: RGB offset (8-bit scale) and the leveled
@@ -37,4 +37,4 @@ SeamLeveling level_seams(const TriangleMesh& mesh, const std::vector<Chart>& cha
                          const std::vector<TextureView>& views, const std::vector<Eigen::Vector3f>& gains,
                          const TextureOptions& options, Reporter& reporter);
 
-}  // namespace hos
+}  // namespace hos::texture

@@ -13,7 +13,7 @@
 #include "texture/view_selection.h"
 #include "texture/visibility.h"
 
-namespace hos {
+namespace hos::texture {
 
 namespace {
 
@@ -245,4 +245,4 @@ TextureResult texture_mesh(const TriangleMesh& mesh, const UndistortedWorkspace&
   return texture_mesh(mesh, views, options, reporter);
 }
 
-}  // namespace hos
+}  // namespace hos::texture

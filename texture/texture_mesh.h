@@ -19,7 +19,7 @@
 #include "texture/texture_view.h"
 #include "texture/textured_mesh.h"
 
-namespace hos {
+namespace hos::texture {
 
 struct TextureStats {
   std::size_t input_faces = 0;
@@ -58,4 +58,4 @@ TextureResult texture_mesh(const TriangleMesh& mesh, const std::vector<TextureVi
 TextureResult texture_mesh(const TriangleMesh& mesh, const UndistortedWorkspace& workspace,
                            const TextureOptions& options, Reporter& reporter);
 
-}  // namespace hos
+}  // namespace hos::texture

@@ -1,29 +1,18 @@
 #include "texture/texture_options.h"
 
 #include "core/error.h"
+#include "core/option_set.h"
 
-namespace hos {
+namespace hos::texture {
 
 void TextureOptions::validate() const {
+  check_option_table("texture", *this);
   if (max_faces != 0 && max_faces < 4) {
     throw ConfigError("texture.max_faces", "must be 0 (no decimation) or at least 4");
-  }
-  if (!(max_view_angle_deg > 0.0 && max_view_angle_deg < 90.0)) {
-    throw ConfigError("texture.max_view_angle_deg", "must be in (0, 90)");
-  }
-  if (atlas_size < 64 || atlas_size > 16384) {
-    throw ConfigError("texture.atlas_size", "must be in [64, 16384]");
   }
   if (2 * padding + 1 >= atlas_size) {
     throw ConfigError("texture.padding", "must be smaller than half of texture.atlas_size");
   }
-  if (image_format != "png" && image_format != "jpeg") {
-    throw ConfigError("texture.image_format", "must be png or jpeg");
-  }
-  if (up_axis != "cameras" && up_axis != "none") {
-    throw ConfigError("texture.up_axis", "must be cameras or none");
-  }
-  if (!(texel_scale > 0.0)) throw ConfigError("texture.texel_scale", "must be > 0");
 }
 
 void register_options(OptionSet& set, TextureOptions& o) {
@@ -67,6 +56,9 @@ void register_options(OptionSet& set, TextureOptions& o) {
   set.add("jpeg_quality", o.jpeg_quality, "JPEG quality of the atlases", 1, 100);
   set.add_choice("up_axis", o.up_axis, {"cameras", "none"},
                  "root node rotation: cameras = mean photo up onto +Y; none = identity");
+  set.add_flag("--max-faces", "max_faces");
+  set.add_flag("--atlas-size", "atlas_size");
+  set.add_flag("--image-format", "image_format");
 }
 
-}  // namespace hos
+}  // namespace hos::texture

@@ -5,7 +5,7 @@
 
 #include "core/option_set.h"
 
-namespace hos {
+namespace hos::texture {
 
 struct TextureOptions {
   // Decimate the mesh to at most this many faces before texturing (quadric
@@ -70,4 +70,4 @@ struct TextureOptions {
 
 void register_options(OptionSet& set, TextureOptions& options);
 
-}  // namespace hos
+}  // namespace hos::texture

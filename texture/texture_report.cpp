@@ -6,7 +6,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 
-namespace hos {
+namespace hos::texture {
 
 std::string texture_report_json(const TextureResult& result) {
   const TextureStats& s = result.stats;
@@ -47,4 +47,4 @@ void write_texture_report(const std::filesystem::path& path, const TextureResult
   });
 }
 
-}  // namespace hos
+}  // namespace hos::texture

@@ -8,10 +8,10 @@
 
 #include "texture/texture_mesh.h"
 
-namespace hos {
+namespace hos::texture {
 
 std::string texture_report_json(const TextureResult& result);
 // Writes atomically; throws OutputError.
 void write_texture_report(const std::filesystem::path& path, const TextureResult& result);
 
-}  // namespace hos
+}  // namespace hos::texture

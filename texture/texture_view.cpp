@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 
-namespace hos {
+namespace hos::texture {
 
 Eigen::Vector3d TextureView::project(const Eigen::Vector3d& x_in_world) const {
   const Eigen::Vector3d x = pose.cam_from_world(x_in_world);
@@ -81,4 +81,4 @@ float sample_float(const cv::Mat& image, double x, double y) {
          t.wy * ((1 - t.wx) * image.at<float>(t.y1, t.x0) + t.wx * image.at<float>(t.y1, t.x1));
 }
 
-}  // namespace hos
+}  // namespace hos::texture

@@ -11,7 +11,7 @@
 #include "core/sparse_model.h"
 #include "core/undistorted_workspace.h"
 
-namespace hos {
+namespace hos::texture {
 
 struct TextureView {
   std::string name;
@@ -34,4 +34,4 @@ std::vector<TextureView> load_texture_views(const UndistortedWorkspace& workspac
 Eigen::Vector3f sample_rgb(const cv::Mat& bgr, double x, double y);
 float sample_float(const cv::Mat& image, double x, double y);
 
-}  // namespace hos
+}  // namespace hos::texture

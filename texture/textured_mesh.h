@@ -7,7 +7,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-namespace hos {
+namespace hos::texture {
 
 struct TexturedMesh {
   std::vector<Eigen::Vector3f> positions;  // SfM model coordinates
@@ -20,4 +20,4 @@ struct TexturedMesh {
   Eigen::Matrix4d root_matrix = Eigen::Matrix4d::Identity();
 };
 
-}  // namespace hos
+}  // namespace hos::texture

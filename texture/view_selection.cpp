@@ -6,7 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
-namespace hos {
+namespace hos::texture {
 
 std::int64_t reject_outlier_views(FaceViewCandidates& candidates, const TextureOptions& options) {
   const int num_faces = candidates.num_faces();
@@ -210,4 +210,4 @@ ViewSelection select_views(const MeshTopology& topology, const FaceViewCandidate
   return result;
 }
 
-}  // namespace hos
+}  // namespace hos::texture

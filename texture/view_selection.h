@@ -11,7 +11,7 @@
 #include "texture/texture_options.h"
 #include "texture/visibility.h"
 
-namespace hos {
+namespace hos::texture {
 
 // Photo-consistency check (Waechter Sec. 4, outlier removal): per face with at
 // least options.outlier_min_views views, the mode of the views' mean colours
@@ -33,4 +33,4 @@ std::vector<float> data_costs(const FaceViewCandidates& candidates, const Textur
 ViewSelection select_views(const MeshTopology& topology, const FaceViewCandidates& candidates,
                            const TextureOptions& options, Reporter& reporter);
 
-}  // namespace hos
+}  // namespace hos::texture

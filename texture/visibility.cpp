@@ -5,7 +5,7 @@
 #include <limits>
 #include <opencv2/imgproc.hpp>
 
-namespace hos {
+namespace hos::texture {
 
 namespace {
 
@@ -197,4 +197,4 @@ FaceViewCandidates compute_visibility(const TriangleMesh& mesh, const MeshTopolo
   return result;
 }
 
-}  // namespace hos
+}  // namespace hos::texture

@@ -13,7 +13,7 @@
 #include "texture/texture_options.h"
 #include "texture/texture_view.h"
 
-namespace hos {
+namespace hos::texture {
 
 struct FaceViewSample {
   int view = 0;
@@ -49,4 +49,4 @@ struct DepthBuffer {
 };
 DepthBuffer rasterize_depth(const TriangleMesh& mesh, const TextureView& view);
 
-}  // namespace hos
+}  // namespace hos::texture

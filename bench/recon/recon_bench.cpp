@@ -14,7 +14,8 @@
 #include "core/ply_io.h"
 #include "recon/isosurface.h"
 #include "recon/scans.h"
-#include "tests/recon/shape_samples.h"
+#include "eval/mesh_sanity.h"
+#include "synth/shapes.h"
 
 namespace {
 
@@ -76,12 +77,12 @@ void report_isosurface(const std::string& field, int size, int repeat) {
     below10 += smallest < 10.0;
     below5 += smallest < 5.0;
   }
-  const auto topology = hos::recon::testing::analyze_topology(mesh);
+  const hos::eval::MeshSanity topology = hos::eval::check_mesh_sanity(mesh);
   const double n = std::max<double>(mesh.num_faces(), 1.0);
   std::cout << field << " " << size << "^3: seconds " << best << " vertices " << mesh.num_vertices() << " triangles "
             << mesh.num_faces() << " min_angle_deg " << min_angle << " below_10deg_pct " << 100.0 * below10 / n
-            << " below_5deg_pct " << 100.0 * below5 / n << " watertight " << topology.watertight()
-            << " misoriented " << topology.misoriented_edges << " euler " << topology.euler() << "\n";
+            << " below_5deg_pct " << 100.0 * below5 / n << " watertight " << topology.watertight
+            << " misoriented " << topology.inconsistent_edges << " euler " << topology.euler_characteristic << "\n";
 }
 
 }  // namespace
@@ -110,7 +111,7 @@ int main(int argc, char** argv) {
   iso->add_option("--size", size, "grid nodes per axis");
   iso->add_option("--repeat", repeat, "extractions to time (the best is reported)");
   CLI11_PARSE(app, argc, argv);
-  namespace t = hos::recon::testing;
+  namespace t = hos::synth;
   try {
     if (points->parsed()) {
       hos::PointCloud cloud;

@@ -91,7 +91,7 @@ Eigen::Vector3f albedo(const Eigen::Vector3d& x) {
   return Eigen::Vector3f(0.4f + 0.3f * a, 0.5f + 0.3f * b, 0.45f + 0.25f * a * b);
 }
 
-hos::TextureView make_view(int index, int count, int width, int height) {
+hos::texture::TextureView make_view(int index, int count, int width, int height) {
   const double az = 2 * M_PI * index / count;
   const double el = (index % 3 - 1) * 0.7;
   const Eigen::Vector3d c = 3.5 * Eigen::Vector3d(std::cos(el) * std::cos(az),
@@ -102,7 +102,7 @@ hos::TextureView make_view(int index, int count, int width, int height) {
   rot.row(0) = r;
   rot.row(1) = f.cross(r);
   rot.row(2) = f;
-  hos::TextureView view;
+  hos::texture::TextureView view;
   view.name = "view" + std::to_string(index);
   const double focal = 1.2 * width;
   view.camera = hos::Camera::pinhole(1, width, height, focal, focal, width / 2.0, height / 2.0);
@@ -141,14 +141,14 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   const hos::TriangleMesh mesh = bumpy_sphere(faces);
-  std::vector<hos::TextureView> views;
+  std::vector<hos::texture::TextureView> views;
   for (int i = 0; i < num_views; ++i) views.push_back(make_view(i, num_views, width, height));
   std::cout << "mesh " << mesh.faces.size() << " faces, " << num_views << " views " << width << "x"
             << height << ", threads " << omp_get_max_threads() << "\n";
   BenchReporter reporter;
   const auto start = std::chrono::steady_clock::now();
   reset_peak();
-  const hos::TextureResult result = hos::texture_mesh(mesh, views, hos::TextureOptions{}, reporter);
+  const hos::texture::TextureResult result = hos::texture::texture_mesh(mesh, views, hos::texture::TextureOptions{}, reporter);
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << "steps (wall time):\n";
   for (const auto& [step, seconds] : result.stats.step_seconds) {
@@ -165,7 +165,7 @@ int main(int argc, char** argv) {
             << " -> " << result.stats.mean_seam_jump_after << "\n";
   if (!output.empty()) {
     const auto t0 = std::chrono::steady_clock::now();
-    hos::write_glb(output, result.mesh);
+    hos::texture::write_glb(output, result.mesh);
     std::cout << "write_glb " << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()
               << " s\n";
   }

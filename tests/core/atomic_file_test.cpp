@@ -11,7 +11,7 @@ namespace hos {
 namespace {
 
 TEST(AtomicFile, FailedWriteLeavesNothing) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   EXPECT_THROW(write_atomically(dir / "out.txt",
                                 [](const std::filesystem::path& tmp) {
                                   std::ofstream(tmp) << "half";
@@ -27,7 +27,7 @@ TEST(AtomicFile, FailedWriteLeavesNothing) {
 }
 
 TEST(AtomicFile, FolderIsReplacedOnlyOnSuccess) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   write_folder_atomically(dir / "ws", [](const std::filesystem::path& tmp) { std::ofstream(tmp / "a") << 1; });
   EXPECT_THROW(write_folder_atomically(dir / "ws",
                                        [](const std::filesystem::path& tmp) {

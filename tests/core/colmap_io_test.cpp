@@ -77,7 +77,7 @@ void expect_same(const SparseModel& a, const SparseModel& b) {
 }
 
 TEST(ColmapIo, TextAndBinaryRoundTrips) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   const SparseModel model = small_model();
   write_colmap_model(model, dir / "txt", ColmapFormat::kText);
   write_colmap_model(model, dir / "bin", ColmapFormat::kBinary);
@@ -91,17 +91,17 @@ TEST(ColmapIo, TextAndBinaryRoundTrips) {
 }
 
 TEST(ColmapIo, AgreesWithTheRealColmap) {
-  if (testing::run_command("command -v colmap > /dev/null") != 0) GTEST_SKIP() << "colmap is not installed";
-  testing::TempDir dir;
+  if (hos::testing::run_command("command -v colmap > /dev/null") != 0) GTEST_SKIP() << "colmap is not installed";
+  hos::testing::TempDir dir;
   const SparseModel model = small_model();
   write_colmap_model(model, dir / "ours_txt", ColmapFormat::kText);
   write_colmap_model(model, dir / "ours_bin", ColmapFormat::kBinary);
   std::filesystem::create_directories(dir / "colmap_bin");
   std::filesystem::create_directories(dir / "colmap_txt");
   const auto convert = [&](const std::string& in, const std::string& out, const std::string& type) {
-    return testing::run_command("QT_QPA_PLATFORM=offscreen colmap model_converter --input_path " +
-                                    testing::shell_quote((dir / in).string()) + " --output_path " +
-                                    testing::shell_quote((dir / out).string()) + " --output_type " + type,
+    return hos::testing::run_command("QT_QPA_PLATFORM=offscreen colmap model_converter --input_path " +
+                                    hos::testing::shell_quote((dir / in).string()) + " --output_path " +
+                                    hos::testing::shell_quote((dir / out).string()) + " --output_type " + type,
                                 dir / "colmap.log");
   };
   // Our text read by COLMAP, written as COLMAP's binary, read by us.
@@ -113,7 +113,7 @@ TEST(ColmapIo, AgreesWithTheRealColmap) {
 }
 
 TEST(ColmapIo, MissingOrBrokenFilesNameTheFile) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   write_colmap_model(small_model(), dir / "m", ColmapFormat::kBinary);
   std::filesystem::remove(dir / "m" / "points3D.bin");
   try {

@@ -42,7 +42,7 @@ TEST(OptionSet, AppliesNestedYamlAndAssignments) {
 }
 
 TEST(OptionSet, UnknownKeyNamesFileLineAndClosestKey) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   std::ofstream(dir / "c.yaml") << "lambda: 0.3\nlamda: 0.4\n";
   Example e;
   OptionSet set = example_set(e);

@@ -27,7 +27,7 @@ PointCloud cloud() {
 class PlyFormats : public ::testing::TestWithParam<PlyFormat> {};
 
 TEST_P(PlyFormats, PointCloudRoundTrip) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   const PointCloud a = cloud();
   write_point_cloud_ply(dir / "p.ply", a, GetParam());
   const PointCloud b = read_point_cloud_ply(dir / "p.ply");
@@ -43,7 +43,7 @@ TEST_P(PlyFormats, PointCloudRoundTrip) {
 }
 
 TEST_P(PlyFormats, MeshRoundTrip) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   TriangleMesh a;
   a.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   a.colors = {{1, 2, 3}, {4, 5, 6}, {7, 8, 9}, {10, 11, 12}};
@@ -70,7 +70,7 @@ std::string error_of(const std::filesystem::path& path) {
 }
 
 TEST(PlyIo, BadInputsAreInputErrorsNamingTheFile) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   EXPECT_NE(error_of(dir / "missing.ply").find("missing.ply"), std::string::npos);
 
   std::ofstream(dir / "magic.ply") << "not a ply\n";
@@ -103,7 +103,7 @@ TEST(PlyIo, BadInputsAreInputErrorsNamingTheFile) {
 }
 
 TEST(PlyIo, NonFiniteCoordinatesAreSkippedAndCounted) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   std::ofstream(dir / "nan.ply") << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
                                     "property float z\nend_header\n1 2 3\nnan 0 0\n4 inf 6\n7 8 9\n";
   PlyReadReport report;
@@ -139,7 +139,7 @@ TEST(PlyIo, NonFiniteCoordinatesAreSkippedAndCounted) {
 }
 
 TEST(PlyIo, ReadsPolygonsAndForeignPropertyNames) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   std::ofstream(dir / "quad.ply") << "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\n"
                                      "property double z\nproperty uchar r\nproperty uchar g\nproperty uchar b\n"
                                      "element face 1\nproperty list uchar uint vertex_index\nend_header\n"

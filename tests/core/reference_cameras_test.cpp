@@ -16,7 +16,7 @@ Eigen::Matrix3d some_rotation() {
 }
 
 TEST(ReferenceCameras, MiddleburyCentreIsMinusRTransposeT) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   const Eigen::Matrix3d r = some_rotation();
   const Eigen::Vector3d centre(0.5, -1.0, 2.0);
   const Eigen::Vector3d t = -r * centre;
@@ -42,7 +42,7 @@ TEST(ReferenceCameras, MiddleburyCentreIsMinusRTransposeT) {
 }
 
 TEST(ReferenceCameras, StrechaStoresCameraToWorldRotationAndCentre) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   const Eigen::Matrix3d world_from_cam = some_rotation();
   const Eigen::Vector3d centre(3.0, 4.0, -5.0);
   {

@@ -34,7 +34,7 @@ TEST(Reporter, JsonLinesCarryStageStepAndCounts) {
 }
 
 TEST(Reporter, PlainLinesAndLogFile) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   std::ostringstream out;
   ConsoleReporterOptions options;
   options.stage = "recon";

@@ -39,7 +39,7 @@ void make_workspace(const fs::path& root, const SparseModel& model, const std::s
 }
 
 TEST(UndistortedWorkspace, LoadsCompleteWorkspace) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   const SparseModel model = two_view_model();
   make_workspace(dir.path(), model);
   const UndistortedWorkspace ws = load_undistorted_workspace(dir.path());
@@ -48,7 +48,7 @@ TEST(UndistortedWorkspace, LoadsCompleteWorkspace) {
 }
 
 TEST(UndistortedWorkspace, MissingImageNamesTheFile) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   make_workspace(dir.path(), two_view_model(), "view_2.png");
   try {
     load_undistorted_workspace(dir.path());
@@ -59,7 +59,7 @@ TEST(UndistortedWorkspace, MissingImageNamesTheFile) {
 }
 
 TEST(UndistortedWorkspace, DistortedCameraRejected) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   SparseModel model = two_view_model();
   Camera& cam = model.cameras.at(1);
   cam.model = CameraModel::kSimpleRadial;
@@ -74,7 +74,7 @@ TEST(UndistortedWorkspace, DistortedCameraRejected) {
 }
 
 TEST(UndistortedWorkspace, MissingModelIsInputError) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   fs::create_directories(dir.path() / "images");
   EXPECT_THROW(load_undistorted_workspace(dir.path()), InputError);
 }

@@ -7,7 +7,7 @@
 
 #include "core/error.h"
 
-namespace hos {
+namespace hos::eval {
 namespace {
 
 Similarity3 known_similarity() {
@@ -125,4 +125,4 @@ TEST(AlignModels, TooFewCommonNamesIsAnError) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::eval

@@ -1,3 +1,4 @@
+#include "synth/shapes.h"
 #include "eval/curvature.h"
 
 #include <gtest/gtest.h>
@@ -6,7 +7,7 @@
 
 #include "tests/eval/test_meshes.h"
 
-namespace hos {
+namespace hos::eval {
 namespace {
 
 // Sphere of radius r = 2 as a level-4 icosphere (5120 faces, 2562 vertices).
@@ -14,7 +15,7 @@ namespace {
 // vertices of the icosahedron are the worst); the averages within 0.5% / 1%.
 TEST(Curvature, SphereMeanAndGaussian) {
   const double r = 2.0;
-  const TriangleMesh mesh = testing::icosphere(4, r);
+  const TriangleMesh mesh = synth::icosphere(4, r);
   const VertexCurvature c = compute_vertex_curvature(mesh);
   double sum_h = 0.0, sum_k = 0.0;
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
@@ -52,7 +53,7 @@ TEST(Curvature, PlaneIsFlatAndBoundaryIsSkipped) {
 
 TEST(CurvatureStats, TableOneFigures) {
   const double r = 1.5;
-  const TriangleMesh mesh = testing::icosphere(4, r);
+  const TriangleMesh mesh = synth::icosphere(4, r);
   std::vector<Eigen::Vector3f> points;
   for (const auto& v : mesh.vertices) points.push_back(v * 1.01f);  // 1% outside: distance 0.015 at vertices
   const CurvatureStats s = compute_curvature_stats(mesh, &points, null_reporter());
@@ -76,7 +77,7 @@ TEST(CurvatureStats, TableOneFigures) {
 // stay the sphere's.
 TEST(CurvatureStats, PercentilesIgnoreASingleSpike) {
   const double r = 1.5;
-  TriangleMesh mesh = testing::icosphere(4, r);
+  TriangleMesh mesh = synth::icosphere(4, r);
   mesh.vertices[0] *= 1.2f;
   const CurvatureStats s = compute_curvature_stats(mesh, nullptr, null_reporter());
   EXPECT_GT(s.max_abs_h, 3.0 / r);
@@ -86,4 +87,4 @@ TEST(CurvatureStats, PercentilesIgnoreASingleSpike) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::eval

@@ -10,7 +10,7 @@
 #include "core/error.h"
 #include "tests/support/test_support.h"
 
-namespace hos {
+namespace hos::eval {
 namespace {
 
 template <class T>
@@ -84,15 +84,15 @@ void write_test_glb(const std::filesystem::path& path) {
 }
 
 TEST(GltfReader, ReadsTransformedWeldedTexturedMesh) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   write_test_glb(dir / "q.glb");
   // The scene frame applies the root node's matrix (a translation by 5 in z);
   // the model frame, hos-texture's convention, leaves the root's matrix out.
-  const RenderObject o = read_glb(dir / "q.glb", GlbFrame::kScene);
+  const render::RenderObject o = read_glb(dir / "q.glb", GlbFrame::kScene);
   ASSERT_EQ(o.mesh.faces.size(), 2u);
   EXPECT_EQ(o.mesh.vertices.size(), 4u);  // the seam's duplicated positions are welded
   for (const auto& v : o.mesh.vertices) EXPECT_FLOAT_EQ(v.z(), 5.0f);
-  const RenderObject model_frame = read_glb(dir / "q.glb");
+  const render::RenderObject model_frame = read_glb(dir / "q.glb");
   ASSERT_EQ(model_frame.mesh.vertices.size(), 4u);
   for (const auto& v : model_frame.mesh.vertices) EXPECT_FLOAT_EQ(v.z(), 0.0f);
   ASSERT_EQ(o.material.textures.size(), 1u);
@@ -104,7 +104,7 @@ TEST(GltfReader, ReadsTransformedWeldedTexturedMesh) {
 }
 
 TEST(GltfReader, MissingOrMalformedFileNamesIt) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   EXPECT_THROW(read_glb(dir / "none.glb"), InputError);
   { std::ofstream(dir / "bad.glb") << "not a glb"; }
   try {
@@ -116,4 +116,4 @@ TEST(GltfReader, MissingOrMalformedFileNamesIt) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::eval

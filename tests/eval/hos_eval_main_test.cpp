@@ -3,25 +3,26 @@
 
 #include <nlohmann/json.hpp>
 
+#include "synth/shapes.h"
 #include "core/exit_codes.h"
 #include "core/ply_io.h"
 #include "tests/eval/test_meshes.h"
 #include "tests/support/test_support.h"
 
-namespace hos {
+namespace hos::eval {
 namespace {
 
-using testing::read_text;
-using testing::shell_quote;
+using hos::testing::read_text;
+using hos::testing::shell_quote;
 
-std::string exe() { return shell_quote((testing::bin_dir() / "hos-eval").string()); }
+std::string exe() { return shell_quote((hos::testing::bin_dir() / "hos-eval").string()); }
 
 TEST(HosEvalMain, MeshJsonOnStdout) {
-  testing::TempDir dir;
-  write_mesh_ply(dir / "result.ply", testing::icosphere(4, 1.0));
-  write_mesh_ply(dir / "truth.ply", testing::icosphere(4, 1.01));
+  hos::testing::TempDir dir;
+  write_mesh_ply(dir / "result.ply", synth::icosphere(4, 1.0));
+  write_mesh_ply(dir / "truth.ply", synth::icosphere(4, 1.01));
   const auto out = dir / "out.json";
-  ASSERT_EQ(testing::run_command(exe() + " mesh --samples 20000 --result " + shell_quote((dir / "result.ply").string()) +
+  ASSERT_EQ(hos::testing::run_command(exe() + " mesh --samples 20000 --result " + shell_quote((dir / "result.ply").string()) +
                                  " --truth " + shell_quote((dir / "truth.ply").string()) + " --json > " +
                                  shell_quote(out.string())),
             0)
@@ -33,12 +34,12 @@ TEST(HosEvalMain, MeshJsonOnStdout) {
 }
 
 TEST(HosEvalMain, SanityJsonFileAndTable) {
-  testing::TempDir dir;
-  TriangleMesh holed = testing::icosphere(2, 1.0);
+  hos::testing::TempDir dir;
+  TriangleMesh holed = synth::icosphere(2, 1.0);
   holed.faces.pop_back();
   write_mesh_ply(dir / "m.ply", holed);
   const auto json_path = dir / "s.json";
-  ASSERT_EQ(testing::run_command(exe() + " sanity --mesh " + shell_quote((dir / "m.ply").string()) + " --json " +
+  ASSERT_EQ(hos::testing::run_command(exe() + " sanity --mesh " + shell_quote((dir / "m.ply").string()) + " --json " +
                                      shell_quote(json_path.string()),
                                  dir / "log.txt"),
             0);
@@ -49,16 +50,16 @@ TEST(HosEvalMain, SanityJsonFileAndTable) {
 }
 
 TEST(HosEvalMain, BadInputsGiveDocumentedExitCodes) {
-  testing::TempDir dir;
-  EXPECT_EQ(testing::run_command(exe() + " sanity --mesh " + shell_quote((dir / "missing.ply").string()), dir / "a.txt"),
+  hos::testing::TempDir dir;
+  EXPECT_EQ(hos::testing::run_command(exe() + " sanity --mesh " + shell_quote((dir / "missing.ply").string()), dir / "a.txt"),
             kExitBadInput);
   EXPECT_NE(read_text(dir / "a.txt").find("missing.ply"), std::string::npos);
-  EXPECT_EQ(testing::run_command(exe() + " frobnicate", dir / "b.txt"), kExitUsage);
-  write_mesh_ply(dir / "m.ply", testing::icosphere(1, 1.0));
+  EXPECT_EQ(hos::testing::run_command(exe() + " frobnicate", dir / "b.txt"), kExitUsage);
+  write_mesh_ply(dir / "m.ply", synth::icosphere(1, 1.0));
   const std::string m = shell_quote((dir / "m.ply").string());
-  EXPECT_EQ(testing::run_command(exe() + " mesh --result " + m + " --truth " + m + " --thresholds 0.01,x", dir / "c.txt"),
+  EXPECT_EQ(hos::testing::run_command(exe() + " mesh --result " + m + " --truth " + m + " --thresholds 0.01,x", dir / "c.txt"),
             kExitUsage);
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::eval

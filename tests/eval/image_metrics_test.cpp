@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-namespace hos {
+namespace hos::eval {
 namespace {
 
 cv::Mat gradient_image() {
@@ -68,4 +68,4 @@ TEST(Ssim, ConstantImagesFollowTheLuminanceTerm) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::eval

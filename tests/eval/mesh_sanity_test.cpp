@@ -1,14 +1,15 @@
+#include "synth/shapes.h"
 #include "eval/mesh_sanity.h"
 
 #include <gtest/gtest.h>
 
 #include "tests/eval/test_meshes.h"
 
-namespace hos {
+namespace hos::eval {
 namespace {
 
 TEST(MeshSanity, ClosedSphereIsWatertightGenusZero) {
-  const TriangleMesh mesh = testing::icosphere(2, 1.0);
+  const TriangleMesh mesh = synth::icosphere(2, 1.0);
   const MeshSanity s = check_mesh_sanity(mesh);
   EXPECT_TRUE(s.watertight);
   EXPECT_TRUE(s.edge_manifold);
@@ -23,7 +24,7 @@ TEST(MeshSanity, ClosedSphereIsWatertightGenusZero) {
 }
 
 TEST(MeshSanity, HoleIsNotWatertight) {
-  TriangleMesh mesh = testing::icosphere(2, 1.0);
+  TriangleMesh mesh = synth::icosphere(2, 1.0);
   mesh.faces.pop_back();
   const MeshSanity s = check_mesh_sanity(mesh);
   EXPECT_FALSE(s.watertight);
@@ -33,7 +34,7 @@ TEST(MeshSanity, HoleIsNotWatertight) {
 }
 
 TEST(MeshSanity, NonManifoldEdgeIsReported) {
-  TriangleMesh mesh = testing::icosphere(1, 1.0);
+  TriangleMesh mesh = synth::icosphere(1, 1.0);
   // A fin: a third face on the edge of face 0.
   const Eigen::Vector3i f = mesh.faces[0];
   mesh.vertices.push_back(Eigen::Vector3f(3, 3, 3));
@@ -45,8 +46,8 @@ TEST(MeshSanity, NonManifoldEdgeIsReported) {
 }
 
 TEST(MeshSanity, TwoSpheresTouchingAtAVertexAreNotVertexManifold) {
-  TriangleMesh a = testing::icosphere(1, 1.0);
-  const TriangleMesh b = testing::icosphere(1, 1.0, Eigen::Vector3f(2, 0, 0));
+  TriangleMesh a = synth::icosphere(1, 1.0);
+  const TriangleMesh b = synth::icosphere(1, 1.0, Eigen::Vector3f(2, 0, 0));
   // Glue b's vertex nearest to a's vertex 0 onto it: one shared vertex, two fans.
   const int offset = static_cast<int>(a.vertices.size());
   a.vertices.insert(a.vertices.end(), b.vertices.begin(), b.vertices.end());
@@ -109,4 +110,4 @@ TEST(MeshSanity, TwoComponentsAndTorusGenus) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::eval

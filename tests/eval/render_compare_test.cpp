@@ -1,3 +1,4 @@
+#include "synth/shapes.h"
 #include "eval/render_compare.h"
 
 #include <gtest/gtest.h>
@@ -8,7 +9,7 @@
 #include "tests/eval/test_meshes.h"
 #include "tests/support/test_support.h"
 
-namespace hos {
+namespace hos::eval {
 namespace {
 
 // Two cameras looking at a sphere; the photos are the unlit renders of the
@@ -28,14 +29,14 @@ SparseModel two_views() {
 }
 
 TEST(RenderCompare, SelfRendersMatchAndAChangedColourDoesNot) {
-  testing::TempDir dir;
-  RenderObject object{testing::icosphere(3, 1.0), {}};
+  hos::testing::TempDir dir;
+  render::RenderObject object{synth::icosphere(3, 1.0), {}};
   object.material.constant_albedo = Eigen::Vector3f(0.6f, 0.3f, 0.2f);
   const SparseModel model = two_views();
-  RenderOptions options;
+  render::RenderOptions options;
   options.lighting.unlit = true;
   for (const auto& [id, image] : model.images) {
-    const RenderedView v = render_view({object}, model.camera_of(image), image, options);
+    const render::RenderedView v = render::render_view({object}, model.camera_of(image), image, options);
     ASSERT_GT(cv::countNonZero(v.mask), 100);
     cv::imwrite((dir.path() / image.name).string(), v.color);
   }
@@ -59,4 +60,4 @@ TEST(RenderCompare, SelfRendersMatchAndAChangedColourDoesNot) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::eval

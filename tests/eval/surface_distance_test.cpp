@@ -1,3 +1,4 @@
+#include "synth/shapes.h"
 #include "eval/surface_distance.h"
 
 #include <gtest/gtest.h>
@@ -5,7 +6,7 @@
 #include "core/error.h"
 #include "tests/eval/test_meshes.h"
 
-namespace hos {
+namespace hos::eval {
 namespace {
 
 SurfaceDistanceOptions small_options() {
@@ -27,8 +28,8 @@ TEST(SampleSurface, UniformByAreaAndDeterministic) {
 }
 
 TEST(CompareSurfaces, ConcentricSpheresGiveRadiusDifference) {
-  const TriangleMesh inner = testing::icosphere(5, 1.0);
-  const TriangleMesh outer = testing::icosphere(5, 1.01);
+  const TriangleMesh inner = synth::icosphere(5, 1.0);
+  const TriangleMesh outer = synth::icosphere(5, 1.01);
   const SurfaceComparison c = compare_surfaces(inner, outer, small_options(), null_reporter());
   // Same tessellation scaled: every distance is 0.01 up to the chord sag of a
   // level-5 icosphere (< 4e-4 of the radius).
@@ -41,7 +42,7 @@ TEST(CompareSurfaces, ConcentricSpheresGiveRadiusDifference) {
 }
 
 TEST(CompareSurfaces, MeshAgainstItselfHasFScoreOne) {
-  const TriangleMesh mesh = testing::icosphere(3, 2.0);
+  const TriangleMesh mesh = synth::icosphere(3, 2.0);
   const SurfaceComparison c = compare_surfaces(mesh, mesh, small_options(), null_reporter());
   ASSERT_EQ(c.scores.size(), 3u);
   for (const auto& s : c.scores) {
@@ -67,9 +68,9 @@ TEST(CompareSurfaces, TranslatedCubeGivesTheTranslation) {
 }
 
 TEST(CompareSurfaces, PointResultUsesPointsAsIs) {
-  const TriangleMesh truth = testing::icosphere(4, 1.0);
+  const TriangleMesh truth = synth::icosphere(4, 1.0);
   TriangleMesh points;
-  points.vertices = sample_surface_uniform(testing::icosphere(4, 1.05), 50000, 3);
+  points.vertices = sample_surface_uniform(synth::icosphere(4, 1.05), 50000, 3);
   const SurfaceComparison c = compare_surfaces(points, truth, small_options(), null_reporter());
   EXPECT_TRUE(c.result_is_points);
   EXPECT_EQ(c.accuracy.count, 50000u);
@@ -86,7 +87,7 @@ TEST(CompareSurfaces, OptionsAreValidated) {
   o.thresholds = {};
   EXPECT_THROW(o.validate(), ConfigError);
   TriangleMesh empty;
-  EXPECT_THROW(compare_surfaces(testing::icosphere(1, 1.0), empty, small_options(), null_reporter()), NumericalError);
+  EXPECT_THROW(compare_surfaces(synth::icosphere(1, 1.0), empty, small_options(), null_reporter()), NumericalError);
 }
 
 TEST(SummarizeDistances, NearestRankPercentiles) {
@@ -101,4 +102,4 @@ TEST(SummarizeDistances, NearestRankPercentiles) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::eval

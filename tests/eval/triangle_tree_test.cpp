@@ -1,3 +1,4 @@
+#include "synth/shapes.h"
 #include "eval/triangle_tree.h"
 
 #include <gtest/gtest.h>
@@ -6,7 +7,7 @@
 
 #include "tests/eval/test_meshes.h"
 
-namespace hos {
+namespace hos::eval {
 namespace {
 
 TEST(ClosestPointOnTriangle, RegionsOfAUnitTriangle) {
@@ -19,7 +20,7 @@ TEST(ClosestPointOnTriangle, RegionsOfAUnitTriangle) {
 }
 
 TEST(TriangleTree, MatchesBruteForce) {
-  const TriangleMesh mesh = testing::icosphere(3, 1.0);
+  const TriangleMesh mesh = synth::icosphere(3, 1.0);
   const TriangleTree tree(mesh);
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-2.0, 2.0);
@@ -37,4 +38,4 @@ TEST(TriangleTree, MatchesBruteForce) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::eval

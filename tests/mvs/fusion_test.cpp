@@ -10,7 +10,7 @@
 #include <cmath>
 #include <map>
 
-namespace hos {
+namespace hos::mvs {
 namespace {
 
 constexpr int kWidth = 64, kHeight = 48, kViews = 4, kShift = 2;  // pixels between neighbouring views
@@ -162,4 +162,4 @@ TEST(Fusion, PixelsWithoutDepthAreIgnored) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::mvs

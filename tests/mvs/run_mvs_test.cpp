@@ -13,7 +13,7 @@
 #include "core/error.h"
 #include "tests/mvs/synthetic_workspace.h"
 
-namespace hos {
+namespace hos::mvs {
 namespace {
 
 using mvs_testing::synthetic_workspace;
@@ -37,7 +37,7 @@ TruthAtPoint truth_at(const Eigen::Vector3d& x) {
   TruthAtPoint best;
   std::size_t v = 0;
   for (const auto& [id, image] : s.truth.model.images) {
-    const RenderedView& view = s.truth.views[v++];
+    const render::RenderedView& view = s.truth.views[v++];
     const Camera& camera = s.truth.model.camera_of(image);
     const Eigen::Vector3d xc = image.cam_from_world(x);
     const auto uv = camera.project(xc);
@@ -240,4 +240,4 @@ TEST(RunMvs, TexturelessViewGivesNoPointsInsteadOfNoise) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::mvs

@@ -8,14 +8,14 @@ const SyntheticWorkspace& synthetic_workspace() {
   static const SyntheticWorkspace instance = [] {
     SyntheticWorkspace s;
     s.dir = std::make_unique<hos::testing::TempDir>("hos-mvs-test");
-    SceneOptions scene_options;
-    DatasetOptions options;
+    synth::SceneOptions scene_options;
+    synth::DatasetOptions options;
     options.num_views = 12;
     options.width = 320;
     options.height = 240;
-    const Scene scene = make_scene(scene_options);
-    write_dataset(s.dir->path() / "scene", scene, scene_options, options);
-    s.truth = render_dataset(scene, options);
+    const synth::Scene scene = synth::make_scene(scene_options);
+    synth::write_dataset(s.dir->path() / "scene", scene, scene_options, options);
+    s.truth = synth::render_dataset(scene, options);
     s.workspace = load_undistorted_workspace(s.dir->path() / "scene");
     s.diagonal = bounding_box(read_mesh_ply(s.dir->path() / "scene" / "gt_objects.ply").vertices).diagonal();
     return s;

@@ -13,7 +13,7 @@ namespace hos::mvs_testing {
 struct SyntheticWorkspace {
   std::unique_ptr<hos::testing::TempDir> dir;
   UndistortedWorkspace workspace;
-  RenderedDataset truth;
+  synth::RenderedDataset truth;
   double diagonal = 0.0;  // of the objects' bounding box
 };
 

@@ -5,7 +5,7 @@
 
 #include "tests/mvs/synthetic_workspace.h"
 
-namespace hos {
+namespace hos::mvs {
 namespace {
 
 TEST(ViewSelection, SourcesAreNearbyViewsWithBaseline) {
@@ -48,4 +48,4 @@ TEST(ViewSelection, ViewWithoutBaselineGetsNoSources) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::mvs

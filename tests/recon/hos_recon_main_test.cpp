@@ -3,6 +3,7 @@
 
 #include <fstream>
 
+#include "synth/shapes.h"
 #include "core/exit_codes.h"
 #include "core/ply_io.h"
 #include "tests/recon/shape_samples.h"
@@ -27,7 +28,7 @@ std::string log_of(const hos::testing::TempDir& dir) {
 
 TEST(HosRecon, ReconstructsASphereFile) {
   hos::testing::TempDir dir;
-  write_point_cloud_ply(dir / "points.ply", testing::sample_sphere(20000, 1.0, 0.002, 1));
+  write_point_cloud_ply(dir / "points.ply", synth::sample_sphere(20000, 1.0, 0.002, 1));
   ASSERT_EQ(run_recon("--input " + (dir / "points.ply").string() + " --output " +
                           (dir / "mesh.ply").string() + " --resolution 32",
                       dir),
@@ -44,7 +45,7 @@ TEST(HosRecon, BadInputsGetAClearMessageAndExitCode) {
   EXPECT_EQ(run_recon("--input " + (dir / "missing.ply").string() + out, dir), kExitBadInput);
   EXPECT_NE(log_of(dir).find("missing.ply"), std::string::npos);
 
-  PointCloud unoriented = testing::sample_sphere(1000, 1.0, 0.0, 2);
+  PointCloud unoriented = synth::sample_sphere(1000, 1.0, 0.0, 2);
   unoriented.normals.clear();
   write_point_cloud_ply(dir / "unoriented.ply", unoriented);
   EXPECT_EQ(run_recon("--input " + (dir / "unoriented.ply").string() + out, dir), kExitBadInput);
@@ -73,7 +74,7 @@ TEST(HosRecon, BadInputsGetAClearMessageAndExitCode) {
   EXPECT_NE(log_of(dir).find("lambda"), std::string::npos) << "closest valid key";
 
   // A grid beyond the memory budget is refused up front, naming what fits.
-  write_point_cloud_ply(dir / "sphere.ply", testing::sample_sphere(2000, 1.0, 0.0, 2));
+  write_point_cloud_ply(dir / "sphere.ply", synth::sample_sphere(2000, 1.0, 0.0, 2));
   EXPECT_EQ(run_recon("--input " + (dir / "sphere.ply").string() + " --output " + (dir / "big.ply").string() +
                           " --resolution 1024 --max-memory 200",
                       dir),

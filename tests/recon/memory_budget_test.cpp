@@ -1,3 +1,4 @@
+#include "synth/shapes.h"
 #include "recon/memory_budget.h"
 
 #include <gtest/gtest.h>
@@ -22,7 +23,7 @@ BoundingBox unit_box() {
 }
 
 // 100 k samples on the unit sphere, whose bounding box is about unit_box().
-std::vector<Eigen::Vector3f> sphere_points() { return testing::sample_sphere(100000, 1.0, 0.0, 7).positions; }
+std::vector<Eigen::Vector3f> sphere_points() { return synth::sample_sphere(100000, 1.0, 0.0, 7).positions; }
 
 std::size_t estimate_at(int resolution, const ReconOptions& base, const std::vector<Eigen::Vector3f>& points) {
   ReconOptions options = base;
@@ -109,7 +110,7 @@ TEST(MemoryBudget, ReconstructRefusesBeforeAllocating) {
   ReconOptions options;
   options.resolution = 2048;  // about 8.6 G nodes: far beyond any budget below
   options.max_memory_mb = 256;
-  const PointCloud points = testing::sample_sphere(2000, 1.0, 0.0, 3);
+  const PointCloud points = synth::sample_sphere(2000, 1.0, 0.0, 3);
   Reporter reporter;
   EXPECT_THROW(reconstruct_surface(points, options, reporter), ConfigError);
 }
@@ -127,7 +128,7 @@ void expect_estimate_covers_a_run(int resolution, int band_voxels) {
   ReconOptions options;
   options.resolution = resolution;
   options.solver.band_voxels = band_voxels;
-  const PointCloud points = testing::sample_sphere(50000, 1.0, 0.002, 5);
+  const PointCloud points = synth::sample_sphere(50000, 1.0, 0.002, 5);
   const long before_kb = peak_rss_kb();
   Reporter reporter;
   const ReconResult result = reconstruct_surface(points, options, reporter);

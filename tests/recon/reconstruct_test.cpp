@@ -1,4 +1,5 @@
 // End-to-end accuracy of recon/reconstruct.* on analytic shapes.
+#include "synth/shapes.h"
 #include "recon/reconstruct.h"
 
 #include <gtest/gtest.h>
@@ -46,7 +47,7 @@ void expect_closed_surface(const TriangleMesh& mesh, long euler) {
 }
 
 TEST(ReconstructSurface, NoisySphereIsAccurateAndClosedForEveryQuadraticEnergy) {
-  const PointCloud points = testing::sample_sphere(40000, 1.0, 0.002, 1);
+  const PointCloud points = synth::sample_sphere(40000, 1.0, 0.002, 1);
   for (auto energy : {SmoothnessEnergy::kMembrane, SmoothnessEnergy::kPureSecond,
                       SmoothnessEnergy::kFullHessian}) {
     const ReconResult r = reconstruct_surface(points, options_at(48, energy), null_reporter());
@@ -62,8 +63,8 @@ TEST(ReconstructSurface, NoisySphereIsAccurateAndClosedForEveryQuadraticEnergy) 
 }
 
 TEST(ReconstructSurface, SphereFromSixScanDirectionsStaysWithinTheSameBound) {
-  PointCloud points = testing::sample_sphere(40000, 1.0, 0.002, 2);
-  testing::coarsen_to_axis_directions(points);
+  PointCloud points = synth::sample_sphere(40000, 1.0, 0.002, 2);
+  synth::coarsen_to_axis_directions(points);
   const ReconResult r = reconstruct_surface(points, options_at(48), null_reporter());
   const RadialError e = sphere_error(r.mesh, 1.0);
   // Six orientations alone pull the sphere towards a cube (mean 0.61, max
@@ -77,7 +78,7 @@ TEST(ReconstructSurface, SphereFromSixScanDirectionsStaysWithinTheSameBound) {
 }
 
 TEST(ReconstructSurface, BandedSolveMatchesTheFullSolveNearTheSamples) {
-  const PointCloud points = testing::sample_sphere(60000, 1.0, 0.002, 8);
+  const PointCloud points = synth::sample_sphere(60000, 1.0, 0.002, 8);
   ReconOptions full = options_at(80);
   full.solver.band_voxels = 0;
   const ReconOptions banded = options_at(80);  // the default band
@@ -109,7 +110,7 @@ TEST(ReconstructSurface, BandedSolveMatchesTheFullSolveNearTheSamples) {
 }
 
 TEST(ReconstructSurface, TorusHasGenusOne) {
-  const PointCloud points = testing::sample_torus(40000, 1.0, 0.35, 0.002, 3);
+  const PointCloud points = synth::sample_torus(40000, 1.0, 0.35, 0.002, 3);
   const ReconResult r = reconstruct_surface(points, options_at(64), null_reporter());
   expect_closed_surface(r.mesh, 0);
   double mean = 0.0;
@@ -124,7 +125,7 @@ TEST(ReconstructSurface, TorusHasGenusOne) {
 
 TEST(ReconstructSurface, RoundedBoxIsClosedAndClose) {
   const double a = 1.0, rad = 0.25;
-  const PointCloud points = testing::sample_rounded_box(60000, a, rad, 0.002, 4);
+  const PointCloud points = synth::sample_rounded_box(60000, a, rad, 0.002, 4);
   const ReconResult r = reconstruct_surface(points, options_at(48), null_reporter());
   expect_closed_surface(r.mesh, 2);
   double mean = 0.0;
@@ -138,7 +139,7 @@ TEST(ReconstructSurface, RoundedBoxIsClosedAndClose) {
 }
 
 TEST(ReconstructSurface, OpenPlanePatchIsTrimmedToTheData) {
-  const PointCloud points = testing::sample_plane_patch(20000, 1.0, 0.002, 5);
+  const PointCloud points = synth::sample_plane_patch(20000, 1.0, 0.002, 5);
   const ReconResult r = reconstruct_surface(points, options_at(48), null_reporter());
   const auto t = analyze_topology(r.mesh);
   EXPECT_GT(t.boundary_edges, 0u) << "an open patch must stay open after trimming";
@@ -155,7 +156,7 @@ TEST(ReconstructSurface, OpenPlanePatchIsTrimmedToTheData) {
 }
 
 TEST(ReconstructSurface, TotalVariationIsPiecewiseFlatterThanMembrane) {
-  const PointCloud points = testing::sample_sphere(20000, 1.0, 0.002, 6);
+  const PointCloud points = synth::sample_sphere(20000, 1.0, 0.002, 6);
   const ReconResult membrane =
       reconstruct_surface(points, options_at(32, SmoothnessEnergy::kMembrane), null_reporter());
   ReconOptions tv = options_at(32, SmoothnessEnergy::kTotalVariation);
@@ -188,15 +189,15 @@ TEST(ReconstructSurface, TotalVariationIsPiecewiseFlatterThanMembrane) {
 TEST(ReconstructSurface, RejectsUnusablePoints) {
   PointCloud none;
   EXPECT_THROW(reconstruct_surface(none, ReconOptions{}, null_reporter()), InputError);
-  PointCloud unoriented = testing::sample_sphere(100, 1.0, 0.0, 7);
+  PointCloud unoriented = synth::sample_sphere(100, 1.0, 0.0, 7);
   unoriented.normals.clear();
   EXPECT_THROW(reconstruct_surface(unoriented, ReconOptions{}, null_reporter()), InputError);
-  PointCloud zero = testing::sample_sphere(100, 1.0, 0.0, 7);
+  PointCloud zero = synth::sample_sphere(100, 1.0, 0.0, 7);
   for (auto& n : zero.normals) n.setZero();
   EXPECT_THROW(reconstruct_surface(zero, ReconOptions{}, null_reporter()), InputError);
   ReconOptions bad;
   bad.lambda = -1.0;
-  EXPECT_THROW(reconstruct_surface(testing::sample_sphere(100, 1.0, 0.0, 7), bad, null_reporter()),
+  EXPECT_THROW(reconstruct_surface(synth::sample_sphere(100, 1.0, 0.0, 7), bad, null_reporter()),
                ConfigError);
 }
 

@@ -1,5 +1,6 @@
 // recon/vector_field.*: the right-hand side evaluated plane by plane against
 // the materialised field (splat and divergence basics are in grid_test.cpp).
+#include "synth/shapes.h"
 #include "recon/vector_field.h"
 
 #include <gtest/gtest.h>
@@ -92,8 +93,8 @@ TEST(VectorField, RhsEqualsMaterialisedFieldForRandomOrientedPoints) {
 
 TEST(VectorField, RhsEqualsMaterialisedFieldForSphereScannedFromSixDirections) {
   const GridGeometry g = test_grid();
-  PointCloud sphere = testing::sample_sphere(20000, 2.2, 0.01, 3);
-  testing::coarsen_to_axis_directions(sphere);
+  PointCloud sphere = synth::sample_sphere(20000, 2.2, 0.01, 3);
+  synth::coarsen_to_axis_directions(sphere);
   // Shift the centre off the grid's centre so no symmetry hides an axis error.
   for (auto& p : sphere.positions) p += Eigen::Vector3f(-0.1f, 0.15f, -0.05f);
   const ScalarGrid rhs = density_scaled_rhs(g, sphere.positions, sphere.normals, {}, kDensityPasses, 12,

@@ -12,7 +12,7 @@
 #include <omp.h>
 #include <random>
 
-namespace hos {
+namespace hos::render {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -233,4 +233,4 @@ TEST(RasterizerTest, BadMaterialsAreRejected) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::render

@@ -2,8 +2,8 @@
 
 namespace hos::testing {
 
-RenderObject as_render_object(const TexturedMesh& textured) {
-  RenderObject object;
+render::RenderObject as_render_object(const texture::TexturedMesh& textured) {
+  render::RenderObject object;
   object.mesh.vertices = textured.positions;
   object.material.textures = textured.atlases;
   for (std::size_t page = 0; page < textured.indices.size(); ++page) {

@@ -9,6 +9,6 @@ namespace hos::testing {
 
 // One triangle per index triple of every atlas page, with per-corner UVs and
 // the page as the face's texture.
-RenderObject as_render_object(const TexturedMesh& textured);
+render::RenderObject as_render_object(const texture::TexturedMesh& textured);
 
 }  // namespace hos::testing

@@ -17,7 +17,7 @@
 #include "core/undistorted_workspace.h"
 #include "tests/support/test_support.h"
 
-namespace hos {
+namespace hos::synth {
 namespace {
 namespace fs = std::filesystem;
 
@@ -35,16 +35,16 @@ DatasetOptions small_options() {
 class DatasetTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new testing::TempDir("hos-synth-test");
+    dir_ = new hos::testing::TempDir("hos-synth-test");
     scene_options_ = {5, "default", true};
     write_dataset(dir_->path() / "scene", make_scene(scene_options_), scene_options_, small_options());
   }
   static void TearDownTestSuite() { delete dir_; }
   static fs::path root() { return dir_->path() / "scene"; }
-  static testing::TempDir* dir_;
+  static hos::testing::TempDir* dir_;
   static SceneOptions scene_options_;
 };
-testing::TempDir* DatasetTest::dir_ = nullptr;
+hos::testing::TempDir* DatasetTest::dir_ = nullptr;
 SceneOptions DatasetTest::scene_options_;
 
 TEST_F(DatasetTest, LoadsWithTheProjectsReaders) {
@@ -172,4 +172,4 @@ TEST(DatasetRenderTest, DeterministicPerSeedAndExposureGainsApply) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::synth

@@ -8,16 +8,16 @@
 #include "synth/dataset.h"
 #include "tests/support/test_support.h"
 
-namespace hos {
+namespace hos::synth {
 namespace {
 namespace fs = std::filesystem;
 
-std::string synth() { return testing::shell_quote((testing::bin_dir() / "hos-synth").string()); }
+std::string synth() { return hos::testing::shell_quote((hos::testing::bin_dir() / "hos-synth").string()); }
 
 TEST(HosSynthMainTest, WritesTheDocumentedLayout) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   const fs::path out = dir / "scene";
-  ASSERT_EQ(testing::run_command(synth() + " --output " + testing::shell_quote(out.string()) +
+  ASSERT_EQ(hos::testing::run_command(synth() + " --output " + hos::testing::shell_quote(out.string()) +
                                      " --views 4 --width 160 --height 120 --seed 2 --scene torus --ground-plane"
                                      " --rings 1 --jpeg --depth --normals --supersampling 1 --holdout 1 --progress none",
                                  dir / "log"),
@@ -50,31 +50,31 @@ TEST(HosSynthMainTest, WritesTheDocumentedLayout) {
 }
 
 TEST(HosSynthMainTest, BadInvocationsFailWithUsageErrors) {
-  testing::TempDir dir;
-  const std::string out = " --output " + testing::shell_quote((dir / "scene").string());
-  EXPECT_EQ(testing::run_command(synth() + " --views 4", dir / "log"), 2);  // no --output
-  EXPECT_EQ(testing::run_command(synth() + out + " --scene teapot", dir / "log"), 2);
-  EXPECT_EQ(testing::run_command(synth() + out + " --views 1", dir / "log"), 2);
-  EXPECT_EQ(testing::run_command(synth() + out + " --views 3 --exposure-gains 1,2", dir / "log"), 2);
+  hos::testing::TempDir dir;
+  const std::string out = " --output " + hos::testing::shell_quote((dir / "scene").string());
+  EXPECT_EQ(hos::testing::run_command(synth() + " --views 4", dir / "log"), 2);  // no --output
+  EXPECT_EQ(hos::testing::run_command(synth() + out + " --scene teapot", dir / "log"), 2);
+  EXPECT_EQ(hos::testing::run_command(synth() + out + " --views 1", dir / "log"), 2);
+  EXPECT_EQ(hos::testing::run_command(synth() + out + " --views 3 --exposure-gains 1,2", dir / "log"), 2);
   EXPECT_FALSE(fs::exists(dir / "scene"));
 }
 
 TEST(HosSynthMainTest, RefusesToReplaceAFolderItDidNotWrite) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   fs::create_directories(dir / "mine");
   { std::ofstream(dir / "mine" / "notes.txt") << "keep me"; }
   const std::string flags = " --views 2 --width 64 --height 48 --points 10 --progress none";
-  EXPECT_EQ(testing::run_command(synth() + " --output " + testing::shell_quote((dir / "mine").string()) + flags,
+  EXPECT_EQ(hos::testing::run_command(synth() + " --output " + hos::testing::shell_quote((dir / "mine").string()) + flags,
                                  dir / "log"),
             5);
   EXPECT_TRUE(fs::exists(dir / "mine" / "notes.txt"));
   // An earlier output is replaced.
-  const std::string out = " --output " + testing::shell_quote((dir / "scene").string());
-  ASSERT_EQ(testing::run_command(synth() + out + flags, dir / "log"), 0);
-  ASSERT_EQ(testing::run_command(synth() + out + flags + " --jpeg", dir / "log"), 0);
+  const std::string out = " --output " + hos::testing::shell_quote((dir / "scene").string());
+  ASSERT_EQ(hos::testing::run_command(synth() + out + flags, dir / "log"), 0);
+  ASSERT_EQ(hos::testing::run_command(synth() + out + flags + " --jpeg", dir / "log"), 0);
   EXPECT_TRUE(fs::exists(dir / "scene" / "images" / "view_000.jpg"));
   EXPECT_FALSE(fs::exists(dir / "scene" / "images" / "view_000.png"));
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::synth

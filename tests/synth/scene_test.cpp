@@ -8,7 +8,7 @@
 
 #include "core/error.h"
 
-namespace hos {
+namespace hos::synth {
 namespace {
 
 double signed_volume(const TriangleMesh& m) {
@@ -58,7 +58,7 @@ TEST(SceneTest, ObjectsAreClosedAndOrientedOutwards) {
 TEST(SceneTest, AlbedoVariesAtSeveralScalesAndDependsOnTheSeed) {
   const Scene a = make_scene({1, "rock", false});
   const Scene b = make_scene({2, "rock", false});
-  const ProceduralAlbedo& albedo = a.objects[0].material.procedural;
+  const render::ProceduralAlbedo& albedo = a.objects[0].material.procedural;
   ASSERT_TRUE(albedo);
   // Neighbouring points 1 mm and 5 cm apart differ often: fine and coarse detail.
   int fine = 0, coarse = 0, differ_by_seed = 0;
@@ -77,4 +77,4 @@ TEST(SceneTest, AlbedoVariesAtSeveralScalesAndDependsOnTheSeed) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::synth

@@ -4,7 +4,7 @@
 
 #include <random>
 
-namespace hos {
+namespace hos::texture {
 namespace {
 
 TEST(Atlas, ShelfPackingHasNoOverlapsAndStaysInPages) {
@@ -43,4 +43,4 @@ TEST(Atlas, OversizedRectangleThrows) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::texture

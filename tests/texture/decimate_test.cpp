@@ -1,14 +1,15 @@
+#include "synth/shapes.h"
 #include "texture/decimate.h"
 
 #include <gtest/gtest.h>
 
 #include "tests/texture/scene_fixtures.h"
 
-namespace hos {
+namespace hos::texture {
 namespace {
 
 TEST(Decimate, ReachesTheBudgetAndKeepsTheShape) {
-  const TriangleMesh sphere = testing::make_icosphere(5, 1.0);  // 20480 faces
+  const TriangleMesh sphere = synth::icosphere(5, 1.0);  // 20480 faces
   DecimationStats stats;
   const TriangleMesh small = decimate_mesh(sphere, 2000, &stats);
   EXPECT_LE(small.faces.size(), 2000u);
@@ -26,11 +27,11 @@ TEST(Decimate, ReachesTheBudgetAndKeepsTheShape) {
 }
 
 TEST(Decimate, SmallMeshIsReturnedUnchanged) {
-  const TriangleMesh sphere = testing::make_icosphere(2, 1.0);
+  const TriangleMesh sphere = synth::icosphere(2, 1.0);
   const TriangleMesh same = decimate_mesh(sphere, 100000);
   EXPECT_EQ(same.faces, sphere.faces);
   EXPECT_EQ(same.vertices.size(), sphere.vertices.size());
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::texture

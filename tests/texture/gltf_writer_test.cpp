@@ -1,3 +1,4 @@
+#include "synth/shapes.h"
 #include "texture/gltf_writer.h"
 
 #include <gtest/gtest.h>
@@ -9,7 +10,7 @@
 #include "tests/texture/scene_fixtures.h"
 #include "texture/texture_mesh.h"
 
-namespace hos {
+namespace hos::texture {
 namespace {
 
 std::string view_name(int i) {
@@ -21,7 +22,7 @@ std::string view_name(int i) {
 namespace fs = std::filesystem;
 
 TexturedMesh textured_sphere(int atlas_size = 4096) {
-  const TriangleMesh mesh = testing::make_icosphere(3, 1.0);
+  const TriangleMesh mesh = synth::icosphere(3, 1.0);
   std::vector<TextureView> views;
   for (int i = 0; i < 6; ++i) {
     views.push_back(testing::make_view(view_name(i), 60.0 * i, 10.0, 3.5));
@@ -34,11 +35,11 @@ TexturedMesh textured_sphere(int atlas_size = 4096) {
 
 // The validator's node_modules folder: installed once per build folder.
 fs::path validator_modules() {
-  const fs::path prefix = testing::bin_dir().parent_path() / "node_tools";
+  const fs::path prefix = hos::testing::bin_dir().parent_path() / "node_tools";
   const fs::path modules = prefix / "node_modules";
   if (!fs::exists(modules / "gltf-validator" / "package.json")) {
-    const int status = testing::run_command(
-        "npm install --no-audit --no-fund --prefix " + testing::shell_quote(prefix.string()) +
+    const int status = hos::testing::run_command(
+        "npm install --no-audit --no-fund --prefix " + hos::testing::shell_quote(prefix.string()) +
             " gltf-validator",
         prefix.parent_path() / "node_tools_install.log");
     if (status != 0) return {};
@@ -47,7 +48,7 @@ fs::path validator_modules() {
 }
 
 TEST(GltfWriter, GlbPassesKhronosValidator) {
-  testing::TempDir dir("hos-texture-gltf");
+  hos::testing::TempDir dir("hos-texture-gltf");
   const fs::path glb = dir / "model.glb";
   // PNG, JPEG, and several atlas pages (primitives).
   for (const std::string format : {"png", "jpeg", "pages"}) {
@@ -60,20 +61,20 @@ TEST(GltfWriter, GlbPassesKhronosValidator) {
     write_glb(glb, mesh, options);
     const fs::path modules = validator_modules();
     ASSERT_FALSE(modules.empty()) << "npm install gltf-validator failed";
-    const fs::path script = testing::source_dir() / "tests" / "texture" / "validate_gltf.js";
+    const fs::path script = hos::testing::source_dir() / "tests" / "texture" / "validate_gltf.js";
     const fs::path report = dir / ("report_" + format + ".json");
-    const int status = testing::run_command("node " + testing::shell_quote(script.string()) + " " +
-                                                testing::shell_quote(modules.string()) + " " +
-                                                testing::shell_quote(glb.string()),
+    const int status = hos::testing::run_command("node " + hos::testing::shell_quote(script.string()) + " " +
+                                                hos::testing::shell_quote(modules.string()) + " " +
+                                                hos::testing::shell_quote(glb.string()),
                                             report);
-    const std::string text = testing::read_text(report);
+    const std::string text = hos::testing::read_text(report);
     EXPECT_EQ(status, 0) << format << ": " << text;
     EXPECT_NE(text.find("\"numErrors\": 0"), std::string::npos) << text;
   }
 }
 
 TEST(GltfWriter, ReadsBackWithTinyGltf) {
-  testing::TempDir dir("hos-texture-gltf");
+  hos::testing::TempDir dir("hos-texture-gltf");
   TexturedMesh mesh = textured_sphere();
   mesh.root_matrix(1, 3) = 2.5;  // a translation, to check the matrix layout
   const fs::path glb = dir / "model.glb";
@@ -111,4 +112,4 @@ TEST(GltfWriter, UnwritableTargetThrowsOutputError) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::texture

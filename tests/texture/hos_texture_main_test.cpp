@@ -7,13 +7,14 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "synth/shapes.h"
 #include "core/colmap_io.h"
 #include "core/exit_codes.h"
 #include "core/ply_io.h"
 #include "tests/support/test_support.h"
 #include "tests/texture/scene_fixtures.h"
 
-namespace hos {
+namespace hos::texture {
 namespace {
 
 namespace fs = std::filesystem;
@@ -36,22 +37,22 @@ void write_scene(const fs::path& root) {
     model.images[record.id] = record;
   }
   write_colmap_model(model, root / "workspace" / "sparse", ColmapFormat::kText);
-  write_mesh_ply(root / "mesh.ply", testing::make_icosphere(3, 1.0));
+  write_mesh_ply(root / "mesh.ply", synth::icosphere(3, 1.0));
 }
 
 std::string texture_command(const fs::path& root, const std::string& extra = "") {
-  return testing::shell_quote((testing::bin_dir() / "hos-texture").string()) + " --mesh " +
-         testing::shell_quote((root / "mesh.ply").string()) + " --workspace " +
-         testing::shell_quote((root / "workspace").string()) + " --output " +
-         testing::shell_quote((root / "model.glb").string()) + " --progress none " + extra;
+  return hos::testing::shell_quote((hos::testing::bin_dir() / "hos-texture").string()) + " --mesh " +
+         hos::testing::shell_quote((root / "mesh.ply").string()) + " --workspace " +
+         hos::testing::shell_quote((root / "workspace").string()) + " --output " +
+         hos::testing::shell_quote((root / "model.glb").string()) + " --progress none " + extra;
 }
 
 TEST(HosTextureMain, WritesAGlbFromAWorkspace) {
-  testing::TempDir dir("hos-texture-main");
+  hos::testing::TempDir dir("hos-texture-main");
   write_scene(dir.path());
   const std::string report = (dir / "report.json").string();
-  ASSERT_EQ(testing::run_command(texture_command(dir.path(), "--image-format jpeg --atlas-size 1024 --report " +
-                                                                 testing::shell_quote(report)),
+  ASSERT_EQ(hos::testing::run_command(texture_command(dir.path(), "--image-format jpeg --atlas-size 1024 --report " +
+                                                                 hos::testing::shell_quote(report)),
                                  dir / "log.txt"),
             kExitSuccess);
   tinygltf::Model model;
@@ -72,23 +73,23 @@ TEST(HosTextureMain, WritesAGlbFromAWorkspace) {
 }
 
 TEST(HosTextureMain, MissingMeshIsBadInput) {
-  testing::TempDir dir("hos-texture-main");
+  hos::testing::TempDir dir("hos-texture-main");
   write_scene(dir.path());
   fs::remove(dir / "mesh.ply");
-  EXPECT_EQ(testing::run_command(texture_command(dir.path()), dir / "log.txt"), kExitBadInput);
+  EXPECT_EQ(hos::testing::run_command(texture_command(dir.path()), dir / "log.txt"), kExitBadInput);
   EXPECT_FALSE(fs::exists(dir / "model.glb"));
 }
 
 TEST(HosTextureMain, BadOptionIsUsageError) {
-  testing::TempDir dir("hos-texture-main");
+  hos::testing::TempDir dir("hos-texture-main");
   write_scene(dir.path());
-  EXPECT_EQ(testing::run_command(texture_command(dir.path(), "--set texture.atlas_size=5"),
+  EXPECT_EQ(hos::testing::run_command(texture_command(dir.path(), "--set texture.atlas_size=5"),
                                  dir / "log.txt"),
             kExitUsage);
-  EXPECT_EQ(testing::run_command(texture_command(dir.path(), "--set texture.no_such_key=1"),
+  EXPECT_EQ(hos::testing::run_command(texture_command(dir.path(), "--set texture.no_such_key=1"),
                                  dir / "log.txt"),
             kExitUsage);
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::texture

@@ -1,5 +1,5 @@
 // Texturing against the project's renderer (render/rasterizer.h): photos of a
-// shaded sphere with a procedural albedo rendered by render_view, texture the
+// shaded sphere with a procedural albedo rendered by render::render_view, texture the
 // exact mesh with the exact cameras, re-render the textured mesh from held-out
 // cameras and compare with the renderer's own images of those cameras.
 #include <gtest/gtest.h>
@@ -9,44 +9,45 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "synth/shapes.h"
 #include "render/rasterizer.h"
 #include "tests/support/textured_render.h"
 #include "tests/texture/scene_fixtures.h"
 #include "texture/texture_mesh.h"
 
-namespace hos {
+namespace hos::texture {
 namespace {
 
-RenderObject truth_object(const TriangleMesh& mesh) {
-  RenderObject object;
+render::RenderObject truth_object(const TriangleMesh& mesh) {
+  render::RenderObject object;
   object.mesh = mesh;
   object.material.procedural = [](const Eigen::Vector3f& x) { return testing::sphere_albedo(x); };
   return object;
 }
 
-TextureView rendered_view(const std::vector<RenderObject>& scene, double azimuth, double elevation,
-                          const RenderOptions& options) {
+TextureView rendered_view(const std::vector<render::RenderObject>& scene, double azimuth, double elevation,
+                          const render::RenderOptions& options) {
   TextureView view = testing::make_view("view", azimuth, elevation, 3.5);
-  view.image = render_view(scene, view.camera, view.pose, options).color;
+  view.image = render::render_view(scene, view.camera, view.pose, options).color;
   return view;
 }
 
 TEST(RenderRoundTrip, HeldOutViewsOfTheRendererMatch) {
-  const TriangleMesh mesh = testing::make_icosphere(4, 1.0);
-  const std::vector<RenderObject> truth = {truth_object(mesh)};
-  RenderOptions options;  // shaded, light fixed in the world: bakeable
+  const TriangleMesh mesh = synth::icosphere(4, 1.0);
+  const std::vector<render::RenderObject> truth = {truth_object(mesh)};
+  render::RenderOptions options;  // shaded, light fixed in the world: bakeable
   std::vector<TextureView> views;
   for (int i = 0; i < 12; ++i) {
     views.push_back(rendered_view(truth, 30.0 * i + 5.0, i % 2 ? 35.0 : -30.0, options));
   }
   const TextureResult result = texture_mesh(mesh, views, TextureOptions{}, null_reporter());
-  const std::vector<RenderObject> textured = {testing::as_render_object(result.mesh)};
-  RenderOptions unlit = options;
+  const std::vector<render::RenderObject> textured = {hos::testing::as_render_object(result.mesh)};
+  render::RenderOptions unlit = options;
   unlit.lighting.unlit = true;  // the texture already holds the shaded colour
   for (const auto& [azimuth, elevation] : {std::pair{20.0, 10.0}, {200.0, -20.0}, {110.0, 60.0}}) {
     const TextureView held_out = rendered_view(truth, azimuth, elevation, options);
     const TextureView view = testing::make_view("view", azimuth, elevation, 3.5);
-    const RenderedView again = render_view(textured, view.camera, view.pose, unlit);
+    const render::RenderedView again = render::render_view(textured, view.camera, view.pose, unlit);
     cv::Mat inner;
     cv::erode(again.mask, inner, cv::Mat::ones(5, 5, CV_8U));
     ASSERT_GT(cv::countNonZero(inner), 5000);
@@ -65,4 +66,4 @@ TEST(RenderRoundTrip, HeldOutViewsOfTheRendererMatch) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::texture

@@ -5,43 +5,7 @@
 #include <limits>
 #include <map>
 
-namespace hos::testing {
-
-TriangleMesh make_icosphere(int levels, double radius) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Eigen::Vector3d> v = {{-1, t, 0}, {1, t, 0},  {-1, -t, 0}, {1, -t, 0},
-                                    {0, -1, t}, {0, 1, t},  {0, -1, -t}, {0, 1, -t},
-                                    {t, 0, -1}, {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
-  std::vector<Eigen::Vector3i> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                                    {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                    {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                    {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (auto& p : v) p.normalize();
-  for (int level = 0; level < levels; ++level) {
-    std::map<std::pair<int, int>, int> midpoint;
-    auto mid = [&](int a, int b) {
-      const auto key = std::minmax(a, b);
-      auto it = midpoint.find(key);
-      if (it != midpoint.end()) return it->second;
-      v.push_back((v[a] + v[b]).normalized());
-      midpoint[key] = static_cast<int>(v.size()) - 1;
-      return static_cast<int>(v.size()) - 1;
-    };
-    std::vector<Eigen::Vector3i> next;
-    for (const auto& face : f) {
-      const int ab = mid(face[0], face[1]), bc = mid(face[1], face[2]), ca = mid(face[2], face[0]);
-      next.push_back({face[0], ab, ca});
-      next.push_back({face[1], bc, ab});
-      next.push_back({face[2], ca, bc});
-      next.push_back({ab, bc, ca});
-    }
-    f = std::move(next);
-  }
-  TriangleMesh mesh;
-  for (const auto& p : v) mesh.vertices.push_back((radius * p).cast<float>());
-  mesh.faces = f;
-  return mesh;
-}
+namespace hos::texture::testing {
 
 Eigen::Vector3f sphere_albedo(const Eigen::Vector3f& x) {
   const float a = std::sin(6.0f * x.z() + 2.0f * x.x());
@@ -195,4 +159,4 @@ void render_textured(const TexturedMesh& mesh, const TextureView& view, cv::Mat&
   }
 }
 
-}  // namespace hos::testing
+}  // namespace hos::texture::testing

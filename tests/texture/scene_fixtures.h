@@ -12,10 +12,8 @@
 #include "texture/texture_view.h"
 #include "texture/textured_mesh.h"
 
-namespace hos::testing {
+namespace hos::texture::testing {
 
-// Icosahedron subdivided `levels` times, vertices on the sphere (20 * 4^levels faces).
-TriangleMesh make_icosphere(int levels, double radius);
 
 // Albedo in [0, 1] RGB: smooth stripes, never strongly red.
 Eigen::Vector3f sphere_albedo(const Eigen::Vector3f& x);
@@ -55,4 +53,4 @@ std::vector<TexturePoint> texture_points(const TexturedMesh& mesh);
 void render_textured(const TexturedMesh& mesh, const TextureView& view, cv::Mat& image,
                      cv::Mat& mask);
 
-}  // namespace hos::testing
+}  // namespace hos::texture::testing

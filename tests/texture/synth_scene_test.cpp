@@ -14,15 +14,15 @@
 #include "tests/support/textured_render.h"
 #include "texture/texture_mesh.h"
 
-namespace hos {
+namespace hos::texture {
 namespace {
 
 TEST(SynthScene, HeldOutViewsPsnrOnTheObject) {
-  const Scene scene = make_scene(SceneOptions{});
-  DatasetOptions options;
+  const synth::Scene scene = synth::make_scene(synth::SceneOptions{});
+  synth::DatasetOptions options;
   options.num_views = 24;
   options.holdout = 3;
-  const RenderedDataset data = render_dataset(scene, options);
+  const synth::RenderedDataset data = synth::render_dataset(scene, options);
   std::vector<TextureView> views;
   std::size_t k = 0;
   for (const auto& [id, image] : data.model.images) {
@@ -34,15 +34,15 @@ TEST(SynthScene, HeldOutViewsPsnrOnTheObject) {
     view.image = data.views[k++].color;
     views.push_back(std::move(view));
   }
-  const TriangleMesh mesh = merged_mesh(scene, false);
+  const TriangleMesh mesh = synth::merged_mesh(scene, false);
   const TextureResult result = texture_mesh(mesh, views, TextureOptions{}, null_reporter());
-  const std::vector<RenderObject> textured = {testing::as_render_object(result.mesh)};
-  RenderOptions unlit;
+  const std::vector<render::RenderObject> textured = {hos::testing::as_render_object(result.mesh)};
+  render::RenderOptions unlit;
   unlit.lighting.unlit = true;  // the photos' shading is baked into the texture
   k = 0;
   for (const auto& [id, image] : data.holdout.images) {
-    const RenderedView& truth = data.holdout_views[k++];
-    const RenderedView again = render_view(textured, data.holdout.camera_of(image), image, unlit);
+    const render::RenderedView& truth = data.holdout_views[k++];
+    const render::RenderedView again = render::render_view(textured, data.holdout.camera_of(image), image, unlit);
     cv::Mat both, inner;
     cv::bitwise_and(truth.mask, again.mask, both);
     cv::erode(both, inner, cv::Mat::ones(3, 3, CV_8U));
@@ -65,4 +65,4 @@ TEST(SynthScene, HeldOutViewsPsnrOnTheObject) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::texture

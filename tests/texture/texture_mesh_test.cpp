@@ -1,4 +1,5 @@
 // End-to-end tests of texture_mesh on analytic sphere scenes with known albedo.
+#include "synth/shapes.h"
 #include "texture/texture_mesh.h"
 
 #include <gtest/gtest.h>
@@ -14,7 +15,7 @@
 
 #include "tests/texture/scene_fixtures.h"
 
-namespace hos {
+namespace hos::texture {
 namespace {
 
 std::string view_name(int i) {
@@ -23,7 +24,6 @@ std::string view_name(int i) {
   return name;
 }
 
-using testing::make_icosphere;
 using testing::make_view;
 using testing::render_sphere;
 using testing::sample_atlas;
@@ -60,7 +60,7 @@ double texture_psnr(const TexturedMesh& mesh, float albedo_gain = 1.0f) {
 }
 
 TEST(TextureMesh, TextureMatchesTrueAlbedo) {
-  const TriangleMesh mesh = make_icosphere(4, kRadius);
+  const TriangleMesh mesh = synth::icosphere(4, kRadius);
   const auto views = ring_views(10);
   TextureOptions options;
   const TextureResult result = texture_mesh(mesh, views, options, null_reporter());
@@ -75,7 +75,7 @@ TEST(TextureMesh, TextureMatchesTrueAlbedo) {
 }
 
 TEST(TextureMesh, SmallAtlasesSplitIntoPagesOrShrink) {
-  const TriangleMesh mesh = make_icosphere(4, kRadius);
+  const TriangleMesh mesh = synth::icosphere(4, kRadius);
   const auto views = ring_views(10);
   TextureOptions options;
   options.atlas_size = 256;
@@ -95,7 +95,7 @@ TEST(TextureMesh, SmallAtlasesSplitIntoPagesOrShrink) {
 // Held-out views: photos not used for texturing, compared with the textured
 // mesh rendered from the same cameras, over the pixels the mesh covers.
 TEST(TextureMesh, HeldOutViewsMatchRenderedTexture) {
-  const TriangleMesh mesh = make_icosphere(4, kRadius);
+  const TriangleMesh mesh = synth::icosphere(4, kRadius);
   const TextureResult result = texture_mesh(mesh, ring_views(10), TextureOptions{}, null_reporter());
   for (const auto& [azimuth, elevation] : {std::pair{25.0, 10.0}, {150.0, -15.0}, {260.0, 50.0}}) {
     TextureView held_out = make_view("held_out", azimuth, elevation, 3.0);
@@ -167,7 +167,7 @@ double mean_seam_jump(const TexturedMesh& mesh) {
 }
 
 TEST(TextureMesh, ExposureAndLevelingReduceSeamJumps) {
-  const TriangleMesh mesh = make_icosphere(4, kRadius);
+  const TriangleMesh mesh = synth::icosphere(4, kRadius);
   std::vector<float> gains(10, 1.0f);
   for (int i = 0; i < 10; i += 3) gains[i] = 1.3f;  // some photos 30% brighter
   const auto views = ring_views(10, gains);
@@ -208,7 +208,7 @@ int count_red_samples(const TexturedMesh& mesh) {
 }
 
 TEST(TextureMesh, OccluderInOnePhotoDoesNotReachTheTexture) {
-  const TriangleMesh mesh = make_icosphere(4, kRadius);
+  const TriangleMesh mesh = synth::icosphere(4, kRadius);
   auto views = ring_views(12);
   // A red ball between view 0's camera and the sphere, in that photo only
   // (a person walking through one photo): invisible to the depth test.
@@ -229,7 +229,7 @@ TEST(TextureMesh, OccluderInOnePhotoDoesNotReachTheTexture) {
 }
 
 TEST(TextureMesh, UnseenFacesTakeNeighbourColours) {
-  const TriangleMesh mesh = make_icosphere(3, kRadius);
+  const TriangleMesh mesh = synth::icosphere(3, kRadius);
   // All cameras high above: the bottom of the sphere is seen by none.
   std::vector<TextureView> views;
   for (int i = 0; i < 6; ++i) {
@@ -250,18 +250,18 @@ TEST(TextureMesh, UnseenFacesTakeNeighbourColours) {
 }
 
 TEST(TextureMesh, BadMeshOrNoViewsThrowHosErrors) {
-  TriangleMesh mesh = make_icosphere(1, kRadius);
+  TriangleMesh mesh = synth::icosphere(1, kRadius);
   const auto views = ring_views(3);
   EXPECT_THROW(texture_mesh(mesh, std::vector<TextureView>{}, TextureOptions{}, null_reporter()),
                StageError);
   mesh.faces[3][1] = 1000;
   EXPECT_THROW(texture_mesh(mesh, views, TextureOptions{}, null_reporter()), StageError);
-  mesh = make_icosphere(1, kRadius);
+  mesh = synth::icosphere(1, kRadius);
   mesh.vertices[2].x() = std::numeric_limits<float>::quiet_NaN();
   EXPECT_THROW(texture_mesh(mesh, views, TextureOptions{}, null_reporter()), NumericalError);
   TextureOptions bad;
   bad.atlas_size = 10;
-  EXPECT_THROW(texture_mesh(make_icosphere(1, kRadius), views, bad, null_reporter()), ConfigError);
+  EXPECT_THROW(texture_mesh(synth::icosphere(1, kRadius), views, bad, null_reporter()), ConfigError);
 }
 
 TEST(TextureMesh, RootMatrixTakesCameraUpToY) {
@@ -276,4 +276,4 @@ TEST(TextureMesh, RootMatrixTakesCameraUpToY) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::texture

@@ -4,7 +4,7 @@
 
 #include "core/error.h"
 
-namespace hos {
+namespace hos::texture {
 namespace {
 
 TEST(TextureOptions, DefaultsAreValid) { EXPECT_NO_THROW(TextureOptions{}.validate()); }
@@ -36,4 +36,4 @@ TEST(TextureOptions, KeysMapOntoFields) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::texture

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-namespace hos {
+namespace hos::texture {
 namespace {
 
 // A strip of n faces, face i adjacent to i-1 and i+1.
@@ -83,4 +83,4 @@ TEST(ViewSelection, OutlierViewIsRejected) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::texture

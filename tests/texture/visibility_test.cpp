@@ -1,10 +1,11 @@
+#include "synth/shapes.h"
 #include "texture/visibility.h"
 
 #include <gtest/gtest.h>
 
 #include "tests/texture/scene_fixtures.h"
 
-namespace hos {
+namespace hos::texture {
 namespace {
 
 bool sees(const FaceViewCandidates& c, int face, int view) {
@@ -18,8 +19,8 @@ bool sees(const FaceViewCandidates& c, int face, int view) {
 // faces of the big sphere behind the small one are occluded (depth test),
 // faces on the far side are back-facing.
 TEST(Visibility, DepthBufferHidesOccludedFaces) {
-  TriangleMesh mesh = testing::make_icosphere(4, 1.0);
-  const TriangleMesh ball = testing::make_icosphere(3, 0.3);
+  TriangleMesh mesh = synth::icosphere(4, 1.0);
+  const TriangleMesh ball = synth::icosphere(3, 0.3);
   const int big_faces = static_cast<int>(mesh.faces.size());
   const int offset = static_cast<int>(mesh.vertices.size());
   for (const auto& v : ball.vertices) mesh.vertices.push_back(v + Eigen::Vector3f(1.8f, 0.0f, 0.0f));
@@ -63,4 +64,4 @@ TEST(Visibility, DepthBufferHidesOccludedFaces) {
 }
 
 }  // namespace
-}  // namespace hos
+}  // namespace hos::texture

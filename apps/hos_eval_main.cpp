@@ -1,0 +1,331 @@
+// hos-eval: the measurements of eval/ from the command line, as a table and JSON.
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/colmap_io.h"
+#include "core/error.h"
+#include "core/exit_codes.h"
+#include "core/ply_io.h"
+#include "eval/alignment.h"
+#if HOS_EVAL_HAS_RENDER
+#include "eval/visible_surface.h"
+#endif
+#include "eval/curvature.h"
+#include "eval/gltf_reader.h"
+#include "eval/mesh_sanity.h"
+#include "eval/surface_distance.h"
+#include "apps/stage_main.h"
+#ifdef HOS_EVAL_HAS_RENDER
+#include "eval/render_compare.h"
+#endif
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+// JSON has no infinity: +inf (identical images) is written as null.
+[[maybe_unused]] json number(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+hos::TriangleMesh read_surface(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".glb") return hos::eval::read_glb(path).mesh;
+  if (ext == ".ply") return hos::read_mesh_ply(path);
+  throw hos::InputError(path, "unknown extension (expected .ply or .glb)");
+}
+
+json to_json(const hos::eval::Similarity3& s) {
+  json j;
+  j["scale"] = s.scale;
+  j["rotation"] = {{s.R(0, 0), s.R(0, 1), s.R(0, 2)}, {s.R(1, 0), s.R(1, 1), s.R(1, 2)}, {s.R(2, 0), s.R(2, 1), s.R(2, 2)}};
+  j["translation"] = {s.t.x(), s.t.y(), s.t.z()};
+  return j;
+}
+
+json to_json(const hos::eval::DistanceStats& d) {
+  return {{"mean", d.mean}, {"median", d.median}, {"p90", d.p90}, {"rms", d.rms}, {"max", d.max}, {"count", d.count}};
+}
+
+std::vector<double> parse_thresholds(const std::string& text) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    try {
+      std::size_t used = 0;
+      out.push_back(std::stod(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw hos::ConfigError("eval.thresholds", "'" + item + "' is not a number");
+    }
+  }
+  return out;
+}
+
+// Where the report goes: --json FILE writes the file and prints the table;
+// a bare --json prints JSON on stdout and the table on stderr.
+struct Output {
+  std::vector<CLI::Option*> json_options;  // one per subcommand
+  std::string json_path;
+
+  void emit(const json& j, const std::string& table) const {
+    const bool json_requested =
+        std::any_of(json_options.begin(), json_options.end(), [](CLI::Option* o) { return o->count() > 0; });
+    if (json_requested && json_path.empty()) {
+      std::cerr << table;
+      std::cout << j.dump(2) << "\n";
+      return;
+    }
+    std::cout << table;
+    if (json_requested) {
+      hos::write_atomically(json_path, [&](const fs::path& tmp) {
+        std::ofstream out(tmp);
+        out << j.dump(2) << "\n";
+        if (!out) throw hos::OutputError(json_path, "could not write");
+      });
+    }
+  }
+};
+
+std::string row(const std::string& name, const std::string& value) {
+  std::ostringstream s;
+  s << "  " << std::left << std::setw(34) << name << value << "\n";
+  return s.str();
+}
+
+std::string fmt(double x, int precision = 6) {
+  std::ostringstream s;
+  s << std::setprecision(precision) << x;
+  return s.str();
+}
+
+// Optional alignment of a result given in the recovered model's frame.
+struct AlignFlags {
+  std::string recovered_model, truth_model;
+  void add(CLI::App* app) {
+    app->add_option("--align-model", recovered_model, "sparse model the result's coordinates belong to");
+    app->add_option("--truth-model", truth_model, "ground-truth sparse model (same image names)");
+  }
+  std::optional<hos::eval::ModelAlignment> compute() const {
+    if (recovered_model.empty() != truth_model.empty()) {
+      throw hos::ConfigError("--align-model/--truth-model", "give both or neither");
+    }
+    if (recovered_model.empty()) return std::nullopt;
+    return hos::eval::align_models_by_image_name(hos::read_colmap_model(recovered_model), hos::read_colmap_model(truth_model));
+  }
+};
+
+json alignment_json(const hos::eval::ModelAlignment& a, std::string& table) {
+  table += row("aligned cameras", std::to_string(a.names.size()));
+  table += row("alignment scale", fmt(a.truth_from_recovered.scale));
+  table += row("alignment RMS residual", fmt(a.rms_residual));
+  json j = to_json(a.truth_from_recovered);
+  j["cameras"] = a.names.size();
+  j["rms_residual"] = a.rms_residual;
+  return j;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  hos::apps::CommonStageFlags flags;
+  flags.progress = "none";
+  CLI::App app{"hos-eval: measure reconstructions against ground truth"};
+  app.require_subcommand(1);
+  app.add_option("--progress", flags.progress, "auto|bar|plain|json|none")->default_val("none");
+  app.add_option("--log", flags.log_file, "log file");
+  app.add_flag("--verbose", flags.verbose, "show debug messages");
+  Output output;
+  auto add_json = [&output](CLI::App* sub) {
+    output.json_options.push_back(sub->add_option("--json", output.json_path, "write JSON to FILE (or stdout when no FILE)")
+                                      ->expected(0, 1));
+  };
+
+  // mesh
+  std::string result_path, truth_path, thresholds_text = "0.005,0.01,0.02";
+  hos::eval::SurfaceDistanceOptions distance_options;
+  AlignFlags mesh_align;
+  CLI::App* mesh_cmd = app.add_subcommand("mesh", "accuracy, completeness, Chamfer, F-score against a true mesh");
+  mesh_cmd->add_option("--result", result_path, "result mesh or points (.ply, .glb)")->required();
+  mesh_cmd->add_option("--truth", truth_path, "true mesh (.ply)")->required();
+  mesh_cmd->add_option("--thresholds", thresholds_text, "F-score thresholds as fractions of the truth's bbox diagonal");
+  mesh_cmd->add_option("--samples", distance_options.num_samples, "surface samples per mesh");
+  mesh_cmd->add_option("--seed", distance_options.seed, "sampling seed");
+  std::string visible_model;
+  int visible_min_views = 2;
+  mesh_cmd->add_option("--visible-in", visible_model,
+                       "truth-frame sparse model: compare only with the true surface its cameras see");
+  mesh_cmd->add_option("--min-views", visible_min_views, "views that must see a true face (with --visible-in)");
+  mesh_align.add(mesh_cmd);
+  add_json(mesh_cmd);
+
+  // curvature
+  std::string curvature_mesh, points_path;
+  CLI::App* curvature_cmd = app.add_subcommand("curvature", "Table 1 figures: triangles, RMS point distance, |H|, |K|");
+  curvature_cmd->add_option("--mesh", curvature_mesh, "mesh (.ply, .glb)")->required();
+  curvature_cmd->add_option("--points", points_path, "input points (.ply) for the RMS distance");
+  add_json(curvature_cmd);
+
+  // sanity
+  std::string sanity_mesh;
+  CLI::App* sanity_cmd = app.add_subcommand("sanity", "watertight, manifold, oriented, components, Euler characteristic");
+  sanity_cmd->add_option("--mesh", sanity_mesh, "mesh (.ply, .glb)")->required();
+  add_json(sanity_cmd);
+
+  // cameras
+  std::string cameras_model, cameras_truth;
+  CLI::App* cameras_cmd = app.add_subcommand("cameras", "camera pose errors after a similarity alignment");
+  cameras_cmd->add_option("--model", cameras_model, "recovered sparse model folder")->required();
+  cameras_cmd->add_option("--truth", cameras_truth, "true sparse model folder")->required();
+  add_json(cameras_cmd);
+
+  // render
+  std::string glb_path, render_model, images_dir, render_save_dir;
+  AlignFlags render_align;
+  CLI::App* render_cmd = app.add_subcommand("render", "PSNR/SSIM of a textured .glb re-rendered from a model's cameras");
+  render_cmd->add_option("--glb", glb_path, "textured mesh (.glb)")->required();
+  render_cmd->add_option("--model", render_model, "sparse model whose cameras render (PINHOLE)")->required();
+  render_cmd->add_option("--images", images_dir, "folder of the model's photos")->required();
+  render_cmd->add_option("--save", render_save_dir, "write each render beside its photo as DIR/NAME.png");
+  render_align.add(render_cmd);
+  add_json(render_cmd);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? hos::kExitSuccess : hos::kExitUsage;
+  }
+
+  return hos::apps::run_stage_main("eval", flags, [&](hos::Reporter& reporter) {
+    json j;
+    std::string table;
+    if (mesh_cmd->parsed()) {
+      distance_options.thresholds = parse_thresholds(thresholds_text);
+      distance_options.validate();
+      hos::TriangleMesh result = read_surface(result_path);
+      hos::TriangleMesh truth = read_surface(truth_path);
+      table += "mesh: " + result_path + " vs " + truth_path + "\n";
+      if (!visible_model.empty()) {
+#if HOS_EVAL_HAS_RENDER
+        const std::size_t all_faces = truth.num_faces();
+        truth = hos::eval::visible_part(truth, hos::read_colmap_model(visible_model), visible_min_views, reporter);
+        j["truth_faces_visible"] = truth.num_faces();
+        table += row("true faces seen by >= " + std::to_string(visible_min_views) + " views",
+                     std::to_string(truth.num_faces()) + " of " + std::to_string(all_faces));
+#else
+        throw hos::ConfigError("--visible-in", "hos-eval was built without the render module");
+#endif
+      }
+      if (const auto alignment = mesh_align.compute()) {
+        j["alignment"] = alignment_json(*alignment, table);
+        hos::eval::transform_mesh(result, alignment->truth_from_recovered);
+      }
+      const hos::eval::SurfaceComparison c = hos::eval::compare_surfaces(result, truth, distance_options, reporter);
+      j["truth_diagonal"] = c.truth_diagonal;
+      j["result_is_points"] = c.result_is_points;
+      j["accuracy"] = to_json(c.accuracy);
+      j["completeness"] = to_json(c.completeness);
+      j["chamfer"] = c.chamfer;
+      j["f_score"] = c.primary().f_score;
+      j["f_score_threshold"] = c.primary().fraction;
+      j["thresholds"] = json::array();
+      table += row("truth bbox diagonal", fmt(c.truth_diagonal));
+      table += row("accuracy mean/median/p90", fmt(c.accuracy.mean) + " / " + fmt(c.accuracy.median) + " / " + fmt(c.accuracy.p90));
+      table += row("completeness mean/median/p90",
+                   fmt(c.completeness.mean) + " / " + fmt(c.completeness.median) + " / " + fmt(c.completeness.p90));
+      table += row("chamfer", fmt(c.chamfer));
+      for (const auto& s : c.scores) {
+        j["thresholds"].push_back({{"fraction", s.fraction}, {"distance", s.distance}, {"precision", s.precision},
+                                   {"recall", s.recall}, {"f_score", s.f_score}});
+        table += row("P/R/F @ " + fmt(100.0 * s.fraction, 3) + "% diag",
+                     fmt(s.precision, 4) + " / " + fmt(s.recall, 4) + " / " + fmt(s.f_score, 4));
+      }
+    } else if (curvature_cmd->parsed()) {
+      const hos::TriangleMesh mesh = read_surface(curvature_mesh);
+      std::vector<Eigen::Vector3f> points;
+      if (!points_path.empty()) points = hos::read_point_cloud_ply(points_path).positions;
+      const hos::eval::CurvatureStats s =
+          hos::eval::compute_curvature_stats(mesh, points_path.empty() ? nullptr : &points, reporter);
+      j = {{"triangles", s.triangles}, {"vertices_measured", s.vertices_measured},
+           {"mean_abs_mean_curvature", s.mean_abs_h}, {"max_abs_mean_curvature", s.max_abs_h},
+           {"mean_abs_gaussian_curvature", s.mean_abs_k}, {"max_abs_gaussian_curvature", s.max_abs_k},
+           {"p99_abs_mean_curvature", s.p99_abs_h}, {"p99_abs_gaussian_curvature", s.p99_abs_k},
+           {"rms_point_distance", s.rms_point_distance ? json(*s.rms_point_distance) : json(nullptr)}};
+      table += "curvature: " + curvature_mesh + " (cotangent Laplacian H, angle-defect K, mixed Voronoi areas)\n";
+      table += row("triangles", std::to_string(s.triangles));
+      table += row("RMS points -> surface", s.rms_point_distance ? fmt(*s.rms_point_distance) : "-");
+      table += row("avg / max |H|", fmt(s.mean_abs_h) + " / " + fmt(s.max_abs_h));
+      table += row("avg / max |K|", fmt(s.mean_abs_k) + " / " + fmt(s.max_abs_k));
+      table += row("p99 |H| / |K|", fmt(s.p99_abs_h) + " / " + fmt(s.p99_abs_k));
+    } else if (sanity_cmd->parsed()) {
+      const hos::eval::MeshSanity s = hos::eval::check_mesh_sanity(read_surface(sanity_mesh));
+      j = {{"vertices", s.vertices}, {"unreferenced_vertices", s.unreferenced_vertices}, {"faces", s.faces},
+           {"edges", s.edges}, {"boundary_edges", s.boundary_edges}, {"non_manifold_edges", s.non_manifold_edges},
+           {"non_manifold_vertices", s.non_manifold_vertices}, {"inconsistent_edges", s.inconsistent_edges},
+           {"degenerate_faces", s.degenerate_faces}, {"components", s.components},
+           {"euler_characteristic", s.euler_characteristic}, {"edge_manifold", s.edge_manifold},
+           {"vertex_manifold", s.vertex_manifold}, {"watertight", s.watertight},
+           {"consistently_oriented", s.consistently_oriented}, {"genus", s.genus ? json(*s.genus) : json(nullptr)}};
+      table += "sanity: " + sanity_mesh + "\n";
+      for (const auto& [key, value] : j.items()) table += row(key, value.dump());
+    } else if (cameras_cmd->parsed()) {
+      const hos::eval::CameraPoseComparison c =
+          hos::eval::compare_camera_poses(hos::read_colmap_model(cameras_model), hos::read_colmap_model(cameras_truth));
+      j["alignment"] = to_json(c.truth_from_recovered);
+      j["scene_size"] = c.scene_size;
+      j["images_recovered"] = c.num_recovered;
+      j["images_truth"] = c.num_truth;
+      j["images_matched"] = c.cameras.size();
+      j["center_error"] = {{"mean", c.mean_center_error}, {"median", c.median_center_error}, {"max", c.max_center_error}};
+      j["rotation_error_deg"] = {{"mean", c.mean_rotation_error_deg}, {"median", c.median_rotation_error_deg},
+                                 {"max", c.max_rotation_error_deg}};
+      j["cameras"] = json::array();
+      for (const auto& e : c.cameras) {
+        j["cameras"].push_back({{"name", e.name}, {"center_error", e.center_error}, {"rotation_error_deg", e.rotation_error_deg}});
+      }
+      table += "cameras: " + cameras_model + " vs " + cameras_truth + "\n";
+      table += row("matched / recovered / truth", std::to_string(c.cameras.size()) + " / " +
+                                                      std::to_string(c.num_recovered) + " / " + std::to_string(c.num_truth));
+      table += row("alignment scale", fmt(c.truth_from_recovered.scale));
+      table += row("centre error mean/median/max", fmt(c.mean_center_error) + " / " + fmt(c.median_center_error) + " / " +
+                                                        fmt(c.max_center_error) + " (x scene size " + fmt(c.scene_size) + ")");
+      table += row("rotation error mean/median/max", fmt(c.mean_rotation_error_deg) + " / " +
+                                                          fmt(c.median_rotation_error_deg) + " / " +
+                                                          fmt(c.max_rotation_error_deg) + " deg");
+    } else if (render_cmd->parsed()) {
+#ifdef HOS_EVAL_HAS_RENDER
+      hos::render::RenderObject object = hos::eval::read_glb(glb_path);
+      table += "render: " + glb_path + " vs " + images_dir + "\n";
+      if (const auto alignment = render_align.compute()) {
+        j["alignment"] = alignment_json(*alignment, table);
+        hos::eval::transform_mesh(object.mesh, alignment->truth_from_recovered);
+      }
+      const hos::eval::RenderComparison c =
+          hos::eval::compare_renders(object, hos::read_colmap_model(render_model), images_dir, reporter,
+                               render_save_dir);
+      j["mean_psnr"] = number(c.mean_psnr);
+      j["mean_ssim"] = c.mean_ssim;
+      j["skipped_views"] = c.skipped_views;
+      j["views"] = json::array();
+      for (const auto& v : c.views) {
+        j["views"].push_back({{"name", v.name}, {"mask_pixels", v.mask_pixels}, {"psnr", number(v.psnr)}, {"ssim", v.ssim}});
+        table += row(v.name, "PSNR " + fmt(v.psnr, 4) + " dB  SSIM " + fmt(v.ssim, 4));
+      }
+      table += row("mean", "PSNR " + fmt(c.mean_psnr, 4) + " dB  SSIM " + fmt(c.mean_ssim, 4));
+#else
+      throw hos::ConfigError("render", "hos-eval was built without the render module");
+#endif
+    }
+    output.emit(j, table);
+  });
+}

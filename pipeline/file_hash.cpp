@@ -1,0 +1,76 @@
+#include "pipeline/file_hash.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <vector>
+
+namespace hos::pipeline {
+namespace fs = std::filesystem;
+namespace {
+
+std::vector<fs::path> sorted_files(const fs::path& folder) {
+  std::vector<fs::path> files;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(folder, ec); !ec && it != fs::recursive_directory_iterator();
+       it.increment(ec)) {
+    if (it->is_regular_file(ec)) files.push_back(it->path());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+}  // namespace
+
+void Fingerprint::add(const void* data, std::size_t size) {
+  const auto* bytes = static_cast<const unsigned char*>(data);
+  for (std::size_t i = 0; i < size; ++i) {
+    state_ ^= bytes[i];
+    state_ *= 1099511628211ull;
+  }
+}
+
+void Fingerprint::add(std::string_view bytes) {
+  add(bytes.data(), bytes.size());
+  add("\0", 1);  // separator: "ab"+"c" differs from "a"+"bc"
+}
+
+void Fingerprint::add_file_contents(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) {
+    add("<missing>" + file.string());
+    return;
+  }
+  std::vector<char> buffer(1 << 16);
+  while (in) {
+    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    add(buffer.data(), static_cast<std::size_t>(in.gcount()));
+  }
+  add("<end>");
+}
+
+void Fingerprint::add_folder_listing(const fs::path& folder) {
+  add("<listing>");
+  for (const auto& file : sorted_files(folder)) {
+    std::error_code ec;
+    const auto size = fs::file_size(file, ec);
+    const auto time = fs::last_write_time(file, ec).time_since_epoch().count();
+    add(fs::relative(file, folder).string() + " " + std::to_string(size) + " " + std::to_string(time));
+  }
+}
+
+void Fingerprint::add_folder_contents(const fs::path& folder) {
+  add("<contents>");
+  for (const auto& file : sorted_files(folder)) {
+    add(fs::relative(file, folder).string());
+    add_file_contents(file);
+  }
+}
+
+std::string Fingerprint::hex() const {
+  char text[17];
+  std::snprintf(text, sizeof(text), "%016llx", static_cast<unsigned long long>(state_));
+  return text;
+}
+
+}  // namespace hos::pipeline

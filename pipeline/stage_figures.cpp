@@ -1,0 +1,141 @@
+#include "pipeline/stage_figures.h"
+
+#include <cstring>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+#include "core/error.h"
+#include "pipeline/stage_paths.h"
+
+namespace hos::pipeline {
+namespace fs = std::filesystem;
+namespace {
+
+std::uint32_t le32(const unsigned char* p) {
+  return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 | std::uint32_t(p[3]) << 24;
+}
+
+}  // namespace
+
+std::map<std::string, std::int64_t> ply_element_counts(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file.string(), "cannot be opened");
+  std::string line;
+  if (!std::getline(in, line) || line.rfind("ply", 0) != 0) throw InputError(file.string(), "not a PLY file");
+  std::map<std::string, std::int64_t> counts;
+  for (int i = 0; i < 1000 && std::getline(in, line); ++i) {
+    if (line.rfind("end_header", 0) == 0) return counts;
+    std::istringstream words(line);
+    std::string keyword, name;
+    std::int64_t count = 0;
+    if (words >> keyword >> name >> count && keyword == "element") counts[name] = count;
+  }
+  throw InputError(file.string(), "PLY header has no end_header");
+}
+
+GlbFigures read_glb_figures(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file.string(), "cannot be opened");
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.size() < 20 || std::memcmp(bytes.data(), "glTF", 4) != 0) {
+    throw InputError(file.string(), "not a binary glTF (.glb) file");
+  }
+  GlbFigures out;
+  out.bytes = static_cast<std::int64_t>(bytes.size());
+  const std::uint32_t json_length = le32(&bytes[12]);
+  if (20 + std::size_t(json_length) > bytes.size()) throw InputError(file.string(), "truncated glTF JSON chunk");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(bytes.begin() + 20, bytes.begin() + 20 + json_length);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(file.string(), std::string("invalid glTF JSON: ") + e.what());
+  }
+  // Binary chunk follows the (4-byte aligned) JSON chunk.
+  const std::size_t bin_header = 20 + json_length;
+  const std::size_t bin_start = bin_header + 8;
+  const auto& accessors = j.value("accessors", nlohmann::json::array());
+  for (const auto& mesh : j.value("meshes", nlohmann::json::array())) {
+    for (const auto& prim : mesh.value("primitives", nlohmann::json::array())) {
+      const auto& attributes = prim.value("attributes", nlohmann::json::object());
+      if (attributes.contains("POSITION")) {
+        const std::size_t a = attributes["POSITION"].get<std::size_t>();
+        if (a < accessors.size()) out.vertices += accessors[a].value("count", std::int64_t{0});
+      }
+      if (prim.contains("indices")) {
+        const std::size_t a = prim["indices"].get<std::size_t>();
+        if (a < accessors.size()) out.triangles += accessors[a].value("count", std::int64_t{0}) / 3;
+      }
+    }
+  }
+  const auto& views = j.value("bufferViews", nlohmann::json::array());
+  for (const auto& image : j.value("images", nlohmann::json::array())) {
+    if (!image.contains("bufferView")) continue;
+    const std::size_t v = image["bufferView"].get<std::size_t>();
+    if (v >= views.size()) continue;
+    const std::size_t offset = bin_start + views[v].value("byteOffset", std::size_t{0});
+    const std::size_t length = views[v].value("byteLength", std::size_t{0});
+    if (offset + length > bytes.size()) continue;
+    const cv::Mat encoded(1, static_cast<int>(length), CV_8UC1, bytes.data() + offset);
+    const cv::Mat decoded = cv::imdecode(encoded, cv::IMREAD_UNCHANGED);
+    if (!decoded.empty()) out.texture_sizes.emplace_back(decoded.cols, decoded.rows);
+  }
+  return out;
+}
+
+nlohmann::ordered_json stage_figures(const std::string& stage, const fs::path& workspace) {
+  const StagePaths paths(workspace);
+  nlohmann::ordered_json f = nlohmann::ordered_json::object();
+  try {
+    if (stage == "sfm") {
+      std::ifstream in(paths.sfm_report);
+      const nlohmann::json r = nlohmann::json::parse(in);
+      for (const char* key : {"images_registered", "images_given", "points", "mean_reprojection_error_px",
+                              "mean_track_length"}) {
+        if (r.contains(key)) f[key] = r[key];
+      }
+    } else if (stage == "mvs") {
+      f["points"] = ply_element_counts(paths.points)["vertex"];
+    } else if (stage == "recon") {
+      auto counts = ply_element_counts(paths.mesh);
+      f["vertices"] = counts["vertex"];
+      f["faces"] = counts["face"];
+    } else if (stage == "texture") {
+      const GlbFigures g = read_glb_figures(paths.textured_model);
+      f["bytes"] = g.bytes;
+      f["vertices"] = g.vertices;
+      f["triangles"] = g.triangles;
+      nlohmann::ordered_json sizes = nlohmann::ordered_json::array();
+      for (const auto& [w, h] : g.texture_sizes) sizes.push_back(std::to_string(w) + "x" + std::to_string(h));
+      f["textures"] = sizes;
+    }
+  } catch (const std::exception&) {
+    // Figures are informative only; a stage's own checks decide success.
+  }
+  return f;
+}
+
+std::string figures_text(const std::string& stage, const nlohmann::ordered_json& f) {
+  if (f.empty()) return "";
+  auto num = [&](const char* key) { return f.contains(key) ? f[key].dump() : std::string("?"); };
+  std::ostringstream text;
+  if (stage == "sfm") {
+    text << num("images_registered") << "/" << num("images_given") << " images registered, " << num("points")
+         << " points";
+  } else if (stage == "mvs") {
+    text << num("points") << " dense points";
+  } else if (stage == "recon") {
+    text << num("vertices") << " vertices, " << num("faces") << " faces";
+  } else if (stage == "texture") {
+    text << num("triangles") << " triangles";
+    if (f.contains("textures") && !f["textures"].empty()) {
+      text << ", texture";
+      for (const auto& s : f["textures"]) text << " " << s.get<std::string>();
+    }
+  } else {
+    text << f.dump();
+  }
+  return text.str();
+}
+
+}  // namespace hos::pipeline

@@ -1,0 +1,35 @@
+// Where each stage reads and writes inside the pipeline workspace WS.
+#pragma once
+
+#include <filesystem>
+
+namespace hos::pipeline {
+
+struct StagePaths {
+  explicit StagePaths(const std::filesystem::path& workspace)
+      : root(workspace),
+        config(workspace / "config.yaml"),
+        run_record(workspace / "run.json"),
+        logs(workspace / "logs"),
+        sfm(workspace / "sfm"),
+        sfm_report(workspace / "sfm" / "report.json"),
+        undistorted(workspace / "sfm" / "undistorted"),
+        points(workspace / "mvs" / "points.ply"),
+        mesh(workspace / "recon" / "mesh.ply"),
+        textured_model(workspace / "texture" / "model.glb") {}
+
+  std::filesystem::path root;
+  std::filesystem::path config;          // resolved config of the last run
+  std::filesystem::path run_record;      // run.json
+  std::filesystem::path logs;            // logs/<stage>.log
+  std::filesystem::path sfm;             // hos-sfm's folder
+  std::filesystem::path sfm_report;      // figures of the sfm stage
+  std::filesystem::path undistorted;     // sfm output: images + PINHOLE model
+  std::filesystem::path points;          // mvs output: oriented dense points
+  std::filesystem::path mesh;            // recon output: surface
+  std::filesystem::path textured_model;  // texture output: binary glTF
+
+  std::filesystem::path log(const std::string& stage) const { return logs / (stage + ".log"); }
+};
+
+}  // namespace hos::pipeline

@@ -1,0 +1,85 @@
+#include "pipeline/stages.h"
+
+#include "core/error.h"
+
+#include <filesystem>
+
+#include "mvs/mvs_options.h"
+#include "recon/recon_options.h"
+#include "sfm/sfm_options.h"
+#include "texture/texture_options.h"
+
+namespace hos::pipeline {
+namespace fs = std::filesystem;
+namespace {
+
+template <typename Options>
+std::function<std::unique_ptr<StageConfig>()> typed_config(const char* section) {
+  return [section] { return std::make_unique<TypedStageConfig<Options>>(section); };
+}
+void add_undistorted_workspace(Fingerprint& f, const StagePaths& p) {
+  f.add_folder_contents(p.undistorted / "sparse");
+  f.add_folder_listing(p.undistorted / "images");
+}
+
+}  // namespace
+
+const std::vector<StageSpec>& pipeline_stages() {
+  static const std::vector<StageSpec> kSpecs{
+      {"sfm", "hos-sfm",
+       [](const DriverOptions& o, const StagePaths& p) {
+         std::vector<std::string> args{"--images", o.photos.string(), "--workspace", p.root.string()};
+         if (!o.existing_model.empty()) args.insert(args.end(), {"--sparse", o.existing_model.string()});
+         return args;
+       },
+       [](Fingerprint& f, const DriverOptions& o, const StagePaths&) {
+         f.add_folder_listing(o.photos);
+         if (!o.existing_model.empty()) f.add_folder_contents(o.existing_model);
+       },
+       [](const StagePaths& p) { return fs::exists(p.undistorted / "sparse") && fs::exists(p.sfm_report); },
+       typed_config<sfm::SfmOptions>("sfm")},
+      {"mvs", "hos-mvs",
+       [](const DriverOptions&, const StagePaths& p) {
+         return std::vector<std::string>{"--workspace", p.undistorted.string(), "--output", p.points.string()};
+       },
+       [](Fingerprint& f, const DriverOptions&, const StagePaths& p) { add_undistorted_workspace(f, p); },
+       [](const StagePaths& p) { return fs::exists(p.points); },
+       typed_config<mvs::MvsOptions>("mvs")},
+      {"recon", "hos-recon",
+       [](const DriverOptions&, const StagePaths& p) {
+         return std::vector<std::string>{"--input", p.points.string(), "--output", p.mesh.string()};
+       },
+       [](Fingerprint& f, const DriverOptions&, const StagePaths& p) { f.add_file_contents(p.points); },
+       [](const StagePaths& p) { return fs::exists(p.mesh); },
+       typed_config<recon::ReconOptions>("recon")},
+      {"texture", "hos-texture",
+       [](const DriverOptions&, const StagePaths& p) {
+         return std::vector<std::string>{"--workspace", p.undistorted.string(), "--mesh", p.mesh.string(),
+                                         "--output", p.textured_model.string()};
+       },
+       [](Fingerprint& f, const DriverOptions&, const StagePaths& p) {
+         f.add_file_contents(p.mesh);
+         add_undistorted_workspace(f, p);
+       },
+       [](const StagePaths& p) { return fs::exists(p.textured_model); },
+       typed_config<texture::TextureOptions>("texture")},
+  };
+  return kSpecs;
+}
+
+std::size_t stage_index(const std::string& name, const std::string& flag) {
+  const auto& specs = pipeline_stages();
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    if (specs[i].name == name) return i;
+  }
+  throw ConfigError(flag + " " + name, "unknown stage; the stages are: " + stage_names_text(", "));
+}
+
+
+std::string stage_names_text(const std::string& separator) {
+  std::string text;
+  for (const StageSpec& spec : pipeline_stages()) text += (text.empty() ? "" : separator) + spec.name;
+  return text;
+}
+
+}  // namespace hos::pipeline

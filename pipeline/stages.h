@@ -1,0 +1,41 @@
+// The pipeline's stages in order: the one list of what each stage is called,
+// which executable runs it, what it reads and writes, and its options.
+// Everything else (config sections, the run record, --from/--to, messages)
+// derives from it.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pipeline/driver.h"
+#include "pipeline/file_hash.h"
+#include "pipeline/stage_config.h"
+#include "pipeline/stage_paths.h"
+
+namespace hos::pipeline {
+
+struct StageSpec {
+  std::string name;        // also its YAML section and its workspace folder
+  std::string executable;
+  // Arguments naming the stage's inputs and outputs.
+  std::function<std::vector<std::string>(const DriverOptions&, const StagePaths&)> arguments;
+  // Adds the stage's input files to the fingerprint.
+  std::function<void(Fingerprint&, const DriverOptions&, const StagePaths&)> inputs;
+  // The stage's result exists (a stage writes it last, atomically).
+  std::function<bool(const StagePaths&)> output_exists;
+  // A fresh config with the stage's defaults; nullptr when the stage's
+  // library is not part of this build.
+  std::function<std::unique_ptr<StageConfig>()> make_config;
+};
+
+const std::vector<StageSpec>& pipeline_stages();
+
+// Index of the stage called name; ConfigError naming flag and the stages otherwise.
+std::size_t stage_index(const std::string& name, const std::string& flag);
+
+// "sfm, mvs, recon, texture" with the given separator.
+std::string stage_names_text(const std::string& separator);
+
+}  // namespace hos::pipeline

@@ -1,0 +1,33 @@
+// The two EXIF fields the sfm stage needs from a JPEG: the orientation (so a
+// photo taken in portrait is fed to COLMAP upright) and the focal length (to
+// decide whether all photos share one camera). A small reader of the TIFF
+// structure inside the APP1 segment; nothing else of EXIF is interpreted.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hos::sfm {
+
+struct ExifInfo {
+  int orientation = 1;                 // 1..8 as EXIF defines it; 1 = upright
+  std::optional<double> focal_length_mm;
+};
+
+// Parses EXIF from the bytes of a JPEG file. Files without EXIF (or not
+// JPEG) give the defaults; malformed EXIF is ignored, never fatal.
+ExifInfo parse_jpeg_exif(const std::vector<std::uint8_t>& jpeg);
+
+// True if the JPEG's structure is complete: the markers up to the first
+// start-of-scan are well formed and an end-of-image marker follows the scan
+// data. A truncated download or copy fails this check even though decoders
+// often return a partly grey image without an error.
+bool jpeg_is_complete(const std::vector<std::uint8_t>& jpeg);
+
+// Reads a whole file; throws InputError if it cannot be read.
+std::vector<std::uint8_t> read_file_bytes(const std::filesystem::path& path);
+
+}  // namespace hos::sfm

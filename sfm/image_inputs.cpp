@@ -1,0 +1,189 @@
+#include "sfm/image_inputs.h"
+
+#include <algorithm>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/error.h"
+#include "sfm/exif.h"
+
+namespace hos::sfm {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr int kMinUsableImages = 3;
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+bool is_jpeg_extension(const std::string& ext) { return ext == ".jpg" || ext == ".jpeg"; }
+
+std::string join_skipped(const std::vector<SkippedInput>& skipped) {
+  std::string out;
+  for (const auto& s : skipped) {
+    out += "\n  " + s.file.filename().string() + ": " + s.reason;
+  }
+  return out;
+}
+
+}  // namespace
+
+const std::vector<std::string>& supported_image_extensions() {
+  static const std::vector<std::string> kExtensions{".jpg", ".jpeg", ".png", ".tif", ".tiff", ".bmp"};
+  return kExtensions;
+}
+
+bool ImageInputs::same_camera() const {
+  if (images.empty()) return true;
+  const StagedImage& first = images.front();
+  return std::all_of(images.begin(), images.end(), [&](const StagedImage& image) {
+    return image.width == first.width && image.height == first.height &&
+           image.focal_length_mm == first.focal_length_mm;
+  });
+}
+
+cv::Mat apply_exif_orientation(const cv::Mat& image, int orientation) {
+  cv::Mat out;
+  switch (orientation) {
+    case 2: cv::flip(image, out, 1); break;   // mirrored horizontally
+    case 3: cv::flip(image, out, -1); break;  // rotated 180
+    case 4: cv::flip(image, out, 0); break;   // mirrored vertically
+    case 5: cv::transpose(image, out); break;
+    case 6:                                    // needs a 90 degree clockwise turn
+      cv::transpose(image, out);
+      cv::flip(out, out, 1);
+      break;
+    case 7:
+      cv::transpose(image, out);
+      cv::flip(out, out, -1);
+      break;
+    case 8:  // needs a 90 degree counter-clockwise turn
+      cv::transpose(image, out);
+      cv::flip(out, out, 0);
+      break;
+    default: out = image; break;
+  }
+  return out;
+}
+
+ImageInputs prepare_images(const fs::path& folder, const fs::path& staging_dir,
+                           const SfmOptions& options, Reporter& reporter) {
+  std::error_code ec;
+  if (!fs::exists(folder, ec)) throw InputError(folder.string(), "photo folder does not exist");
+  if (!fs::is_directory(folder, ec)) throw InputError(folder.string(), "is not a folder of photos");
+
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.empty() || name[0] == '.') continue;
+    if (entry.is_directory()) continue;
+    files.push_back(entry.path());
+  }
+  if (ec) throw InputError(folder.string(), "cannot list the folder: " + ec.message());
+  std::sort(files.begin(), files.end());
+
+  ImageInputs inputs;
+  fs::create_directories(staging_dir);
+  reporter.begin("checking photos", static_cast<std::int64_t>(files.size()));
+  for (const auto& file : files) {
+    reporter.throw_if_cancelled();
+    reporter.advance();
+    const std::string ext = lower(file.extension().string());
+    auto skip = [&](const std::string& reason) {
+      inputs.skipped.push_back({file, reason});
+      reporter.warn("skipping " + file.string() + ": " + reason);
+    };
+    const auto& exts = supported_image_extensions();
+    if (std::find(exts.begin(), exts.end(), ext) == exts.end()) {
+      skip("not a photo (supported: .jpg .jpeg .png .tif .tiff .bmp)");
+      continue;
+    }
+    const auto size = fs::file_size(file, ec);
+    if (ec) {
+      skip("cannot be read: " + ec.message());
+      continue;
+    }
+    if (size == 0) {
+      skip("empty file (0 bytes)");
+      continue;
+    }
+    std::vector<std::uint8_t> bytes;
+    try {
+      bytes = read_file_bytes(file);
+    } catch (const InputError& e) {
+      skip(e.reason());
+      continue;
+    }
+    ExifInfo exif;
+    if (is_jpeg_extension(ext)) {
+      if (!jpeg_is_complete(bytes)) {
+        skip("truncated or corrupt JPEG (no complete image data)");
+        continue;
+      }
+      exif = parse_jpeg_exif(bytes);
+    }
+    // Orientation is applied here from our own EXIF reading, so the decoder
+    // must not apply it a second time.
+    cv::Mat image;
+    try {
+      image = cv::imdecode(bytes, cv::IMREAD_COLOR | cv::IMREAD_IGNORE_ORIENTATION);
+    } catch (const cv::Exception&) {
+      image.release();
+    }
+    if (image.empty()) {
+      skip("cannot be decoded as an image (corrupt or unsupported format)");
+      continue;
+    }
+    if (std::min(image.cols, image.rows) < options.min_image_size) {
+      skip("too small (" + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
+           "; sfm.min_image_size is " + std::to_string(options.min_image_size) + ")");
+      continue;
+    }
+    StagedImage staged;
+    staged.name = file.filename().string();
+    staged.source = file;
+    staged.focal_length_mm = exif.focal_length_mm;
+    if (exif.orientation != 1) {
+      image = apply_exif_orientation(image, exif.orientation);
+      staged.rewritten = true;
+    }
+    const int longest = std::max(image.cols, image.rows);
+    if (options.max_image_size > 0 && longest > options.max_image_size) {
+      const double scale = double(options.max_image_size) / longest;
+      cv::Mat small;
+      cv::resize(image, small, cv::Size(), scale, scale, cv::INTER_AREA);
+      image = small;
+      staged.rewritten = true;
+    }
+    staged.width = image.cols;
+    staged.height = image.rows;
+    const fs::path target = staging_dir / staged.name;
+    fs::remove(target, ec);
+    if (staged.rewritten) {
+      const std::vector<int> params{cv::IMWRITE_JPEG_QUALITY, 95};
+      if (!cv::imwrite(target.string(), image, params)) {
+        throw OutputError(target.string(), "cannot write the upright/downscaled copy of " + file.string());
+      }
+    } else {
+      fs::create_symlink(fs::absolute(file), target, ec);
+      if (ec) fs::copy_file(file, target, fs::copy_options::overwrite_existing);
+    }
+    inputs.images.push_back(std::move(staged));
+  }
+  reporter.end();
+
+  if (inputs.images.empty() && inputs.skipped.empty()) {
+    throw InputError(folder.string(), "contains no photos (supported: .jpg .jpeg .png .tif .tiff .bmp)");
+  }
+  if (static_cast<int>(inputs.images.size()) < kMinUsableImages) {
+    throw InputError(folder.string(),
+                     "only " + std::to_string(inputs.images.size()) + " usable photo(s), at least " +
+                         std::to_string(kMinUsableImages) + " are needed" +
+                         (inputs.skipped.empty() ? std::string() : "; skipped:" + join_skipped(inputs.skipped)));
+  }
+  return inputs;
+}
+
+}  // namespace hos::sfm

@@ -1,0 +1,53 @@
+// Checking the user's photo folder before COLMAP sees it, and staging the
+// usable photos into the workspace (a link when a photo can be used as is, a
+// re-encoded copy when it must be turned upright or downscaled).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/reporter.h"
+#include "sfm/sfm_options.h"
+
+namespace hos::sfm {
+
+struct SkippedInput {
+  std::filesystem::path file;
+  std::string reason;
+};
+
+struct StagedImage {
+  std::string name;                  // file name inside the staging folder (= original name)
+  std::filesystem::path source;      // the user's file
+  int width = 0;                     // size as staged (upright, downscaled)
+  int height = 0;
+  std::optional<double> focal_length_mm;  // from EXIF
+  bool rewritten = false;            // re-encoded (rotated or downscaled) rather than linked
+};
+
+struct ImageInputs {
+  std::vector<StagedImage> images;   // sorted by name
+  std::vector<SkippedInput> skipped;
+  // All photos share width, height and EXIF focal length: one camera fits.
+  bool same_camera() const;
+};
+
+// File extensions COLMAP can read (lower case, with the dot).
+const std::vector<std::string>& supported_image_extensions();
+
+// Applies an EXIF orientation (1..8) so the image becomes upright.
+cv::Mat apply_exif_orientation(const cv::Mat& image, int orientation);
+
+// Checks every file at the top level of folder (hidden files are ignored),
+// warns about each skipped one with the reason, and stages the usable photos
+// into staging_dir (created). Throws InputError when the folder is missing or
+// fewer than 3 usable photos remain, listing what was skipped.
+ImageInputs prepare_images(const std::filesystem::path& folder,
+                           const std::filesystem::path& staging_dir, const SfmOptions& options,
+                           Reporter& reporter);
+
+}  // namespace hos::sfm

@@ -1,0 +1,258 @@
+// The driver's resume logic, exit-code mapping and interruption, with small
+// shell scripts standing in for the stage executables (the real stages are
+// exercised by the end-to-end tests).
+#include "pipeline/driver.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <fstream>
+#include <thread>
+
+#include "core/error.h"
+#include "pipeline/pipeline_config.h"
+#include "tests/support/test_support.h"
+
+namespace hos::pipeline {
+namespace {
+namespace fs = std::filesystem;
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
+
+// Each fake appends its name to $HOS_FAKE_CALLS, fails with $HOS_FAKE_EXIT if
+// $HOS_FAKE_FAIL names it, sleeps if $HOS_FAKE_SLEEP names it, and writes its
+// output (content derived from its input so changes propagate).
+constexpr const char* kFakeStage = R"(#!/bin/sh
+stage="$1"; shift
+out=""; ws=""; input=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --output) out="$2"; shift ;;
+    --workspace) ws="$2"; shift ;;
+    --input|--mesh) input="$2"; shift ;;
+  esac
+  shift
+done
+echo "$stage" >> "$HOS_FAKE_CALLS"
+if [ "$HOS_FAKE_SLEEP" = "$stage" ]; then exec sleep 30; fi
+if [ "$HOS_FAKE_FAIL" = "$stage" ]; then echo "$stage: failing on purpose" >&2; exit "$HOS_FAKE_EXIT"; fi
+case "$stage" in
+  sfm)
+    mkdir -p "$ws/sfm/undistorted/sparse" "$ws/sfm/undistorted/images"
+    ls "$HOS_FAKE_PHOTOS" > "$ws/sfm/undistorted/sparse/cameras.txt"
+    echo '{"images_registered": 3, "images_given": 4, "points": 42}' > "$ws/sfm/report.json" ;;
+  mvs)
+    printf 'ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nend_header\n1\n2\n' > "$out.tmp"
+    cat "$ws/sparse/cameras.txt" >> "$out.tmp"; mv "$out.tmp" "$out" ;;
+  recon)
+    printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nelement face 1\nend_header\n' > "$out" ;;
+  texture)
+    echo "glb from $input" > "$out" ;;
+esac
+)";
+
+class DriverTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    bin_ = dir_ / "bin";
+    fs::create_directories(bin_);
+    fs::create_directories(dir_ / "photos");
+    for (const char* name : {"a.jpg", "b.jpg", "c.jpg", "d.jpg"}) std::ofstream(dir_ / "photos" / name) << name;
+    std::ofstream(bin_ / "fake-stage") << kFakeStage;
+    ::chmod((bin_ / "fake-stage").c_str(), 0755);
+    for (const char* stage : {"sfm", "mvs", "recon", "texture"}) {
+      const fs::path exe = bin_ / (std::string("hos-") + stage);
+      std::ofstream(exe) << "#!/bin/sh\nexec \"$(dirname \"$0\")/fake-stage\" " << stage << " \"$@\"\n";
+      ::chmod(exe.c_str(), 0755);
+    }
+    ::setenv("HOS_FAKE_CALLS", (dir_ / "calls.txt").c_str(), 1);
+    ::setenv("HOS_FAKE_PHOTOS", (dir_ / "photos").c_str(), 1);
+    ::unsetenv("HOS_FAKE_FAIL");
+    ::unsetenv("HOS_FAKE_SLEEP");
+    options_.photos = dir_ / "photos";
+    options_.output = dir_ / "out.glb";
+    options_.bin_dir = bin_;
+    options_.progress = "none";
+  }
+
+  // Runs the driver; returns the stages that ran (from the fakes' call log).
+  std::vector<std::string> run(Reporter& reporter = null_reporter()) {
+    fs::remove(dir_ / "calls.txt");
+    run_pipeline(options_, reporter);
+    return calls();
+  }
+  std::vector<std::string> calls() const {
+    std::vector<std::string> out;
+    std::ifstream in(dir_ / "calls.txt");
+    for (std::string line; std::getline(in, line);) out.push_back(line);
+    return out;
+  }
+  fs::path workspace() const { return dir_ / "out_workspace"; }
+
+  hos::testing::TempDir dir_;
+  fs::path bin_;
+  DriverOptions options_;
+};
+
+TEST_F(DriverTest, FirstRunRunsEverythingAndCopiesTheResult) {
+  EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "texture"));
+  ASSERT_TRUE(fs::exists(options_.output));
+  std::ifstream in(options_.output);
+  std::string text;
+  std::getline(in, text);
+  EXPECT_THAT(text, HasSubstr("mesh.ply"));
+  EXPECT_TRUE(fs::exists(workspace() / "config.yaml"));
+  const RunRecord record = load_run_record(workspace() / "run.json");
+  ASSERT_EQ(record.stages.size(), 4u);
+  EXPECT_EQ(record.stages.at("texture").state, "done");
+  EXPECT_EQ(record.stages.at("sfm").figures.value("images_registered", 0), 3);
+  EXPECT_EQ(record.stages.at("mvs").figures.value("points", 0), 2);
+  EXPECT_EQ(record.stages.at("recon").figures.value("faces", 0), 1);
+}
+
+TEST_F(DriverTest, SecondRunSkipsEverything) {
+  run();
+  EXPECT_TRUE(run().empty());
+}
+
+TEST_F(DriverTest, DeletedTextureOutputRerunsOnlyTexture) {
+  run();
+  fs::remove(workspace() / "texture" / "model.glb");
+  EXPECT_THAT(run(), ElementsAre("texture"));
+}
+
+TEST_F(DriverTest, DeletedDensePointsRerunFromMvs) {
+  run();
+  fs::remove(workspace() / "mvs" / "points.ply");
+  EXPECT_THAT(run(), ElementsAre("mvs", "recon", "texture"));
+}
+
+TEST_F(DriverTest, ChangedOptionRerunsThatStageAndLaterOnes) {
+  run();
+  options_.assignments = {"sfm.max_num_features=5000"};
+  EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "texture"));
+  EXPECT_TRUE(run().empty());
+}
+
+TEST_F(DriverTest, ChangedReconLambdaRerunsReconAndTextureOnly) {
+  if (!PipelineConfig().has_stage("recon")) GTEST_SKIP() << "the recon stage is not part of this build";
+  run();
+  options_.assignments = {"recon.lambda=0.25"};
+  EXPECT_THAT(run(), ElementsAre("recon", "texture"));
+  EXPECT_TRUE(run().empty());
+}
+
+TEST_F(DriverTest, ChangedPhotosRerunEverything) {
+  run();
+  std::ofstream(dir_ / "photos" / "e.jpg") << "e";
+  EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "texture"));
+}
+
+TEST_F(DriverTest, FromToAndForce) {
+  options_.to = "mvs";
+  EXPECT_THAT(run(), ElementsAre("sfm", "mvs"));
+  EXPECT_FALSE(fs::exists(options_.output));
+  options_.to.clear();
+  options_.from = "recon";
+  EXPECT_THAT(run(), ElementsAre("recon", "texture"));
+  options_.from.clear();
+  options_.force = true;
+  EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "texture"));
+}
+
+TEST_F(DriverTest, FromNeedsEarlierResults) {
+  options_.from = "recon";
+  EXPECT_THROW(run(), InputError);
+  EXPECT_TRUE(calls().empty());
+}
+
+TEST_F(DriverTest, FailedStageKeepsItsExitCauseAndResumesThere) {
+  ::setenv("HOS_FAKE_FAIL", "mvs", 1);
+  ::setenv("HOS_FAKE_EXIT", "3", 1);
+  try {
+    run();
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("mvs.log"));
+  }
+  EXPECT_EQ(load_run_record(workspace() / "run.json").stages.at("mvs").state, "failed");
+  EXPECT_FALSE(fs::exists(options_.output));
+  ::setenv("HOS_FAKE_EXIT", "4", 1);
+  EXPECT_THROW(run(), StageError);
+  ::unsetenv("HOS_FAKE_FAIL");
+  EXPECT_THAT(run(), ElementsAre("mvs", "recon", "texture"));
+}
+
+TEST_F(DriverTest, MissingStageExecutableIsNamedBeforeAnythingRuns) {
+  fs::remove(bin_ / "hos-texture");
+  try {
+    run();
+    FAIL() << "no error";
+  } catch (const StageError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("hos-texture is not built"));
+  }
+  EXPECT_TRUE(calls().empty());
+  options_.to = "recon";
+  EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon"));
+}
+
+class CancellingReporter : public Reporter {
+ public:
+  bool cancel_requested() const override { return cancel.load(); }
+  std::atomic<bool> cancel{false};
+};
+
+TEST_F(DriverTest, InterruptStopsTheStageAndTheNextRunResumes) {
+  ::setenv("HOS_FAKE_SLEEP", "mvs", 1);
+  CancellingReporter reporter;
+  std::thread interrupter([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(700));
+    reporter.cancel = true;
+  });
+  EXPECT_THROW(run(reporter), Cancelled);
+  interrupter.join();
+  EXPECT_EQ(load_run_record(workspace() / "run.json").stages.at("mvs").state, "interrupted");
+  EXPECT_FALSE(fs::exists(workspace() / "mvs" / "points.ply"));
+  ::unsetenv("HOS_FAKE_SLEEP");
+  EXPECT_THAT(run(), ElementsAre("mvs", "recon", "texture"));
+}
+
+TEST_F(DriverTest, BadInvocations) {
+  DriverOptions bad = options_;
+  bad.photos = dir_ / "missing";
+  EXPECT_THROW(run_pipeline(bad, null_reporter()), InputError);
+  bad = options_;
+  bad.output = dir_ / "missing" / "out.glb";
+  EXPECT_THROW(run_pipeline(bad, null_reporter()), OutputError);
+  EXPECT_FALSE(fs::exists(dir_ / "missing"));
+  bad = options_;
+  bad.output = dir_ / "out.obj";
+  EXPECT_THROW(run_pipeline(bad, null_reporter()), ConfigError);
+  bad = options_;
+  bad.preset = "turbo";
+  EXPECT_THROW(run_pipeline(bad, null_reporter()), ConfigError);
+  bad = options_;
+  bad.assignments = {"sfm.no_such_key=1"};
+  EXPECT_THROW(run_pipeline(bad, null_reporter()), ConfigError);
+  bad = options_;
+  bad.from = "meshing";
+  EXPECT_THROW(run_pipeline(bad, null_reporter()), ConfigError);
+  EXPECT_TRUE(calls().empty());
+}
+
+TEST_F(DriverTest, SummaryTableListsEveryStage) {
+  run_pipeline(options_, null_reporter());
+  const DriverResult result = run_pipeline(options_, null_reporter());
+  const auto lines = summary_table(result);
+  ASSERT_GE(lines.size(), 6u);
+  EXPECT_THAT(lines[1], HasSubstr("sfm"));
+  EXPECT_THAT(lines[1], HasSubstr("up to date"));
+  EXPECT_THAT(lines[1], HasSubstr("3/4 images registered"));
+  EXPECT_THAT(lines.back(), HasSubstr("out.glb"));
+}
+
+}  // namespace
+}  // namespace hos::pipeline

@@ -1,0 +1,64 @@
+#include "pipeline/stage_figures.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/error.h"
+#include "tests/support/test_support.h"
+
+namespace hos::pipeline {
+namespace {
+namespace fs = std::filesystem;
+
+void append32(std::string& s, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) s += static_cast<char>((v >> (8 * i)) & 0xFF);
+}
+
+TEST(StageFigures, PlyElementCounts) {
+  hos::testing::TempDir dir;
+  std::ofstream(dir / "m.ply") << "ply\nformat binary_little_endian 1.0\ncomment x\nelement vertex 12\n"
+                                   "property float x\nelement face 7\nproperty list uchar int vertex_indices\nend_header\n";
+  const auto counts = ply_element_counts(dir / "m.ply");
+  EXPECT_EQ(counts.at("vertex"), 12);
+  EXPECT_EQ(counts.at("face"), 7);
+  std::ofstream(dir / "bad.ply") << "not a ply\n";
+  EXPECT_THROW(ply_element_counts(dir / "bad.ply"), InputError);
+  EXPECT_THROW(ply_element_counts(dir / "missing.ply"), InputError);
+}
+
+TEST(StageFigures, GlbMeshAndTextureSizes) {
+  // A hand-made glb: one primitive with 5 positions and 9 indices, one 40x30 PNG.
+  std::vector<std::uint8_t> png;
+  cv::imencode(".png", cv::Mat(30, 40, CV_8UC3, cv::Scalar(1, 2, 3)), png);
+  const std::string json =
+      R"({"asset":{"version":"2.0"},"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],)"
+      R"("accessors":[{"count":5},{"count":9}],"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":)" +
+      std::to_string(png.size()) + R"(}],"images":[{"bufferView":0,"mimeType":"image/png"}]})";
+  std::string padded_json = json;
+  while (padded_json.size() % 4) padded_json += ' ';
+  std::string bin(png.begin(), png.end());
+  while (bin.size() % 4) bin += '\0';
+  std::string glb = "glTF";
+  append32(glb, 2);
+  append32(glb, static_cast<std::uint32_t>(12 + 8 + padded_json.size() + 8 + bin.size()));
+  append32(glb, static_cast<std::uint32_t>(padded_json.size()));
+  glb += "JSON" + padded_json;
+  append32(glb, static_cast<std::uint32_t>(bin.size()));
+  glb += std::string("BIN\0", 4) + bin;
+  hos::testing::TempDir dir;
+  std::ofstream(dir / "m.glb", std::ios::binary) << glb;
+  const GlbFigures f = read_glb_figures(dir / "m.glb");
+  EXPECT_EQ(f.bytes, static_cast<std::int64_t>(glb.size()));
+  EXPECT_EQ(f.vertices, 5);
+  EXPECT_EQ(f.triangles, 3);
+  ASSERT_EQ(f.texture_sizes.size(), 1u);
+  EXPECT_EQ(f.texture_sizes[0], std::make_pair(40, 30));
+  std::ofstream(dir / "x.glb") << "nope";
+  EXPECT_THROW(read_glb_figures(dir / "x.glb"), InputError);
+}
+
+}  // namespace
+}  // namespace hos::pipeline

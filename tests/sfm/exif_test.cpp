@@ -1,0 +1,53 @@
+#include "sfm/exif.h"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "tests/sfm/jpeg_fixtures.h"
+
+namespace hos::sfm {
+namespace {
+
+TEST(Exif, ReadsOrientationAndFocalLengthInBothByteOrders) {
+  for (bool little_endian : {true, false}) {
+    const auto jpeg = testing::jpeg_with_exif(testing::gradient_image(64, 48), 6, 35.5, little_endian);
+    const ExifInfo info = parse_jpeg_exif(jpeg);
+    EXPECT_EQ(info.orientation, 6);
+    ASSERT_TRUE(info.focal_length_mm.has_value());
+    EXPECT_DOUBLE_EQ(*info.focal_length_mm, 35.5);
+  }
+}
+
+TEST(Exif, NoExifGivesDefaults) {
+  std::vector<std::uint8_t> jpeg;
+  cv::imencode(".jpg", testing::gradient_image(32, 32), jpeg);
+  const ExifInfo info = parse_jpeg_exif(jpeg);
+  EXPECT_EQ(info.orientation, 1);
+  EXPECT_FALSE(info.focal_length_mm.has_value());
+}
+
+TEST(Exif, GarbageIsNotFatal) {
+  std::vector<std::uint8_t> bytes(100, 0xFF);
+  EXPECT_EQ(parse_jpeg_exif(bytes).orientation, 1);
+  bytes = {0xFF, 0xD8, 0xFF, 0xE1, 0x00, 0x40, 'E', 'x', 'i', 'f', 0, 0, 'I', 'I', 42, 0, 0xFF, 0xFF, 0xFF, 0x7F};
+  EXPECT_EQ(parse_jpeg_exif(bytes).orientation, 1);
+}
+
+TEST(Exif, CompleteJpegPassesTruncatedFails) {
+  std::vector<std::uint8_t> jpeg;
+  cv::imencode(".jpg", testing::gradient_image(128, 96), jpeg);
+  EXPECT_TRUE(jpeg_is_complete(jpeg));
+  auto truncated = jpeg;
+  truncated.resize(jpeg.size() * 2 / 3);
+  EXPECT_FALSE(jpeg_is_complete(truncated));
+  // An EXIF thumbnail's own end marker before the scan must not count.
+  auto with_exif = testing::jpeg_with_exif(testing::gradient_image(128, 96), 1, 0.0, true);
+  EXPECT_TRUE(jpeg_is_complete(with_exif));
+  with_exif.resize(with_exif.size() - 10);
+  EXPECT_FALSE(jpeg_is_complete(with_exif));
+  EXPECT_FALSE(jpeg_is_complete({}));
+}
+
+}  // namespace
+}  // namespace hos::sfm

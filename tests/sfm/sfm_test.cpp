@@ -1,0 +1,232 @@
+// hos-sfm end to end with the real COLMAP: accuracy on a synthetic scene
+// with known cameras, and the documented behaviour on bad inputs.
+#include "sfm/sfm.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <random>
+
+#include "core/colmap_io.h"
+#include "core/exit_codes.h"
+#include "core/sparse_model.h"
+#include "core/subprocess.h"
+#include "tests/support/test_support.h"
+
+namespace hos::sfm {
+namespace {
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using hos::testing::read_text;
+using hos::testing::shell_quote;
+
+bool have_colmap() { return !find_executable("colmap").empty(); }
+
+// Runs hos-sfm; returns the exit code, output in log.
+int run_sfm_exe(const std::string& args, const fs::path& log, const std::string& env = "") {
+  const std::string command = env + " " + shell_quote(hos::testing::executable("hos-sfm").string()) +
+                              " --progress plain " + args;
+  return hos::testing::run_command(command, log);
+}
+
+// Similarity x_gt ~ s R x + t by Umeyama (1991), least squares over pairs.
+struct Similarity {
+  double scale = 1;
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  Eigen::Vector3d apply(const Eigen::Vector3d& x) const { return scale * rotation * x + translation; }
+};
+
+Similarity umeyama(const std::vector<Eigen::Vector3d>& from, const std::vector<Eigen::Vector3d>& to) {
+  Eigen::Matrix3Xd a(3, from.size()), b(3, to.size());
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    a.col(i) = from[i];
+    b.col(i) = to[i];
+  }
+  const Eigen::Matrix4d m = Eigen::umeyama(a, b, true);
+  Similarity s;
+  s.scale = m.block<3, 3>(0, 0).col(0).norm();
+  s.rotation = m.block<3, 3>(0, 0) / s.scale;
+  s.translation = m.block<3, 1>(0, 3);
+  return s;
+}
+
+double rotation_angle_deg(const Eigen::Matrix3d& r) {
+  const double c = std::clamp((r.trace() - 1.0) / 2.0, -1.0, 1.0);
+  return std::acos(c) * 180.0 / M_PI;
+}
+
+class SfmTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!fs::exists(hos::testing::executable("hos-sfm"))) GTEST_SKIP() << "hos-sfm is not built";
+  }
+  // A hos-synth scene (skips the test if hos-synth is not built).
+  fs::path synth_scene(int views) {
+    if (!hos::testing::missing_executables({"hos-synth"}).empty()) return {};
+    const fs::path scene = dir_ / "scene";
+    const int code = hos::testing::make_synth_scene(scene, views, 0, dir_ / "synth.log");
+    EXPECT_EQ(code, 0) << read_text(dir_ / "synth.log");
+    return code == 0 ? scene : fs::path();
+  }
+  // count textured images that show unrelated random content.
+  fs::path unrelated_images(int count) {
+    const fs::path folder = dir_ / "unrelated";
+    fs::create_directories(folder);
+    std::mt19937 rng(7);
+    for (int i = 0; i < count; ++i) {
+      cv::Mat image(240, 320, CV_8UC3);
+      cv::randu(image, cv::Scalar::all(0), cv::Scalar::all(255));
+      cv::Mat blurred;
+      cv::GaussianBlur(image, blurred, cv::Size(0, 0), 1.5 + i);
+      cv::imwrite((folder / ("img" + std::to_string(i) + ".png")).string(), blurred);
+    }
+    return folder;
+  }
+  void expect_no_result(const fs::path& ws) {
+    EXPECT_FALSE(fs::exists(ws / "sfm" / "undistorted"));
+    EXPECT_FALSE(fs::exists(ws / "sfm" / "report.json"));
+  }
+
+  hos::testing::TempDir dir_;
+};
+
+TEST_F(SfmTest, SyntheticSceneRegistersEveryViewAccurately) {
+  if (!have_colmap()) GTEST_SKIP() << "colmap is not installed";
+  const fs::path scene = synth_scene(16);
+  if (scene.empty()) GTEST_SKIP() << "hos-synth is not built";
+  // The photos plus two bad files that must be skipped with a warning each.
+  const fs::path photos = dir_ / "photos";
+  fs::copy(scene / "images", photos);
+  std::ofstream(photos / "zero.jpg");
+  std::vector<std::uint8_t> jpeg;
+  cv::imencode(".jpg", cv::imread((scene / "images" / fs::directory_iterator(scene / "images")->path().filename()).string()), jpeg);
+  jpeg.resize(jpeg.size() / 2);
+  std::ofstream(photos / "corrupt.jpg", std::ios::binary).write(reinterpret_cast<const char*>(jpeg.data()), jpeg.size());
+
+  const fs::path ws = dir_ / "ws";
+  const int code = run_sfm_exe("--images " + shell_quote(photos.string()) + " --workspace " + shell_quote(ws.string()),
+                               dir_ / "sfm.out");
+  const std::string out = read_text(dir_ / "sfm.out");
+  ASSERT_EQ(code, 0) << out;
+  EXPECT_THAT(out, HasSubstr("zero.jpg: empty file"));
+  EXPECT_THAT(out, HasSubstr("corrupt.jpg: truncated or corrupt JPEG"));
+  // COLMAP's own output goes to the log, not the terminal.
+  EXPECT_THAT(out, ::testing::Not(HasSubstr("Bundle adjustment report")));
+  EXPECT_THAT(read_text(ws / "logs" / "sfm.log"), HasSubstr("Bundle adjustment report"));
+
+  const SparseModel truth = read_colmap_model(scene / "sparse");
+  const SparseModel result = read_colmap_model(ws / "sfm" / "undistorted" / "sparse");
+  ASSERT_EQ(result.images.size(), truth.images.size()) << "every view registers";
+  for (const auto& [id, camera] : result.cameras) EXPECT_FALSE(camera.has_distortion());
+
+  std::vector<Eigen::Vector3d> estimated, expected;
+  Eigen::AlignedBox3d box;
+  for (const auto& [id, image] : truth.images) {
+    const ImageRecord* match = result.find_image(image.name);
+    ASSERT_NE(match, nullptr) << image.name;
+    estimated.push_back(match->center());
+    expected.push_back(image.center());
+    box.extend(image.center());
+  }
+  // Scene size: diagonal of the bounding box of the true camera centres.
+  const double scene_size = box.diagonal().norm();
+  const Similarity align = umeyama(estimated, expected);
+  double worst_centre = 0, worst_rotation = 0;
+  for (const auto& [id, image] : truth.images) {
+    const ImageRecord* match = result.find_image(image.name);
+    worst_centre = std::max(worst_centre, (align.apply(match->center()) - image.center()).norm());
+    // cam_from_world of the aligned estimate is R_est * R_align^T.
+    const Eigen::Matrix3d aligned = match->rotation() * align.rotation.transpose();
+    worst_rotation = std::max(worst_rotation, rotation_angle_deg(image.rotation().transpose() * aligned));
+  }
+  EXPECT_LT(worst_centre, 0.01 * scene_size);
+  EXPECT_LT(worst_rotation, 1.0);
+  std::cout << "worst centre error " << worst_centre / scene_size * 100 << "% of the scene size, worst rotation error "
+            << worst_rotation << " deg\n";
+
+  const std::string report = read_text(ws / "sfm" / "report.json");
+  EXPECT_THAT(report, HasSubstr("\"images_registered\": " + std::to_string(truth.images.size())));
+  EXPECT_THAT(report, HasSubstr("corrupt.jpg"));
+}
+
+TEST_F(SfmTest, ExistingUndistortedModelIsUsedAsIs) {
+  const fs::path scene = synth_scene(6);
+  if (scene.empty()) GTEST_SKIP() << "hos-synth is not built";
+  const fs::path ws = dir_ / "ws";
+  // Without COLMAP on PATH: an undistorted model needs none.
+  const int code = run_sfm_exe("--images " + shell_quote((scene / "images").string()) + " --sparse " +
+                                   shell_quote((scene / "sparse").string()) + " --workspace " + shell_quote(ws.string()),
+                               dir_ / "sfm.out", "env PATH=/nonexistent");
+  ASSERT_EQ(code, 0) << read_text(dir_ / "sfm.out");
+  const SparseModel truth = read_colmap_model(scene / "sparse");
+  const SparseModel copy = read_colmap_model(ws / "sfm" / "undistorted" / "sparse");
+  ASSERT_EQ(copy.images.size(), truth.images.size());
+  for (const auto& [id, image] : truth.images) {
+    const ImageRecord* c = copy.find_image(image.name);
+    ASSERT_NE(c, nullptr);
+    EXPECT_LT((c->center() - image.center()).norm(), 1e-9);
+    EXPECT_TRUE(fs::exists(ws / "sfm" / "undistorted" / "images" / image.name));
+  }
+}
+
+TEST_F(SfmTest, EmptyFolderIsBadInput) {
+  fs::create_directories(dir_ / "empty");
+  const int code = run_sfm_exe("--images " + shell_quote((dir_ / "empty").string()) + " --workspace " +
+                                   shell_quote((dir_ / "ws").string()),
+                               dir_ / "out");
+  EXPECT_EQ(code, kExitBadInput);
+  EXPECT_THAT(read_text(dir_ / "out"), HasSubstr("contains no photos"));
+  expect_no_result(dir_ / "ws");
+}
+
+TEST_F(SfmTest, FolderOfTextFilesIsBadInput) {
+  fs::create_directories(dir_ / "text");
+  for (const char* name : {"notes.txt", "README.md", "photo.jpg"}) std::ofstream(dir_ / "text" / name) << "text\n";
+  const int code = run_sfm_exe("--images " + shell_quote((dir_ / "text").string()) + " --workspace " +
+                                   shell_quote((dir_ / "ws").string()),
+                               dir_ / "out");
+  EXPECT_EQ(code, kExitBadInput);
+  const std::string out = read_text(dir_ / "out");
+  EXPECT_THAT(out, HasSubstr("only 0 usable photo"));
+  EXPECT_THAT(out, HasSubstr("notes.txt: not a photo"));
+  EXPECT_THAT(out, HasSubstr("photo.jpg: truncated or corrupt JPEG"));
+  expect_no_result(dir_ / "ws");
+}
+
+TEST_F(SfmTest, NonOverlappingImagesFailCleanly) {
+  if (!have_colmap()) GTEST_SKIP() << "colmap is not installed";
+  const fs::path photos = unrelated_images(4);
+  const int code = run_sfm_exe("--images " + shell_quote(photos.string()) + " --workspace " + shell_quote((dir_ / "ws").string()),
+                               dir_ / "out");
+  EXPECT_EQ(code, kExitStageFailed);
+  const std::string out = read_text(dir_ / "out");
+  EXPECT_THAT(out, HasSubstr("overlap"));
+  expect_no_result(dir_ / "ws");
+}
+
+TEST_F(SfmTest, MissingColmapSaysHowToInstall) {
+  const fs::path photos = unrelated_images(3);
+  int code = run_sfm_exe("--images " + shell_quote(photos.string()) + " --workspace " + shell_quote((dir_ / "ws").string()),
+                         dir_ / "out", "env PATH=/nonexistent");
+  EXPECT_EQ(code, kExitStageFailed);
+  EXPECT_THAT(read_text(dir_ / "out"), HasSubstr("apt-get install colmap"));
+  code = run_sfm_exe("--images " + shell_quote(photos.string()) + " --workspace " + shell_quote((dir_ / "ws").string()),
+                     dir_ / "out", "env HOS_COLMAP=/no/such/colmap");
+  EXPECT_EQ(code, kExitUsage);
+  EXPECT_THAT(read_text(dir_ / "out"), HasSubstr("HOS_COLMAP"));
+  expect_no_result(dir_ / "ws");
+}
+
+TEST_F(SfmTest, UnknownOptionNamesClosestKey) {
+  const int code = run_sfm_exe("--images x --workspace " + shell_quote((dir_ / "ws").string()) + " --set sfm.matchr=exhaustive", dir_ / "out");
+  EXPECT_EQ(code, kExitUsage);
+  EXPECT_THAT(read_text(dir_ / "out"), HasSubstr("did you mean sfm.matcher"));
+}
+
+}  // namespace
+}  // namespace hos::sfm
