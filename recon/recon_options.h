@@ -23,24 +23,20 @@ enum class SmoothnessEnergy {
 };
 
 struct SolverOptions {
-  // Relative residual ||b - Ax|| / ||b|| to reach. 1e-5 rather than 1e-6:
-  // the same surface (sphere from 6 scan directions at grid 256: rms error
-  // 4.1311e-4 vs 4.1309e-4) with 29 instead of 39 iterations.
+  // Relative residual ||b - Ax|| / ||b|| to reach; tighter moves the surface
+  // by no measurable amount but costs iterations.
   double tolerance = 1e-5;
-  int max_iterations = 200;   // conjugate-gradient iterations per linear solve
-  int max_levels = 0;         // multigrid levels; 0 = as many as the grid allows
+  int max_iterations = 200;  // conjugate-gradient iterations per linear solve
+  int max_levels = 0;        // multigrid levels; 0 = as many as the grid allows
   // Degree of the Chebyshev smoother (operator applications) before and
-  // after each coarse correction (see multigrid.h). 2: the bunny's fine band
-  // at grid 256 takes 9-10 CG iterations (1: 17, 3: 9).
+  // after each coarse correction (see multigrid.h); 3 saves no iterations.
   int smoothing_steps = 2;
-  int tv_iterations = 8;      // reweighting rounds for energy (2)
-  bool multigrid = true;      // false: Jacobi-preconditioned CG (for comparisons)
+  int tv_iterations = 8;  // reweighting rounds for energy (2)
+  bool multigrid = true;  // false: Jacobi-preconditioned CG (for comparisons)
   // Fine-grid nodes farther than this many voxels (per axis) from every
   // sample's cell keep the solution of the grid twice as coarse, and only the
   // band is solved at full resolution (see active_nodes.h). 0 = solve every node.
-  // 6 rather than 8: 22% fewer band nodes, the same surfaces (re-render of one
-  // sfm and mvs result: temple 22.77 -> 22.78 dB, Herz-Jesu-P8 24.84 -> 24.83
-  // dB; bunny mean distance to the reference 6.154e-5 -> 6.178e-5).
+  // Wider bands cost nodes without changing the surface.
   int band_voxels = 6;
 };
 
@@ -59,12 +55,9 @@ struct ReconOptions {
   // lambda * (D / 50)^2 (TV by lambda * D / 50) with D the domain's longest side,
   // so lambda = 0.2 damps features below about 1% of the domain at any grid size.
   double lambda = 0.2;
-  // Cells along the longest side of the domain. 256: real photos keep thin
-  // parts (temple columns), and with marching cubes' third of the triangles
-  // 192 lost texture detail (re-render PSNR on one sfm and mvs result each,
-  // 192 -> 256: temple 22.36 -> 22.78 dB, Herz-Jesu-P8 24.57 -> 24.84 dB);
-  // recon stays small beside mvs (temple 1.5 -> 8 s against 69 s).
-  int resolution = 256;        // in [kMinResolution, kMaxResolution]
+  // Cells along the longest side of the domain: fine enough for thin parts
+  // and texture detail on real photos, still cheap beside mvs.
+  int resolution = 256;  // in [kMinResolution, kMaxResolution]
   double voxel_size = 0.0;     // if > 0, overrides resolution
   double margin = 0.1;         // domain margin as a fraction of the points' longest extent
   int filter_passes = 3;       // box filter passes approximating a Gaussian (sec. 4.1)
@@ -78,9 +71,8 @@ struct ReconOptions {
   int direction_filter_passes = 12;
   // Weight of the screening term that pins f at the samples to the isovalue
   // (see Screening in energy_operator.h); 0 = the paper's pure formulation.
-  // Not used with energy (2). 16 rather than 4: less smoothing across holes in
-  // MVS points (synthetic scene F@1% 0.84 -> 0.93 with trim 2 and
-  // mvs.min_consistent_views 1, docs/pipeline.md).
+  // Not used with energy (2). Strong enough that holes in MVS points are not
+  // smoothed over.
   double screening = 16.0;
   SolverOptions solver;
   TrimOptions trim;

@@ -2,6 +2,8 @@
 # hos-mvs speed and accuracy on a hos-synth scene with ground-truth cameras:
 # seconds per view per megapixel (at the matching scale), points, and
 # accuracy/completeness/F-score against the true surface the cameras see.
+# CPU = user + system seconds of hos-mvs: steadier than the wall time when
+# other jobs share the cores.
 #   bench/mvs/run.sh [--views 24] [--width 640] [--height 480] [--max-image-size 640]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -19,21 +21,21 @@ done
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 "$bin/hos-synth" --output "$work/scene" --views "$views" --width "$width" --height "$height" --seed 1 --progress none
-/usr/bin/time -f "%e %M" -o "$work/time.txt" "$bin/hos-mvs" --workspace "$work/scene" --output "$work/points.ply" \
+/usr/bin/time -f "%e %M %U %S" -o "$work/time.txt" "$bin/hos-mvs" --workspace "$work/scene" --output "$work/points.ply" \
   --max-image-size "$max_size" --progress none
-read -r seconds kb < "$work/time.txt"
+read -r seconds kb user sys < "$work/time.txt"
+cpu=$(awk -v u="$user" -v s="$sys" 'BEGIN { printf "%.1f", u + s }')
 scale=$(awk -v w="$width" -v h="$height" -v m="$max_size" 'BEGIN { s = m / (w > h ? w : h); if (s > 1) s = 1; printf "%.6f", (w * s) * (h * s) / 1e6 }')
 "$bin/hos-eval" mesh --result "$work/points.ply" --truth "$work/scene/gt_mesh.ply" --visible-in "$work/scene/sparse" \
   --json "$work/eval.json" > "$work/eval.txt"
 load=$(cut -d' ' -f1 /proc/loadavg)
-python3 - "$work" "$views" "$seconds" "$kb" "$scale" "$load" <<'PY'
+python3 - "$work" "$views" "$seconds" "$kb" "$scale" "$load" "$cpu" <<'PY'
 import json, sys
-work, views, seconds, kb, mp, load = sys.argv[1], int(sys.argv[2]), float(sys.argv[3]), int(sys.argv[4]), float(sys.argv[5]), sys.argv[6]
+work, views, seconds, kb, mp, load, cpu = sys.argv[1], int(sys.argv[2]), float(sys.argv[3]), int(sys.argv[4]), float(sys.argv[5]), sys.argv[6], float(sys.argv[7])
 d = json.load(open(f"{work}/eval.json"))
 t = {round(x["fraction"], 4): x for x in d["thresholds"]}
-pts = sum(1 for _ in open(f"{work}/points.ply", "rb")) if False else None
-print("| views | MP per view | total s | s per view per MP | peak MB | accuracy median | P/R/F @0.5% | P/R/F @1% | load avg |")
-print("|---|---|---|---|---|---|---|---|---|")
+print("| views | MP per view | total s | s per view per MP | CPU s | CPU s per view per MP | peak MB | accuracy median | P/R/F @0.5% | P/R/F @1% | load avg |")
+print("|---|---|---|---|---|---|---|---|---|---|---|")
 f = lambda x: f"{x['precision']:.3f}/{x['recall']:.3f}/{x['f_score']:.3f}"
-print(f"| {views} | {mp:.3f} | {seconds:.1f} | {seconds / views / mp:.2f} | {kb / 1024:.0f} | {d['accuracy']['median']:.4g} | {f(t[0.005])} | {f(t[0.01])} | {load} |")
+print(f"| {views} | {mp:.3f} | {seconds:.1f} | {seconds / views / mp:.2f} | {cpu:.1f} | {cpu / views / mp:.2f} | {kb / 1024:.0f} | {d['accuracy']['median']:.4g} | {f(t[0.005])} | {f(t[0.01])} | {load} |")
 PY
