@@ -16,6 +16,17 @@ function(hos_executable name)
   set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bin)
 endfunction()
 
+# hos_optional_executable(name source deps...): hos_executable when every
+# target of deps exists, so a partial module selection still configures.
+function(hos_optional_executable name source)
+  foreach(dep IN LISTS ARGN)
+    if(NOT TARGET ${dep})
+      return()
+    endif()
+  endforeach()
+  hos_executable(${name} SOURCES ${source} DEPS ${ARGN})
+endfunction()
+
 # hos_test(name SOURCES ... DEPS ...): one gtest binary per module; every TEST
 # becomes its own ctest entry so `ctest -R Suite.Case` works.
 function(hos_test name)

@@ -13,11 +13,6 @@
 namespace hos::texture {
 namespace {
 
-std::string view_name(int i) {
-  std::string name = "v";
-  name += std::to_string(i);
-  return name;
-}
 
 namespace fs = std::filesystem;
 
@@ -25,7 +20,7 @@ TexturedMesh textured_sphere(int atlas_size = 4096) {
   const TriangleMesh mesh = synth::icosphere(3, 1.0);
   std::vector<TextureView> views;
   for (int i = 0; i < 6; ++i) {
-    views.push_back(testing::make_view(view_name(i), 60.0 * i, 10.0, 3.5));
+    views.push_back(testing::make_view(testing::view_name(i), 60.0 * i, 10.0, 3.5));
     testing::render_sphere(views.back(), 1.0);
   }
   TextureOptions options;

@@ -7,6 +7,8 @@
 
 namespace hos::texture::testing {
 
+std::string view_name(int i) { return "v" + std::to_string(i); }
+
 Eigen::Vector3f sphere_albedo(const Eigen::Vector3f& x) {
   const float a = std::sin(6.0f * x.z() + 2.0f * x.x());
   const float b = std::cos(5.0f * x.x() - 3.0f * x.y());

@@ -20,6 +20,9 @@ Eigen::Vector3f sphere_albedo(const Eigen::Vector3f& x);
 
 // A camera at distance from the origin, looking at it, at the given azimuth
 // and elevation (degrees); world up is +z.
+// "v<i>": the name of the i-th test view.
+std::string view_name(int i);
+
 TextureView make_view(const std::string& name, double azimuth_deg, double elevation_deg,
                       double distance, int width = 320, int height = 240, double focal = 300.0);
 

@@ -18,13 +18,9 @@
 namespace hos::texture {
 namespace {
 
-std::string view_name(int i) {
-  std::string name = "v";
-  name += std::to_string(i);
-  return name;
-}
 
 using testing::make_view;
+using testing::view_name;
 using testing::render_sphere;
 using testing::sample_atlas;
 using testing::sphere_albedo;
