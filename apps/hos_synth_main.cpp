@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
   app.add_option("--height", options.height, "image height in pixels");
   app.add_option("--focal", options.focal, "focal length in pixels (default 0.9 * width)");
   app.add_option("--seed", scene_options.seed, "scene seed");
-  app.add_option("--scene", scene_options.name, "default|rock|torus|box");
+  app.add_option("--scene", scene_options.name, "default|rock|torus|box|railing");
   app.add_flag("--ground-plane", scene_options.ground_plane, "add a textured ground plane");
   app.add_option("--rings", options.rings, "elevation rings of views");
   app.add_flag("--jpeg", options.jpeg, "write JPEG instead of PNG images");

@@ -1,5 +1,6 @@
 #include "mvs/fusion.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace hos::mvs {
@@ -42,116 +43,193 @@ FusionView make_fusion_view(const MvsView& view, DepthMap map) {
   return f;
 }
 
-PointCloud fuse_depth_maps(const std::vector<FusionView>& views, const MvsOptions& options, Reporter& reporter) {
-  const double cos_normal = std::cos(options.max_normal_error_deg * M_PI / 180.0);
-  const double max_reproj2 = options.max_reprojection_error_px * options.max_reprojection_error_px;
-  const double cos_triangulation = std::cos(options.min_triangulation_angle_deg * M_PI / 180.0);
+namespace {
+
+// The fixed parts of the rules, and the views' centres.
+struct FusionRules {
+  const MvsOptions& options;
+  double cos_normal, max_reproj2, cos_triangulation;
   std::vector<Eigen::Vector3d> centres;
-  for (const auto& v : views) centres.push_back(v.R.transpose() * -v.t);
-  // Views that saw the point from distinct viewpoints (the reference first):
-  // an agreeing view whose ray makes less than the triangulation angle with
-  // a counted one is merged but is no further evidence, as with two photos
-  // taken from the same spot, which agree on any depth.
-  const auto independent_views = [&](const std::vector<Observation>& obs) {
-    std::vector<Eigen::Vector3d> rays;
-    for (const auto& o : obs) {
-      const Eigen::Vector3d ray = (centres[o.view] - o.point).normalized();
-      bool distinct = true;
-      for (const auto& q : rays) distinct = distinct && ray.dot(q) < cos_triangulation;
-      if (distinct) rays.push_back(ray);
+  FusionRules(const std::vector<FusionView>& views, const MvsOptions& o)
+      : options(o),
+        cos_normal(std::cos(o.max_normal_error_deg * M_PI / 180.0)),
+        max_reproj2(o.max_reprojection_error_px * o.max_reprojection_error_px),
+        cos_triangulation(std::cos(o.min_triangulation_angle_deg * M_PI / 180.0)) {
+    for (const auto& v : views) centres.push_back(v.R.transpose() * -v.t);
+  }
+};
+
+// The reference pixel's point and every unused pixel of another view that
+// agrees with it on depth, normal and forward-backward reprojection.
+Agreement agreeing_pixels(const std::vector<FusionView>& views,
+                          const std::vector<cv::Mat>& used,
+                          const FusionRules& rules,
+                          std::size_t r,
+                          int x,
+                          int y) {
+  Agreement agreement;
+  const FusionView& ref = views[r];
+  const float d = ref.map.depth.at<float>(y, x);
+  if (!(d > 0) || used[r].at<uchar>(y, x)) return agreement;
+  const Eigen::Vector3d X = back_project(ref, x, y, d);
+  const Eigen::Vector3d n = normal_at(ref, x, y);
+  auto& obs = agreement.observations;
+  obs.push_back({static_cast<int>(r), x, y, X, n});
+  for (std::size_t s = 0; s < views.size(); ++s) {
+    if (s == r) continue;
+    const FusionView& src = views[s];
+    const Eigen::Vector3d xs = src.R * X + src.t;
+    if (xs.z() <= 0) continue;
+    const Eigen::Vector3d uv = src.K * xs / xs.z();
+    const int qx = static_cast<int>(std::floor(uv.x())), qy = static_cast<int>(std::floor(uv.y()));
+    if (qx < 0 || qy < 0 || qx >= src.map.depth.cols || qy >= src.map.depth.rows) continue;
+    const float ds = src.map.depth.at<float>(qy, qx);
+    if (!(ds > 0)) ++agreement.views_without_depth;
+    if (!(ds > 0) || used[s].at<uchar>(qy, qx)) continue;
+    if (std::abs(xs.z() - ds) > rules.options.max_depth_error * ds) continue;
+    const Eigen::Vector3d ns = normal_at(src, qx, qy);
+    if (ns.dot(n) < rules.cos_normal) continue;
+    const Eigen::Vector3d Xs = back_project(src, qx, qy, ds);
+    const Eigen::Vector3d back = ref.R * Xs + ref.t;
+    if (back.z() <= 0) continue;
+    const Eigen::Vector3d buv = ref.K * back / back.z();
+    if ((buv.head<2>() - Eigen::Vector2d(x + 0.5, y + 0.5)).squaredNorm() > rules.max_reproj2)
+      continue;
+    obs.push_back({static_cast<int>(s), qx, qy, Xs, ns});
+  }
+  return agreement;
+}
+
+// Views that saw the point from distinct viewpoints (the reference first):
+// an agreeing view whose ray makes less than the triangulation angle with a
+// counted one is merged but is no further evidence, as with two photos taken
+// from the same spot, which agree on any depth.
+int independent_views(const std::vector<Observation>& obs, const FusionRules& rules) {
+  std::vector<Eigen::Vector3d> rays;
+  for (const auto& o : obs) {
+    const Eigen::Vector3d ray = (rules.centres[o.view] - o.point).normalized();
+    bool distinct = true;
+    for (const auto& q : rays) distinct = distinct && ray.dot(q) < rules.cos_triangulation;
+    if (distinct) rays.push_back(ray);
+  }
+  return static_cast<int>(rays.size());
+}
+
+// A point two independent views agree on is kept when both pixels matched
+// well and every other view that covers it has a depth there: a view that
+// sees nothing matchable at that spot (background, a gap between parts of
+// the object) speaks against the point.
+bool reliable_two_view(const std::vector<FusionView>& views,
+                       const Agreement& a,
+                       const FusionRules& rules) {
+  const MvsOptions& o = rules.options;
+  if (o.two_view_max_cost <= 0.0 || a.views_without_depth > o.two_view_max_views_without_depth)
+    return false;
+  for (const auto& obs : a.observations) {
+    if (!(views[obs.view].map.cost.at<float>(obs.y, obs.x) <= o.two_view_max_cost)) return false;
+  }
+  return true;
+}
+
+// The agreeing pixels' mean position, normal (towards the reference
+// camera) and colour; false if the normals cancel.
+bool merge(const std::vector<FusionView>& views,
+           const std::vector<Observation>& obs,
+           const Eigen::Vector3d& ref_centre,
+           PointCloud& cloud) {
+  Eigen::Vector3d p = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero(),
+                  c = Eigen::Vector3d::Zero();
+  for (const auto& o : obs) {
+    p += o.point;
+    n += o.normal;
+    const cv::Vec3b bgr = views[o.view].color.at<cv::Vec3b>(o.y, o.x);
+    c += Eigen::Vector3d(bgr[2], bgr[1], bgr[0]);
+  }
+  const double k = static_cast<double>(obs.size());
+  p /= k;
+  c /= k;
+  if (n.norm() < 1e-9) return false;
+  n.normalize();
+  if (n.dot(ref_centre - p) < 0) n = -n;
+  cloud.positions.push_back(p.cast<float>());
+  cloud.normals.push_back(n.cast<float>());
+  cloud.colors.push_back({static_cast<std::uint8_t>(std::lround(c.x())),
+                          static_cast<std::uint8_t>(std::lround(c.y())),
+                          static_cast<std::uint8_t>(std::lround(c.z()))});
+  return true;
+}
+
+// Marks the merged pixels used, and (density control) their neighbours
+// within fusion_spacing_px on the same surface (depth within
+// max_depth_error), so no other point is made there.
+void claim(const std::vector<FusionView>& views,
+           const std::vector<Observation>& obs,
+           const MvsOptions& options,
+           std::vector<cv::Mat>& used) {
+  const int r = options.fusion_spacing_px;
+  for (const auto& o : obs) {
+    cv::Mat& mask = used[o.view];
+    const cv::Mat& depth = views[o.view].map.depth;
+    const float d = depth.at<float>(o.y, o.x);
+    mask.at<uchar>(o.y, o.x) = 1;
+    for (int y = std::max(0, o.y - r); y <= std::min(depth.rows - 1, o.y + r); ++y) {
+      for (int x = std::max(0, o.x - r); x <= std::min(depth.cols - 1, o.x + r); ++x) {
+        if (std::abs(depth.at<float>(y, x) - d) <= options.max_depth_error * d)
+          mask.at<uchar>(y, x) = 1;
+      }
     }
-    return static_cast<int>(rays.size());
-  };
-  // A point two independent views agree on is kept when both pixels matched
-  // well and every other view that covers it has a depth there: a view that
-  // sees nothing matchable at that spot (background, a gap between parts of
-  // the object) speaks against the point.
-  const auto reliable_two_view = [&](const Agreement& a) {
-    if (options.two_view_max_cost <= 0.0 || a.views_without_depth > options.two_view_max_views_without_depth) {
-      return false;
-    }
-    for (const auto& o : a.observations) {
-      if (!(views[o.view].map.cost.at<float>(o.y, o.x) <= options.two_view_max_cost)) return false;
-    }
-    return true;
-  };
+  }
+}
+
+// Keeps the agreement of one reference pixel as a point if enough
+// independent views agree and none of its pixels is claimed yet.
+void fuse_pixel(const std::vector<FusionView>& views,
+                const Agreement& agreement,
+                const FusionRules& rules,
+                std::size_t r,
+                std::vector<cv::Mat>& used,
+                PointCloud& cloud) {
+  const auto& obs = agreement.observations;
+  if (obs.size() < 2) return;
+  const int independent = independent_views(obs, rules);
+  if (independent < rules.options.min_consistent_views + 1 &&
+      !(independent == 2 && reliable_two_view(views, agreement, rules))) {
+    return;
+  }
+  for (const auto& o : obs) {
+    if (used[o.view].at<uchar>(o.y, o.x)) return;
+  }
+  claim(views, obs, rules.options, used);
+  if (merge(views, obs, rules.centres[r], cloud))
+    cloud.confidence.push_back(static_cast<float>(independent));
+}
+
+}  // namespace
+
+PointCloud fuse_depth_maps(const std::vector<FusionView>& views,
+                           const MvsOptions& options,
+                           Reporter& reporter) {
+  const FusionRules rules(views, options);
   std::vector<cv::Mat> used;
   for (const auto& v : views) used.push_back(cv::Mat::zeros(v.map.depth.size(), CV_8U));
   PointCloud cloud;
   reporter.begin("fusion", static_cast<std::int64_t>(views.size()));
   for (std::size_t r = 0; r < views.size(); ++r) {
     reporter.throw_if_cancelled();
-    const FusionView& ref = views[r];
-    const int w = ref.map.depth.cols, h = ref.map.depth.rows;
-    std::vector<std::vector<Agreement>> rows(h);
-    // Consistency checks in parallel; merging and marking in order below.
-#pragma omp parallel for schedule(dynamic, 4)
-    for (int y = 0; y < h; ++y) {
-      rows[y].resize(w);
-      for (int x = 0; x < w; ++x) {
-        const float d = ref.map.depth.at<float>(y, x);
-        if (!(d > 0) || used[r].at<uchar>(y, x)) continue;
-        const Eigen::Vector3d X = back_project(ref, x, y, d);
-        const Eigen::Vector3d n = normal_at(ref, x, y);
-        Agreement& agreement = rows[y][x];
-        auto& obs = agreement.observations;
-        obs.push_back({static_cast<int>(r), x, y, X, n});
-        for (std::size_t s = 0; s < views.size(); ++s) {
-          if (s == r) continue;
-          const FusionView& src = views[s];
-          const Eigen::Vector3d xs = src.R * X + src.t;
-          if (xs.z() <= 0) continue;
-          const Eigen::Vector3d uv = src.K * xs / xs.z();
-          const int qx = static_cast<int>(std::floor(uv.x())), qy = static_cast<int>(std::floor(uv.y()));
-          if (qx < 0 || qy < 0 || qx >= src.map.depth.cols || qy >= src.map.depth.rows) continue;
-          const float ds = src.map.depth.at<float>(qy, qx);
-          if (!(ds > 0)) ++agreement.views_without_depth;
-          if (!(ds > 0) || used[s].at<uchar>(qy, qx)) continue;
-          if (std::abs(xs.z() - ds) > options.max_depth_error * ds) continue;
-          const Eigen::Vector3d ns = normal_at(src, qx, qy);
-          if (ns.dot(n) < cos_normal) continue;
-          const Eigen::Vector3d Xs = back_project(src, qx, qy, ds);
-          const Eigen::Vector3d back = ref.R * Xs + ref.t;
-          if (back.z() <= 0) continue;
-          const Eigen::Vector3d buv = ref.K * back / back.z();
-          if ((buv.head<2>() - Eigen::Vector2d(x + 0.5, y + 0.5)).squaredNorm() > max_reproj2) continue;
-          obs.push_back({static_cast<int>(s), qx, qy, Xs, ns});
-        }
+    const int w = views[r].map.depth.cols, h = views[r].map.depth.rows;
+    // Blocks of rows: consistency checks in parallel, then merging and
+    // marking in order (which the next block's checks see); only a block's
+    // agreements are in memory.
+    constexpr int kBlockRows = 16;
+    std::vector<std::vector<Agreement>> rows(kBlockRows, std::vector<Agreement>(w));
+    for (int y0 = 0; y0 < h; y0 += kBlockRows) {
+      const int y1 = std::min(h, y0 + kBlockRows);
+#pragma omp parallel for schedule(dynamic, 1)
+      for (int y = y0; y < y1; ++y) {
+        for (int x = 0; x < w; ++x) rows[y - y0][x] = agreeing_pixels(views, used, rules, r, x, y);
       }
-    }
-    for (int y = 0; y < h; ++y) {
-      for (int x = 0; x < w; ++x) {
-        const auto& obs = rows[y][x].observations;
-        if (obs.size() < 2) continue;
-        const int independent = independent_views(obs);
-        if (independent < options.min_consistent_views + 1 && !(independent == 2 && reliable_two_view(rows[y][x]))) {
-          continue;
-        }
-        // Pixels claimed by an earlier point of this view in this pass.
-        bool taken = false;
-        for (const auto& o : obs) taken = taken || used[o.view].at<uchar>(o.y, o.x);
-        if (taken) continue;
-        Eigen::Vector3d p = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero(), c = Eigen::Vector3d::Zero();
-        for (const auto& o : obs) {
-          p += o.point;
-          n += o.normal;
-          const cv::Vec3b bgr = views[o.view].color.at<cv::Vec3b>(o.y, o.x);
-          c += Eigen::Vector3d(bgr[2], bgr[1], bgr[0]);
-          used[o.view].at<uchar>(o.y, o.x) = 1;
-        }
-        const double k = static_cast<double>(obs.size());
-        p /= k;
-        c /= k;
-        if (n.norm() < 1e-9) continue;
-        n.normalize();
-        // Normals point towards the cameras that saw the point.
-        if (n.dot(ref.R.transpose() * (-ref.t) - p) < 0) n = -n;
-        cloud.positions.push_back(p.cast<float>());
-        cloud.normals.push_back(n.cast<float>());
-        cloud.colors.push_back({static_cast<std::uint8_t>(std::lround(c.x())),
-                                static_cast<std::uint8_t>(std::lround(c.y())),
-                                static_cast<std::uint8_t>(std::lround(c.z()))});
-        cloud.confidence.push_back(static_cast<float>(independent));
+      for (int y = y0; y < y1; ++y) {
+        for (int x = 0; x < w; ++x) fuse_pixel(views, rows[y - y0][x], rules, r, used, cloud);
       }
     }
     reporter.advance();

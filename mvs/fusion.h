@@ -8,7 +8,10 @@
 // exactly two such views agree on survives under the two_view_* rules.
 // Agreeing pixels are merged into one point (averaged position, normal and
 // colour) and marked used, so every surface point is emitted once; the number
-// of distinct agreeing viewpoints is its confidence.
+// of distinct agreeing viewpoints is its confidence. Density control: a
+// point also claims its pixels' neighbours within fusion_spacing_px that lie
+// on the same surface, so at photo resolution a surface gets one point per
+// few pixels rather than one per pixel.
 #pragma once
 
 #include <vector>
@@ -31,6 +34,8 @@ struct FusionView {
 
 FusionView make_fusion_view(const MvsView& view, DepthMap map);
 
-PointCloud fuse_depth_maps(const std::vector<FusionView>& views, const MvsOptions& options, Reporter& reporter);
+PointCloud fuse_depth_maps(const std::vector<FusionView>& views,
+                           const MvsOptions& options,
+                           Reporter& reporter);
 
 }  // namespace hos::mvs

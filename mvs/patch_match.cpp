@@ -26,16 +26,48 @@ struct Plane {
   Eigen::Vector3f normal = Eigen::Vector3f(0, 0, -1);  // reference camera frame
 };
 
+// Cost of a textureless pixel in a PlaneMap (no plane can be scored there;
+// 2 is the worst cost of a scored one).
+constexpr float kTextureless = 3.0f;
+
 // Largest window: radius 15 (the option's bound), every pixel.
 constexpr int kMaxWindow = 31 * 31;
 
+// A plane's cost: the photometric part (mean 1 - NCC of the best K views)
+// and the one planes compete on, which adds the neighbours' geometric vote
+// capped at the detail restoration margin (so a plane whose photometric
+// cost is better by more than the margin wins against the vote).
+struct Cost {
+  float effective = 2.0f;
+  float photo = 2.0f;
+};
+
+// A source view's coarser depth map relative to the reference camera.
+struct PriorFrame {
+  const DepthPrior* prior = nullptr;
+  Eigen::Matrix3f R;  // prior_cam_from_ref_cam
+  Eigen::Vector3f t;
+  Eigen::Matrix3f K, K_inv;
+  Eigen::Matrix3f R_back;  // ref_cam_from_prior_cam
+  Eigen::Vector3f t_back;
+};
+
 class PatchMatcher {
  public:
-  PatchMatcher(const MvsView& ref, const std::vector<const MvsView*>& sources, double depth_min,
-               double depth_max, const MvsOptions& options)
-      : ref_(ref), sources_(sources), options_(options), inv_min_(1.0 / depth_max), inv_max_(1.0 / depth_min) {
+  PatchMatcher(const MvsView& ref,
+               const std::vector<const MvsView*>& sources,
+               double depth_min,
+               double depth_max,
+               const MvsOptions& options,
+               const std::vector<const DepthPrior*>& priors = {})
+      : ref_(ref),
+        sources_(sources),
+        options_(options),
+        inv_min_(1.0 / depth_max),
+        inv_max_(1.0 / depth_min) {
     for (int dy = -options.window_radius; dy <= options.window_radius; dy += options.window_step) {
-      for (int dx = -options.window_radius; dx <= options.window_radius; dx += options.window_step) {
+      for (int dx = -options.window_radius; dx <= options.window_radius;
+           dx += options.window_step) {
         offsets_.emplace_back(dx, dy);
         offset_x_.push_back(float(dx));
         offset_y_.push_back(float(dy));
@@ -46,13 +78,17 @@ class PatchMatcher {
       const Eigen::Vector3d t_rel = s->t - r_rel * ref.t;
       relative_.push_back({(s->K * r_rel * ref.K_inv).cast<float>(), (s->K * t_rel).cast<float>()});
     }
+    prepare_priors(priors);
     const int w = ref.width(), h = ref.height();
     planes_.resize(std::size_t(w) * h);
     costs_.assign(std::size_t(w) * h, 2.0f);
+    photo_.assign(std::size_t(w) * h, 2.0f);
     changed_.assign(std::size_t(w) * h, -1);
+    settled_.assign(std::size_t(w) * h, 0);
     prepare_windows();
   }
 
+  // Coarsest level: random planes, the sparse points' depths where they project.
   void initialise(const std::vector<Eigen::Vector3d>& seeds) {
     const int w = ref_.width(), h = ref_.height();
 #pragma omp parallel for schedule(dynamic, 4)
@@ -62,34 +98,51 @@ class PatchMatcher {
         planes_[i] = random_plane(x, y, i * 7919u);
       }
     }
-    // Sparse points: their depth, fronto-parallel, on a 3x3 neighbourhood.
-    for (const auto& p : seeds) {
-      const Eigen::Vector3d xc = ref_.R * p + ref_.t;
-      if (xc.z() <= 0) continue;
-      const Eigen::Vector3d uv = ref_.K * xc / xc.z();
-      const int px = static_cast<int>(uv.x()), py = static_cast<int>(uv.y());
-      for (int dy = -1; dy <= 1; ++dy) {
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int x = px + dx, y = py + dy;
-          if (x < 0 || y < 0 || x >= w || y >= h) continue;
-          Plane& plane = planes_[std::size_t(y) * w + x];
-          plane.depth = static_cast<float>(xc.z());
-          plane.normal = -ray(x, y).normalized().cast<float>();
+    for_seed_pixels(
+        seeds, [&](int x, int y, const Plane& seed) { planes_[std::size_t(y) * w + x] = seed; });
+    score_all();
+  }
+
+  // Finer level: each pixel starts from the plane of the coarse pixel it
+  // lies in, re-intersected with its own ray; pixels where that plane
+  // matches well are settled and left alone by the sweeps.
+  void initialise_from(const PlaneMap& coarse, const std::vector<Eigen::Vector3d>& seeds) {
+    const int w = ref_.width(), h = ref_.height();
+    const Eigen::Matrix3d coarse_K_inv = coarse.K.inverse();
+    const double sx = double(coarse.depth.cols) / w, sy = double(coarse.depth.rows) / h;
+#pragma omp parallel for schedule(dynamic, 4)
+    for (int y = 0; y < h; ++y) {
+      const int cy = std::min(static_cast<int>((y + 0.5) * sy), coarse.depth.rows - 1);
+      for (int x = 0; x < w; ++x) {
+        const int cx = std::min(static_cast<int>((x + 0.5) * sx), coarse.depth.cols - 1);
+        const std::size_t i = std::size_t(y) * w + x;
+        const cv::Vec3f cn = coarse.normal.at<cv::Vec3f>(cy, cx);
+        const Eigen::Vector3d n(cn[0], cn[1], cn[2]);
+        const Eigen::Vector3d on_plane = coarse_K_inv * Eigen::Vector3d(cx + 0.5, cy + 0.5, 1.0) *
+                                         coarse.depth.at<float>(cy, cx);
+        const double denom = n.dot(ray(x, y));
+        const double depth = std::abs(denom) > 1e-9 ? n.dot(on_plane) / denom : 0.0;
+        if (depth > 0.5 / inv_max_ && depth < 2.0 / inv_min_) {
+          planes_[i].depth = static_cast<float>(depth);
+          planes_[i].normal = n.cast<float>();
+        } else {
+          planes_[i] = random_plane(x, y, i * 7919u);
         }
       }
     }
-#pragma omp parallel for schedule(dynamic, 4)
-    for (int y = 0; y < h; ++y) {
-      for (int x = 0; x < w; ++x) {
-        const std::size_t i = std::size_t(y) * w + x;
-        costs_[i] = cost(x, y, planes_[i]);
-      }
-    }
+    score_all();
+    const float settled_cost = static_cast<float>(options_.refine_settled_cost);
+    for (std::size_t i = 0; i < photo_.size(); ++i) settled_[i] = photo_[i] <= settled_cost;
+    for_seed_pixels(seeds, [&](int x, int y, const Plane& seed) {
+      const std::size_t i = std::size_t(y) * w + x;
+      Tried tried;
+      if (!settled_[i]) try_plane(x, y, i, seed, tried);
+    });
   }
 
-  void iterate(int iteration, Reporter& reporter) {
+  // One red-black sweep; scale shrinks the random perturbations.
+  void iterate(int iteration, double scale, Reporter& reporter) {
     const int w = ref_.width(), h = ref_.height();
-    const double scale = 1.0 / (1 << iteration);
     for (int colour = 0; colour < 2; ++colour) {
       reporter.throw_if_cancelled();
 #pragma omp parallel for schedule(dynamic, 2)
@@ -99,31 +152,33 @@ class PatchMatcher {
     }
   }
 
-  DepthMap result(PatchMatchStats* stats) const {
+  PlaneMap planes() const {
     const int w = ref_.width(), h = ref_.height();
-    DepthMap map;
-    map.depth = cv::Mat::zeros(h, w, CV_32F);
-    map.normal = cv::Mat::zeros(h, w, CV_32FC3);
+    PlaneMap map;
+    map.depth = cv::Mat(h, w, CV_32F);
+    map.normal = cv::Mat(h, w, CV_32FC3);
     map.cost = cv::Mat(h, w, CV_32F);
-    const Eigen::Matrix3f r_world = ref_.R.transpose().cast<float>();
-    PatchMatchStats s;
+    map.K = ref_.K;
     for (int y = 0; y < h; ++y) {
       for (int x = 0; x < w; ++x) {
         const std::size_t i = std::size_t(y) * w + x;
-        map.cost.at<float>(y, x) = costs_[i];
-        if (!textured_[i]) {
-          ++s.textureless_pixels;
-          continue;
-        }
-        if (!(costs_[i] <= options_.max_cost)) continue;
         map.depth.at<float>(y, x) = planes_[i].depth;
-        const Eigen::Vector3f n = r_world * planes_[i].normal;
+        const Eigen::Vector3f& n = planes_[i].normal;
         map.normal.at<cv::Vec3f>(y, x) = cv::Vec3f(n.x(), n.y(), n.z());
-        ++s.valid_pixels;
+        map.cost.at<float>(y, x) = textured_[i] ? photo_[i] : kTextureless;
       }
     }
-    if (stats) *stats = s;
     return map;
+  }
+
+  void add_refinement_stats(PatchMatchStats& stats) const {
+    for (std::size_t i = 0; i < settled_.size(); ++i) {
+      stats.refined_pixels += textured_[i] && !settled_[i];
+      // The vote was capped: the plane's own photometric cost won.
+      stats.restored_pixels +=
+          has_priors_ && textured_[i] && photo_[i] < 2.0f &&
+          costs_[i] >= photo_[i] + float(options_.detail_restore_margin) - 1e-6f;
+    }
   }
 
  private:
@@ -136,7 +191,92 @@ class PatchMatcher {
   };
 
   // Viewing ray of pixel (x, y) with z = 1.
-  Eigen::Vector3d ray(int x, int y) const { return ref_.K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1.0); }
+  Eigen::Vector3d ray(int x, int y) const {
+    return ref_.K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1.0);
+  }
+
+  // Calls f(x, y, plane) for the 3x3 pixels around each sparse point's
+  // projection: its depth, fronto-parallel.
+  template <typename F>
+  void for_seed_pixels(const std::vector<Eigen::Vector3d>& seeds, F&& f) const {
+    const int w = ref_.width(), h = ref_.height();
+    for (const auto& p : seeds) {
+      const Eigen::Vector3d xc = ref_.R * p + ref_.t;
+      if (xc.z() <= 0) continue;
+      const Eigen::Vector3d uv = ref_.K * xc / xc.z();
+      const int px = static_cast<int>(uv.x()), py = static_cast<int>(uv.y());
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int x = px + dx, y = py + dy;
+          if (x < 0 || y < 0 || x >= w || y >= h) continue;
+          Plane seed;
+          seed.depth = static_cast<float>(xc.z());
+          seed.normal = -ray(x, y).normalized().cast<float>();
+          f(x, y, seed);
+        }
+      }
+    }
+  }
+
+  void score_all() {
+    const int w = ref_.width(), h = ref_.height();
+#pragma omp parallel for schedule(dynamic, 4)
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const std::size_t i = std::size_t(y) * w + x;
+        const Cost c = cost(x, y, planes_[i]);
+        costs_[i] = c.effective;
+        photo_[i] = c.photo;
+      }
+    }
+  }
+
+  // The coarser depth maps of the sources in the reference camera's frame;
+  // geometric errors are measured in the coarse level's pixels.
+  void prepare_priors(const std::vector<const DepthPrior*>& priors) {
+    priors_.assign(sources_.size(), PriorFrame{});
+    for (std::size_t s = 0; s < priors.size() && s < sources_.size(); ++s) {
+      const DepthPrior* p = priors[s];
+      if (!p || p->depth.empty()) continue;
+      PriorFrame& f = priors_[s];
+      f.prior = p;
+      const Eigen::Matrix3d r = p->R * ref_.R.transpose();
+      f.R = r.cast<float>();
+      f.t = (p->t - r * ref_.t).cast<float>();
+      f.R_back = r.transpose().cast<float>();
+      f.t_back = (-(r.transpose() * (p->t - r * ref_.t))).cast<float>();
+      f.K = p->K.cast<float>();
+      f.K_inv = p->K.inverse().cast<float>();
+      geometric_pixel_ = static_cast<float>(p->K(0, 0) / ref_.K(0, 0));
+      has_priors_ = true;
+    }
+  }
+
+  // ACMM's forward-backward reprojection error of the point x_ref (reference
+  // camera frame) through source s's coarser depth map, in coarse pixels,
+  // as a cost: options.geometric_weight at options.geometric_max_error_px
+  // and beyond (also where that map has no depth).
+  float geometric_cost(int s, const Eigen::Vector3f& x_ref, int x, int y) const {
+    const PriorFrame& f = priors_[s];
+    if (!f.prior) return 0.0f;
+    const float weight = static_cast<float>(options_.geometric_weight);
+    const float max_error = static_cast<float>(options_.geometric_max_error_px);
+    const Eigen::Vector3f xp = f.R * x_ref + f.t;
+    if (!(xp.z() > 0)) return weight;
+    const Eigen::Vector3f uv = f.K * xp / xp.z();
+    const int qx = static_cast<int>(std::floor(uv.x())), qy = static_cast<int>(std::floor(uv.y()));
+    const cv::Mat& depth = f.prior->depth;
+    if (qx < 0 || qy < 0 || qx >= depth.cols || qy >= depth.rows) return weight;
+    const float d = depth.at<float>(qy, qx);
+    if (!(d > 0)) return weight;
+    const Eigen::Vector3f back =
+        f.R_back * (f.K_inv * Eigen::Vector3f(qx + 0.5f, qy + 0.5f, 1.0f) * d) + f.t_back;
+    if (!(back.z() > 0)) return weight;
+    const Eigen::Vector3f ref_uv = ref_.K.cast<float>() * back / back.z();
+    const float error =
+        (ref_uv.head<2>() - Eigen::Vector2f(x + 0.5f, y + 0.5f)).norm() * geometric_pixel_;
+    return weight * std::min(error, max_error) / max_error;
+  }
 
   Plane random_plane(int x, int y, std::uint64_t seed) const {
     Plane p;
@@ -175,7 +315,8 @@ class PatchMatcher {
     const int r = options_.window_radius;
     const double r2 = double(r) * r;
     std::vector<float> spatial(k);
-    for (std::size_t j = 0; j < k; ++j) spatial[j] = static_cast<float>(-offsets_[j].squaredNorm() / (2.0 * r2));
+    for (std::size_t j = 0; j < k; ++j)
+      spatial[j] = static_cast<float>(-offsets_[j].squaredNorm() / (2.0 * r2));
     const float inv_sigma = static_cast<float>(1.0 / options_.sigma_color);
 #pragma omp parallel for schedule(static)
     for (int y = r; y < h - r; ++y) {
@@ -210,8 +351,13 @@ class PatchMatcher {
   // the image or lies behind the camera. Three passes over the window so the
   // compiler vectorises the projection and the sums; only the bilinear
   // lookups stay scalar.
-  float view_cost(int x, int y, const Eigen::Matrix3f& H, const MvsView& src, const float* wts,
-                  const float* centred, float var_r) const {
+  float view_cost(int x,
+                  int y,
+                  const Eigen::Matrix3f& H,
+                  const MvsView& src,
+                  const float* wts,
+                  const float* centred,
+                  float var_r) const {
     const int r = options_.window_radius, step = options_.window_step;
     const float W = static_cast<float>(src.width() - 1), Hh = static_cast<float>(src.height() - 1);
     const Eigen::Vector3f centre = H * Eigen::Vector3f(x + 0.5f, y + 0.5f, 1.0f);
@@ -234,14 +380,16 @@ class PatchMatcher {
     const int stride = static_cast<int>(src.gray.step1());
     alignas(64) int index[kMaxWindow];
     alignas(64) float fx[kMaxWindow], fy[kMaxWindow], value[kMaxWindow];
-    const float h00 = H(0, 0), h01 = H(0, 1), h10 = H(1, 0), h11 = H(1, 1), h20 = H(2, 0), h21 = H(2, 1);
+    const float h00 = H(0, 0), h01 = H(0, 1), h10 = H(1, 0), h11 = H(1, 1), h20 = H(2, 0),
+                h21 = H(2, 1);
 #pragma omp simd
     for (int j = 0; j < k; ++j) {
       const float mx = centre.x() + ox[j] * h00 + oy[j] * h01;
       const float my = centre.y() + ox[j] * h10 + oy[j] * h11;
       const float iz = 1.0f / (centre.z() + ox[j] * h20 + oy[j] * h21);
       const float u = mx * iz - 0.5f, v = my * iz - 0.5f;
-      const int x0 = std::min(static_cast<int>(u), max_x), y0 = std::min(static_cast<int>(v), max_y);
+      const int x0 = std::min(static_cast<int>(u), max_x),
+                y0 = std::min(static_cast<int>(v), max_y);
       fx[j] = u - static_cast<float>(x0);
       fy[j] = v - static_cast<float>(y0);
       index[j] = y0 * stride + x0;
@@ -268,37 +416,61 @@ class PatchMatcher {
     return 1.0f - cov / std::sqrt(var_r * var_s);
   }
 
-  // Aggregated cost of plane at pixel (x, y): mean of the best K source costs.
+  // Cost of plane at pixel (x, y): the mean of the best K source views,
+  // each scored by its 1 - NCC plus (finer levels) its geometric vote.
   // Stops early, returning a lower bound >= to_beat, once the views still to
-  // be scored (each at best 0) cannot bring the mean of the best K below it.
-  float cost(int x, int y, const Plane& plane, float to_beat = 3.0f) const {
+  // be scored (each at best 0) cannot bring the cost below it.
+  Cost cost(int x, int y, const Plane& plane, float to_beat = 3.0f) const {
     const std::size_t i = std::size_t(y) * ref_.width() + x;
-    if (!textured_[i] || !(plane.depth > 0)) return 2.0f;
+    if (!textured_[i] || !(plane.depth > 0)) return {};
     const std::size_t k = offsets_.size();
     const Eigen::Vector3d n = plane.normal.cast<double>();
-    const double nd = n.dot(ray(x, y) * plane.depth);
-    if (std::abs(nd) < 1e-12) return 2.0f;
+    const Eigen::Vector3d x_ref = ray(x, y) * plane.depth;
+    const double nd = n.dot(x_ref);
+    if (std::abs(nd) < 1e-12) return {};
     const Eigen::Vector3f m = (ref_.K_inv.transpose() * n / nd).cast<float>();
     const int nsrc = static_cast<int>(std::min<std::size_t>(sources_.size(), 32));
-    if (nsrc == 0) return 2.0f;
+    if (nsrc == 0) return {};
     const int best = std::min(options_.best_k, nsrc);
-    float sorted[32];  // the view costs so far, ascending
+    const float margin = static_cast<float>(options_.detail_restore_margin);
+    // The view costs so far (photometric + geometric, and photometric
+    // alone) in ascending order of the former, and the photometric ones
+    // ascending on their own for the early-exit bound.
+    float sorted[32], sorted_photo[32], photo_only[32];
     for (int s = 0; s < nsrc; ++s) {
       const Eigen::Matrix3f H = relative_[s].A + relative_[s].b * m.transpose();
-      const float c = view_cost(x, y, H, *sources_[s], &weights_[i * k], &centred_[i * k], ref_var_[i]);
+      const float photo =
+          view_cost(x, y, H, *sources_[s], &weights_[i * k], &centred_[i * k], ref_var_[i]);
+      const float c = photo + (has_priors_ ? geometric_cost(s, x_ref.cast<float>(), x, y) : 0.0f);
       int j = s;
-      for (; j > 0 && sorted[j - 1] > c; --j) sorted[j] = sorted[j - 1];
+      for (; j > 0 && sorted[j - 1] > c; --j) {
+        sorted[j] = sorted[j - 1];
+        sorted_photo[j] = sorted_photo[j - 1];
+      }
       sorted[j] = c;
-      const int known = best - (nsrc - 1 - s);  // best-K members that must be among the scored views
+      sorted_photo[j] = photo;
+      j = s;
+      for (; j > 0 && photo_only[j - 1] > photo; --j) photo_only[j] = photo_only[j - 1];
+      photo_only[j] = photo;
+      const int known =
+          best - (nsrc - 1 - s);  // best-K members that must be among the scored views
       if (known > 0 && s + 1 < nsrc) {
-        float bound = 0;
-        for (int b = 0; b < known; ++b) bound += sorted[b];
-        if (bound / best >= to_beat) return bound / best;
+        float bound = 0, photo_bound = 0;
+        for (int b = 0; b < known; ++b) {
+          bound += sorted[b];
+          photo_bound += photo_only[b];
+        }
+        const float lower = std::min(bound, photo_bound + margin * best) / best;
+        if (lower >= to_beat) return {lower, lower};
       }
     }
-    float sum = 0;
-    for (int s = 0; s < best; ++s) sum += sorted[s];
-    return sum / best;
+    float sum = 0, photo_sum = 0;
+    for (int s = 0; s < best; ++s) {
+      sum += sorted[s];
+      photo_sum += sorted_photo[s];
+    }
+    const float photo = photo_sum / best;
+    return {has_priors_ ? std::min(sum / best, photo + margin) : photo, photo};
   }
 
   // Planes already scored at one pixel during one update. Neighbours on the
@@ -310,7 +482,8 @@ class PatchMatcher {
     int count = 0;
     bool contains(const Plane& p) const {
       for (int j = 0; j < count; ++j) {
-        if (std::abs(planes[j].depth - p.depth) <= 1e-5f * p.depth && planes[j].normal.dot(p.normal) >= 0.99999f) {
+        if (std::abs(planes[j].depth - p.depth) <= 1e-5f * p.depth &&
+            planes[j].normal.dot(p.normal) >= 0.99999f) {
           return true;
         }
       }
@@ -323,11 +496,13 @@ class PatchMatcher {
 
   // Scores candidate at pixel i and keeps it if it is better; true if kept.
   bool try_plane(int x, int y, std::size_t i, const Plane& candidate, Tried& tried) {
-    if (!(candidate.depth > 0) || !std::isfinite(candidate.depth) || tried.contains(candidate)) return false;
+    if (!(candidate.depth > 0) || !std::isfinite(candidate.depth) || tried.contains(candidate))
+      return false;
     tried.add(candidate);
-    const float c = cost(x, y, candidate, costs_[i]);
-    if (!(c < costs_[i])) return false;
-    costs_[i] = c;
+    const Cost c = cost(x, y, candidate, costs_[i]);
+    if (!(c.effective < costs_[i])) return false;
+    costs_[i] = c.effective;
+    photo_[i] = c.photo;
     planes_[i] = candidate;
     return true;
   }
@@ -335,7 +510,7 @@ class PatchMatcher {
   void update(int x, int y, int iteration, int colour, double scale) {
     const int w = ref_.width(), h = ref_.height();
     const std::size_t i = std::size_t(y) * w + x;
-    if (!textured_[i]) return;
+    if (!textured_[i] || settled_[i]) return;
     Tried tried;
     tried.add(planes_[i]);
     bool changed = false;
@@ -345,7 +520,8 @@ class PatchMatcher {
     // sweep's colour-1 pass, colour 1 before this sweep's colour-0 pass.
     const int unchanged_before = colour == 0 ? iteration - 1 : iteration;
     // Propagation from the neighbours of the other colour (distance 1 and 3).
-    static constexpr int kNeighbours[8][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}, {-3, 0}, {3, 0}, {0, -3}, {0, 3}};
+    static constexpr int kNeighbours[8][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1},
+                                              {-3, 0}, {3, 0}, {0, -3}, {0, 3}};
     for (const auto& o : kNeighbours) {
       const int nx = x + o[0], ny = y + o[1];
       if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
@@ -368,7 +544,8 @@ class PatchMatcher {
     Plane perturbed = current;
     const double range = (1.0 / inv_min_ - 1.0 / inv_max_) * 0.05 * scale;
     perturbed.depth = static_cast<float>(current.depth + (random_unit(seed) * 2 - 1) * range);
-    const Eigen::Vector3d dn(random_unit(seed + 1) - 0.5, random_unit(seed + 2) - 0.5, random_unit(seed + 3) - 0.5);
+    const Eigen::Vector3d dn(random_unit(seed + 1) - 0.5, random_unit(seed + 2) - 0.5,
+                             random_unit(seed + 3) - 0.5);
     perturbed.normal = facing_camera(current.normal.cast<double>() + 0.6 * scale * dn, x, y);
     changed |= try_plane(x, y, i, perturbed, tried);
     Plane depth_only = current;
@@ -389,22 +566,30 @@ class PatchMatcher {
   std::vector<float> offset_x_, offset_y_;
   std::vector<Relative> relative_;
   std::vector<Plane> planes_;
-  std::vector<float> costs_;
+  std::vector<float> costs_;          // Cost::effective
+  std::vector<float> photo_;          // Cost::photo
   std::vector<std::int8_t> changed_;  // sweep in which the pixel's plane last changed, -1: never
   std::vector<float> weights_, centred_, ref_var_;
   std::vector<char> textured_;
+  std::vector<char> settled_;  // finer levels: the upsampled plane matched well, no sweeps
+  std::vector<PriorFrame> priors_;
+  bool has_priors_ = false;
+  float geometric_pixel_ = 1.0f;  // coarse pixels per reference pixel
 };
 
 }  // namespace
 
-MvsView load_view(const UndistortedWorkspace& workspace, const ImageRecord& image, int max_image_size) {
+MvsView load_view(const UndistortedWorkspace& workspace,
+                  const ImageRecord& image,
+                  int max_image_size) {
   const auto path = workspace.image_path(image);
   cv::Mat color = cv::imread(path.string(), cv::IMREAD_COLOR);
   if (color.empty()) throw InputError(path.string(), "cannot read the image");
   const Camera& camera = workspace.model.camera_of(image);
   if (color.cols != camera.width || color.rows != camera.height) {
-    throw InputError(path.string(), "image is " + std::to_string(color.cols) + "x" + std::to_string(color.rows) +
-                                        " but its camera says " + std::to_string(camera.width) + "x" +
+    throw InputError(path.string(), "image is " + std::to_string(color.cols) + "x" +
+                                        std::to_string(color.rows) + " but its camera says " +
+                                        std::to_string(camera.width) + "x" +
                                         std::to_string(camera.height));
   }
   const double scale = std::min(1.0, double(max_image_size) / std::max(color.cols, color.rows));
@@ -431,13 +616,97 @@ MvsView load_view(const UndistortedWorkspace& workspace, const ImageRecord& imag
   return view;
 }
 
-DepthMap estimate_depth_map(const MvsView& ref, const std::vector<const MvsView*>& sources, double depth_min,
-                            double depth_max, const std::vector<Eigen::Vector3d>& seed_points,
-                            const MvsOptions& options, Reporter& reporter, PatchMatchStats* stats) {
+MvsView downscale_view(const MvsView& view, int max_image_size) {
+  const double scale =
+      std::min(1.0, double(max_image_size) / std::max(view.width(), view.height()));
+  if (scale >= 1.0) return view;
+  MvsView small = view;
+  cv::resize(view.color, small.color, cv::Size(), scale, scale, cv::INTER_AREA);
+  cv::resize(view.gray, small.gray, small.color.size(), 0, 0, cv::INTER_AREA);
+  // Exact scale per axis after rounding, so pixel edges keep matching.
+  small.K.row(0) *= double(small.color.cols) / view.color.cols;
+  small.K.row(1) *= double(small.color.rows) / view.color.rows;
+  small.K_inv = small.K.inverse();
+  return small;
+}
+
+PlaneMap match_planes(const MvsView& ref,
+                      const std::vector<const MvsView*>& sources,
+                      double depth_min,
+                      double depth_max,
+                      const std::vector<Eigen::Vector3d>& seed_points,
+                      const MvsOptions& options,
+                      Reporter& reporter) {
   PatchMatcher matcher(ref, sources, depth_min, depth_max, options);
   matcher.initialise(seed_points);
-  for (int it = 0; it < options.iterations; ++it) matcher.iterate(it, reporter);
-  return matcher.result(stats);
+  for (int it = 0; it < options.iterations; ++it) matcher.iterate(it, 1.0 / (1 << it), reporter);
+  return matcher.planes();
+}
+
+PlaneMap refine_planes(const MvsView& ref,
+                       const std::vector<const MvsView*>& sources,
+                       const std::vector<const DepthPrior*>& priors,
+                       const PlaneMap& coarse,
+                       double depth_min,
+                       double depth_max,
+                       const std::vector<Eigen::Vector3d>& seed_points,
+                       const MvsOptions& options,
+                       Reporter& reporter,
+                       PatchMatchStats* stats) {
+  PatchMatcher matcher(ref, sources, depth_min, depth_max, options, priors);
+  matcher.initialise_from(coarse, seed_points);
+  // Perturbations continue from where the coarse level's sweeps stopped.
+  for (int it = 0; it < options.refine_iterations; ++it) {
+    matcher.iterate(it, 1.0 / (1 << (options.iterations + it)), reporter);
+  }
+  if (stats) matcher.add_refinement_stats(*stats);
+  return matcher.planes();
+}
+
+DepthMap to_depth_map(const PlaneMap& planes,
+                      const MvsView& ref,
+                      const MvsOptions& options,
+                      PatchMatchStats* stats) {
+  const int w = planes.depth.cols, h = planes.depth.rows;
+  DepthMap map;
+  map.depth = cv::Mat::zeros(h, w, CV_32F);
+  map.normal = cv::Mat::zeros(h, w, CV_32FC3);
+  map.cost = planes.cost.clone();
+  const Eigen::Matrix3f r_world = ref.R.transpose().cast<float>();
+  PatchMatchStats s;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const float c = planes.cost.at<float>(y, x);
+      if (c == kTextureless) {
+        ++s.textureless_pixels;
+        continue;
+      }
+      if (!(c <= options.max_cost)) continue;
+      map.depth.at<float>(y, x) = planes.depth.at<float>(y, x);
+      const cv::Vec3f nc = planes.normal.at<cv::Vec3f>(y, x);
+      const Eigen::Vector3f n = r_world * Eigen::Vector3f(nc[0], nc[1], nc[2]);
+      map.normal.at<cv::Vec3f>(y, x) = cv::Vec3f(n.x(), n.y(), n.z());
+      ++s.valid_pixels;
+    }
+  }
+  if (stats) {
+    stats->valid_pixels = s.valid_pixels;
+    stats->textureless_pixels = s.textureless_pixels;
+  }
+  return map;
+}
+
+DepthMap estimate_depth_map(const MvsView& ref,
+                            const std::vector<const MvsView*>& sources,
+                            double depth_min,
+                            double depth_max,
+                            const std::vector<Eigen::Vector3d>& seed_points,
+                            const MvsOptions& options,
+                            Reporter& reporter,
+                            PatchMatchStats* stats) {
+  return to_depth_map(
+      match_planes(ref, sources, depth_min, depth_max, seed_points, options, reporter), ref,
+      options, stats);
 }
 
 }  // namespace hos::mvs

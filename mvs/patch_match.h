@@ -35,7 +35,28 @@ struct MvsView {
 
 // Loads and downscales an image of the workspace. Throws InputError naming
 // the file if it cannot be read or its size disagrees with its camera.
-MvsView load_view(const UndistortedWorkspace& workspace, const ImageRecord& image, int max_image_size);
+MvsView load_view(const UndistortedWorkspace& workspace,
+                  const ImageRecord& image,
+                  int max_image_size);
+
+// Every pixel's plane at one level, reliable or not (a finer level starts
+// from it): depth along the camera z axis, normal in the reference camera's
+// frame, photometric cost (aggregated 1 - NCC; 2 where textureless).
+struct PlaneMap {
+  cv::Mat depth;                                    // CV_32F
+  cv::Mat normal;                                   // CV_32FC3
+  cv::Mat cost;                                     // CV_32F
+  Eigen::Matrix3d K = Eigen::Matrix3d::Identity();  // of the level
+};
+
+// A neighbouring view's depth map at a coarser level, voting on the finer
+// levels' geometry (multi-view geometric consistency, as in ACMM).
+struct DepthPrior {
+  Eigen::Matrix3d K = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // cam_from_world
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  cv::Mat depth;  // CV_32F, 0 = no estimate
+};
 
 // A reference view's result; depth 0 marks pixels without a reliable estimate.
 struct DepthMap {
@@ -47,12 +68,60 @@ struct DepthMap {
 struct PatchMatchStats {
   std::size_t valid_pixels = 0;
   std::size_t textureless_pixels = 0;
+  std::size_t refined_pixels = 0;  // finer levels: pixels the sweeps revisited
+  std::size_t restored_pixels =
+      0;  // finer levels: kept their own plane against the neighbours' vote
 };
 
-// Estimates the depth map of ref against sources within [depth_min, depth_max];
-// seed_points (world) are sparse points used to initialise nearby pixels.
-DepthMap estimate_depth_map(const MvsView& ref, const std::vector<const MvsView*>& sources, double depth_min,
-                            double depth_max, const std::vector<Eigen::Vector3d>& seed_points,
-                            const MvsOptions& options, Reporter& reporter, PatchMatchStats* stats = nullptr);
+// The view at a smaller size (longest side at most max_image_size).
+MvsView downscale_view(const MvsView& view, int max_image_size);
+
+// Full PatchMatch (random initialisation, options.iterations sweeps of
+// propagation and random refinement) of ref against sources within
+// [depth_min, depth_max]; seed_points (world) are sparse points used to
+// initialise nearby pixels.
+PlaneMap match_planes(const MvsView& ref,
+                      const std::vector<const MvsView*>& sources,
+                      double depth_min,
+                      double depth_max,
+                      const std::vector<Eigen::Vector3d>& seed_points,
+                      const MvsOptions& options,
+                      Reporter& reporter);
+
+// A finer level: coarse's planes upsampled to ref's size and refined with
+// options.refine_iterations sweeps. Pixels whose upsampled plane matches
+// well (cost at most options.refine_settled_cost) keep it; the others get
+// propagation, perturbation and random planes. priors[s] (may be null) is
+// source s's coarser depth map: a plane that disagrees with it pays up to
+// options.geometric_weight per view (ACMM's geometric consistency), unless
+// its own photometric cost beats the current plane's by
+// options.detail_restore_margin (a thin structure the coarse maps missed).
+PlaneMap refine_planes(const MvsView& ref,
+                       const std::vector<const MvsView*>& sources,
+                       const std::vector<const DepthPrior*>& priors,
+                       const PlaneMap& coarse,
+                       double depth_min,
+                       double depth_max,
+                       const std::vector<Eigen::Vector3d>& seed_points,
+                       const MvsOptions& options,
+                       Reporter& reporter,
+                       PatchMatchStats* stats = nullptr);
+
+// The reliable part of a plane map (cost at most options.max_cost, normals
+// in the world frame).
+DepthMap to_depth_map(const PlaneMap& planes,
+                      const MvsView& ref,
+                      const MvsOptions& options,
+                      PatchMatchStats* stats = nullptr);
+
+// Single-scale: to_depth_map(match_planes(...)).
+DepthMap estimate_depth_map(const MvsView& ref,
+                            const std::vector<const MvsView*>& sources,
+                            double depth_min,
+                            double depth_max,
+                            const std::vector<Eigen::Vector3d>& seed_points,
+                            const MvsOptions& options,
+                            Reporter& reporter,
+                            PatchMatchStats* stats = nullptr);
 
 }  // namespace hos::mvs

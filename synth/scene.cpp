@@ -221,6 +221,40 @@ void place(TriangleMesh& m, const Eigen::Matrix3f& R, const Eigen::Vector3f& t) 
   for (Eigen::Vector3f& v : m.vertices) v = R * v + t;
 }
 
+void append(TriangleMesh& to, const TriangleMesh& m) {
+  const int offset = static_cast<int>(to.vertices.size());
+  to.vertices.insert(to.vertices.end(), m.vertices.begin(), m.vertices.end());
+  for (const Eigen::Vector3i& f : m.faces)
+    to.faces.push_back(f + Eigen::Vector3i::Constant(offset));
+}
+
+// A round railing: kRailingBars upright bars of kRailingBarWidth square
+// section on a circle, between two rings as thick, centred at the origin, so
+// every view of a ring around it sees bars across the photo. All of it is
+// thin structure: with the railing filling the photo, a bar is about 3
+// pixels wide in a 2048-pixel photo and under one pixel at 640.
+constexpr int kRailingBars = 20;
+constexpr float kRailingBarWidth = 0.0015f;
+TriangleMesh make_railing() {
+  const float radius = 0.5f, half_height = 0.4f;
+  TriangleMesh m;
+  for (int i = 0; i < kRailingBars; ++i) {
+    TriangleMesh bar =
+        make_rounded_box(Eigen::Vector3f(kRailingBarWidth / 2, half_height, kRailingBarWidth / 2),
+                         kRailingBarWidth / 8, 4);
+    const float a = 2 * kPi * i / kRailingBars;
+    place(bar, Eigen::AngleAxisf(-a, Eigen::Vector3f::UnitY()).toRotationMatrix(),
+          Eigen::Vector3f(radius * std::cos(a), 0.0f, radius * std::sin(a)));
+    append(m, bar);
+  }
+  for (const float y : {-half_height - kRailingBarWidth / 2, half_height + kRailingBarWidth / 2}) {
+    TriangleMesh ring = make_torus(radius, kRailingBarWidth / 2, 256, 6);
+    place(ring, Eigen::Matrix3f::Identity(), Eigen::Vector3f(0.0f, y, 0.0f));
+    append(m, ring);
+  }
+  return m;
+}
+
 Rgb8 to_srgb8(const Eigen::Vector3f& linear) {
   Rgb8 c;
   for (int k = 0; k < 3; ++k) {
@@ -236,10 +270,10 @@ Rgb8 to_srgb8(const Eigen::Vector3f& linear) {
 void SceneOptions::validate() const {
   const auto names = scene_names();
   if (std::find(names.begin(), names.end(), name) == names.end())
-    throw ConfigError("scene", "unknown scene '" + name + "' (default, rock, torus, box)");
+    throw ConfigError("scene", "unknown scene '" + name + "' (default, rock, torus, box, railing)");
 }
 
-std::vector<std::string> scene_names() { return {"default", "rock", "torus", "box"}; }
+std::vector<std::string> scene_names() { return {"default", "rock", "torus", "box", "railing"}; }
 
 Scene make_scene(const SceneOptions& options) {
   options.validate();
@@ -278,6 +312,7 @@ Scene make_scene(const SceneOptions& options) {
           all ? Eigen::Vector3f(-0.95f + jitter(rng), 0.32f, -0.35f + jitter(rng)) : Eigen::Vector3f::Zero());
     add(std::move(box), "box", 3, 0.6f);
   }
+  if (options.name == "railing") add(make_railing(), "railing", 5, 0.3f);
   BoundingBox box;
   for (const render::RenderObject& o : scene.objects)
     for (const Eigen::Vector3f& v : o.mesh.vertices) box.extend(v);

@@ -17,7 +17,8 @@ namespace hos::synth {
 
 struct SceneOptions {
   std::uint32_t seed = 1;
-  // "default" (rock, torus, box), "rock", "torus", "box".
+  // "default" (rock, torus, box), "rock", "torus", "box", "railing" (thin bars: synth/scene.cpp).
+  // "railing" (thin bars: synth/scene.cpp).
   std::string name = "default";
   bool ground_plane = false;
   void validate() const;  // throws ConfigError
@@ -28,7 +29,7 @@ struct Scene {
   std::vector<bool> is_ground;        // per object
   std::vector<std::string> names;     // per object
   Eigen::Vector3f centre = Eigen::Vector3f::Zero();  // of the non-ground objects
-  float radius = 1.0f;                // bounding sphere of the non-ground objects
+  float radius = 1.0f;                               // bounding sphere of the non-ground objects
   Eigen::Vector3f up = Eigen::Vector3f(0, -1, 0);
 };
 

@@ -5,24 +5,31 @@
 # CPU = user + system seconds of hos-mvs: steadier than the wall time when
 # other jobs share the cores.
 #   bench/mvs/run.sh [--views 24] [--width 640] [--height 480] [--max-image-size 640]
+#                    [--scene default|railing|...] [--mvs-bin DIR] [--set mvs.key=value]...
+# --mvs-bin: folder of the hos-mvs to measure (e.g. an older build), default this build's.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 bin="${HOS_BUILD_DIR:-$root/build}/bin"
-views=24 width=640 height=480 max_size=640
+views=24 width=640 height=480 max_size=640 scene=default mvs_bin="" sets=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --views) views="$2"; shift 2 ;;
     --width) width="$2"; shift 2 ;;
     --height) height="$2"; shift 2 ;;
     --max-image-size) max_size="$2"; shift 2 ;;
-    *) echo "usage: $0 [--views N] [--width W] [--height H] [--max-image-size S]" >&2; exit 2 ;;
+    --scene) scene="$2"; shift 2 ;;
+    --mvs-bin) mvs_bin="$2"; shift 2 ;;
+    --set) sets+=(--set "$2"); shift 2 ;;
+    *) echo "usage: $0 [--views N] [--width W] [--height H] [--max-image-size S] [--scene NAME] [--mvs-bin DIR] [--set K=V]..." >&2; exit 2 ;;
   esac
 done
+mvs_bin="${mvs_bin:-$bin}"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-"$bin/hos-synth" --output "$work/scene" --views "$views" --width "$width" --height "$height" --seed 1 --progress none
-/usr/bin/time -f "%e %M %U %S" -o "$work/time.txt" "$bin/hos-mvs" --workspace "$work/scene" --output "$work/points.ply" \
-  --max-image-size "$max_size" --progress none
+"$bin/hos-synth" --output "$work/scene" --scene "$scene" --views "$views" --width "$width" --height "$height" \
+  --seed 1 --progress none
+/usr/bin/time -f "%e %M %U %S" -o "$work/time.txt" "$mvs_bin/hos-mvs" --workspace "$work/scene" \
+  --output "$work/points.ply" --max-image-size "$max_size" --progress none "${sets[@]}"
 read -r seconds kb user sys < "$work/time.txt"
 cpu=$(awk -v u="$user" -v s="$sys" 'BEGIN { printf "%.1f", u + s }')
 scale=$(awk -v w="$width" -v h="$height" -v m="$max_size" 'BEGIN { s = m / (w > h ? w : h); if (s > 1) s = 1; printf "%.6f", (w * s) * (h * s) / 1e6 }')

@@ -17,43 +17,13 @@ namespace hos::mvs {
 namespace {
 
 using mvs_testing::synthetic_workspace;
+using mvs_testing::truth_at;
+using mvs_testing::TruthAtPoint;
 
 const MvsResult& mvs_result() {
   static const MvsResult result = run_mvs(synthetic_workspace().workspace, MvsOptions{}, null_reporter(),
                                           synthetic_workspace().dir->path() / "depth_maps");
   return result;
-}
-
-// Where the point lies relative to the true surface in the view that sees it
-// best: the distance along that view's ray to the rendered surface (an upper
-// bound of the distance to the surface), and the true normal there.
-struct TruthAtPoint {
-  double distance = 1e30;
-  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
-};
-
-TruthAtPoint truth_at(const Eigen::Vector3d& x) {
-  const auto& s = synthetic_workspace();
-  TruthAtPoint best;
-  std::size_t v = 0;
-  for (const auto& [id, image] : s.truth.model.images) {
-    const render::RenderedView& view = s.truth.views[v++];
-    const Camera& camera = s.truth.model.camera_of(image);
-    const Eigen::Vector3d xc = image.cam_from_world(x);
-    const auto uv = camera.project(xc);
-    if (!uv) continue;
-    const int px = static_cast<int>(uv->x()), py = static_cast<int>(uv->y());
-    if (px < 0 || py < 0 || px >= camera.width || py >= camera.height) continue;
-    const float depth = view.depth.at<float>(py, px);
-    if (!(depth > 0)) continue;
-    const double along_ray = std::abs(xc.z() - depth) * xc.norm() / xc.z();
-    if (along_ray < best.distance) {
-      best.distance = along_ray;
-      const cv::Vec3f n = view.normal.at<cv::Vec3f>(py, px);
-      best.normal = Eigen::Vector3d(n[0], n[1], n[2]);
-    }
-  }
-  return best;
 }
 
 TEST(RunMvs, FusedPointsAreAccurateAndCorrectlyOriented) {
@@ -62,7 +32,7 @@ TEST(RunMvs, FusedPointsAreAccurateAndCorrectlyOriented) {
   ASSERT_GT(points.size(), 1000u);
   std::size_t accurate = 0, oriented = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const TruthAtPoint t = truth_at(points.positions[i].cast<double>());
+    const TruthAtPoint t = truth_at(s, points.positions[i].cast<double>());
     if (t.distance < 0.005 * s.diagonal) ++accurate;
     const double angle = std::acos(std::clamp(t.normal.dot(points.normals[i].cast<double>()), -1.0, 1.0));
     if (angle < 20.0 * M_PI / 180.0) ++oriented;

@@ -2,10 +2,12 @@
 // ground-truth renderings (depth and normal maps), for the mvs tests.
 #pragma once
 
+#include <Eigen/Core>
 #include <memory>
 
 #include "core/undistorted_workspace.h"
 #include "synth/dataset.h"
+#include "synth/scene.h"
 #include "tests/support/test_support.h"
 
 namespace hos::mvs_testing {
@@ -14,10 +16,23 @@ struct SyntheticWorkspace {
   std::unique_ptr<hos::testing::TempDir> dir;
   UndistortedWorkspace workspace;
   synth::RenderedDataset truth;
+  synth::Scene scene;
   double diagonal = 0.0;  // of the objects' bounding box
 };
 
+SyntheticWorkspace make_synthetic_workspace(const synth::SceneOptions& scene_options,
+                                            const synth::DatasetOptions& options);
+
 // 12 views at 320x240 of the default scene (seed 1).
 const SyntheticWorkspace& synthetic_workspace();
+
+// Where a point lies relative to the true surface in the view that sees it
+// best: the distance along that view's ray to the rendered surface (an upper
+// bound of the distance to the surface), and the true normal there.
+struct TruthAtPoint {
+  double distance = 1e30;
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+};
+TruthAtPoint truth_at(const SyntheticWorkspace& s, const Eigen::Vector3d& x);
 
 }  // namespace hos::mvs_testing

@@ -1,0 +1,149 @@
+#!/usr/bin/env bash
+# Leave-one-out hold-out benchmark on a real photo set with true cameras
+# (Strecha et al. layout: DATA/images/*.jpg, DATA/gt_dense_cameras/<image>.camera).
+# The pipeline (hos-sfm, hos-mvs, hos-recon, hos-texture from BIN) runs on all
+# photos but one; the textured result is rendered from the held-out photo's
+# camera and compared with the photo (PSNR, SSIM over the rendered pixels,
+# coverage = rendered pixels / photo pixels), through two cameras:
+#   true        the published camera; the result is mapped onto the true
+#               cameras by a similarity over the training camera centres
+#               (this also measures COLMAP's self-calibration);
+#   registered  the held-out photo's camera from an SfM of all photos, the
+#               result mapped into that frame by a similarity over the
+#               shared cameras (measures mesh and texture).
+# Both SfM runs are made once per WORK folder and reused: run the script
+# with several BIN folders (or --set overrides, under different --label) on
+# the same WORK to compare them side by side.
+#
+#   bench/realdata/holdout.sh DATA BIN WORK [--holdout NAME] [--photos N] [--label L]
+#                             [--set stage.key=value]... [--keep] [--sfm-only]
+#
+# --holdout   photo to hold out (default: the middle one by name)
+# --photos N  use only the N photos nearest the held-out one by name (quick runs)
+# --label L   name of this run under WORK/runs/ (default: from BIN and the --set values)
+# --keep      keep the run's points and mesh (default: only model.glb and the renders)
+# --sfm-only  only make the two SfM workspaces and the camera models
+# Prints one markdown row per camera; figures also in WORK/runs/L/summary.json.
+set -euo pipefail
+usage() { sed -n '18,26p' "$0" | sed 's/^# *//' >&2; exit 2; }
+[ $# -ge 3 ] || usage
+data="$(cd "$1" && pwd)" bin="$(cd "$2" && pwd)" work="$3"
+shift 3
+holdout="" photos=0 label="" keep=0 sfm_only=0 sets=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --holdout) holdout="$2"; shift 2 ;;
+    --photos) photos="$2"; shift 2 ;;
+    --label) label="$2"; shift 2 ;;
+    --set) sets+=(--set "$2"); shift 2 ;;
+    --keep) keep=1; shift ;;
+    --sfm-only) sfm_only=1; shift ;;
+    *) usage ;;
+  esac
+done
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+for tool in hos-sfm hos-mvs hos-recon hos-texture hos-eval; do
+  [ -x "$bin/$tool" ] || { echo "$bin/$tool: missing" >&2; exit 3; }
+done
+[ -d "$data/images" ] && [ -d "$data/gt_dense_cameras" ] || {
+  echo "$data: expected images/ and gt_dense_cameras/" >&2; exit 3; }
+mkdir -p "$work"
+work="$(cd "$work" && pwd)"
+
+# The photo set: all photos (or N around the held-out one), and the training set.
+mapfile -t all < <(cd "$data/images" && ls | grep -iE '\.(jpe?g|png|tiff?)$' | sort)
+[ "${#all[@]}" -ge 4 ] || { echo "$data/images: fewer than 4 photos" >&2; exit 3; }
+[ -n "$holdout" ] || holdout="${all[$(( ${#all[@]} / 2 ))]}"
+centre=-1
+for i in "${!all[@]}"; do [ "${all[$i]}" = "$holdout" ] && centre=$i; done
+[ "$centre" -ge 0 ] || { echo "$data/images/$holdout: no such photo" >&2; exit 3; }
+if [ "$photos" -gt 0 ] && [ "$photos" -lt "${#all[@]}" ]; then
+  first=$(( centre - photos / 2 )); [ "$first" -ge 0 ] || first=0
+  [ $(( first + photos )) -le "${#all[@]}" ] || first=$(( ${#all[@]} - photos ))
+  all=("${all[@]:$first:$photos}")
+fi
+signature="$(printf '%s\n' "${all[@]}" "holdout $holdout")"
+if [ -f "$work/photos.txt" ] && [ "$(cat "$work/photos.txt")" != "$signature" ]; then
+  echo "$work: made for another photo set or held-out photo (see $work/photos.txt); use another WORK" >&2
+  exit 2
+fi
+printf '%s\n' "$signature" > "$work/photos.txt"
+for set_name in all train; do
+  mkdir -p "$work/photos-$set_name"
+  for p in "${all[@]}"; do
+    [ "$set_name" = train ] && [ "$p" = "$holdout" ] && continue
+    ln -sf "$data/images/$p" "$work/photos-$set_name/$p"
+  done
+done
+
+# SfM once per WORK (whichever BIN comes first), and the models the renders use.
+for set_name in all train; do
+  if [ ! -f "$work/sfm-$set_name/sfm/undistorted/sparse/images.bin" ] &&
+     [ ! -f "$work/sfm-$set_name/sfm/undistorted/sparse/images.txt" ]; then
+    echo "sfm of $set_name photos (once per WORK) ..." >&2
+    "$bin/hos-sfm" --images "$work/photos-$set_name" --workspace "$work/sfm-$set_name" --progress none \
+      --log "$work/sfm-$set_name.log" >/dev/null
+  fi
+done
+if [ ! -f "$work/models/registered/images.txt" ]; then
+  mkdir -p "$work/models/all-txt"
+  colmap model_converter --input_path "$work/sfm-all/sfm/undistorted/sparse" \
+    --output_path "$work/models/all-txt" --output_type TXT >/dev/null
+  python3 "$here/models.py" subset "$work/models/all-txt" "$work/models/registered" "$holdout"
+  python3 "$here/models.py" strecha "$data/gt_dense_cameras" "$work/models/truth"
+  python3 "$here/models.py" subset "$work/models/truth" "$work/models/true" "$holdout"
+fi
+
+[ "$sfm_only" = 0 ] || exit 0
+
+# The run: stage executables on the training set's SfM workspace.
+if [ -z "$label" ]; then
+  label="$(printf '%s' "$bin ${sets[*]:-}" | tr -c 'A-Za-z0-9._=-' '_' | sed 's/^_*//')"
+fi
+run="$work/runs/$label"
+rm -rf "$run"
+mkdir -p "$run"
+undistorted="$work/sfm-train/sfm/undistorted"
+timed() { /usr/bin/time -f "%e %M" -o "$run/$1.time" "${@:2}"; }
+timed mvs "$bin/hos-mvs" --workspace "$undistorted" --output "$run/points.ply" --progress none \
+  --log "$run/mvs.log" "${sets[@]}" >/dev/null
+timed recon "$bin/hos-recon" --input "$run/points.ply" --output "$run/mesh.ply" --progress none \
+  --log "$run/recon.log" "${sets[@]}" >/dev/null
+timed texture "$bin/hos-texture" --workspace "$undistorted" --mesh "$run/mesh.ply" --output "$run/model.glb" \
+  --progress none --log "$run/texture.log" "${sets[@]}" >/dev/null
+"$bin/hos-eval" render --glb "$run/model.glb" --model "$work/models/true" --images "$data/images" \
+  --align-model "$undistorted/sparse" --truth-model "$work/models/truth" --save "$run/true" \
+  --json "$run/true.json" >/dev/null
+"$bin/hos-eval" render --glb "$run/model.glb" --model "$work/models/registered" \
+  --images "$work/sfm-all/sfm/undistorted/images" --align-model "$undistorted/sparse" \
+  --truth-model "$work/sfm-all/sfm/undistorted/sparse" --save "$run/registered" \
+  --json "$run/registered.json" >/dev/null
+points=$(grep -a -m1 '^element vertex' "$run/points.ply" | cut -d' ' -f3)
+[ "$keep" = 1 ] || rm -f "$run/points.ply" "$run/mesh.ply"
+
+python3 - "$run" "$label" "$holdout" "$points" "$work/models" <<'PY'
+import json, sys
+run, label, holdout, points, models = sys.argv[1:6]
+def size(model):
+    fields = next(l.split() for l in open(f"{models}/{model}/cameras.txt") if l.strip() and not l.startswith("#"))
+    return int(fields[2]) * int(fields[3])
+def seconds(stage):
+    s, kb = open(f"{run}/{stage}.time").read().split()[-2:]
+    return float(s), int(kb) / 1024
+summary = {"label": label, "holdout": holdout, "points": int(points)}
+for stage in ("mvs", "recon", "texture"):
+    s, mb = seconds(stage)
+    summary[stage] = {"seconds": s, "peak_mb": mb}
+print("| run | camera | PSNR dB | SSIM | coverage | mvs s | mvs peak MB | points | recon s | texture s |")
+print("|---|---|---|---|---|---|---|---|---|---|")
+for camera, model in (("true", "true"), ("registered", "registered")):
+    d = json.load(open(f"{run}/{camera}.json"))
+    views = d.get("views", [])
+    v = views[0] if views else {"psnr": float("nan"), "ssim": float("nan"), "mask_pixels": 0}
+    coverage = v["mask_pixels"] / size(model)
+    summary[camera] = {"psnr": v["psnr"], "ssim": v["ssim"], "coverage": coverage,
+                       "alignment_rms": d.get("alignment", {}).get("rms_residual")}
+    print(f"| {label} | {camera} | {v['psnr']:.2f} | {v['ssim']:.3f} | {coverage:.3f} | {summary['mvs']['seconds']:.1f} "
+          f"| {summary['mvs']['peak_mb']:.0f} | {points} | {summary['recon']['seconds']:.1f} | {summary['texture']['seconds']:.1f} |")
+json.dump(summary, open(f"{run}/summary.json", "w"), indent=1)
+PY
