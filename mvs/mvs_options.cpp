@@ -59,8 +59,8 @@ void register_options(OptionSet& set, MvsOptions& o) {
   set.add("max_reprojection_error_px", o.max_reprojection_error_px,
           "forward-backward reprojection error to agree (pixels)", 0.1, 20.0);
   set.add("fusion_spacing_px", o.fusion_spacing_px,
-          "a fused point claims the pixels within this radius in the views that saw it (0 = every "
-          "pixel)",
+          "with finer levels, a fused point claims the pixels within this radius in the views "
+          "that saw it (0 = every pixel)",
           0, 16);
   set.add("threads", o.threads, "OpenMP threads (0 = all cores)", 0, 1024);
   set.add_flag("--max-image-size", "max_image_size");

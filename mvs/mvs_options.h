@@ -50,9 +50,9 @@ struct MvsOptions {
   double max_depth_error = 0.01;  // relative depth difference to agree
   double max_normal_error_deg = 20.0;
   double max_reprojection_error_px = 1.5;  // in the pixels of the finest level
-  // Density control: a fused point claims the pixels within this radius in
-  // every view that saw it, so a surface gets about one point per
-  // (2r+1)^2 pixels at the fine level instead of one per pixel.
+  // Density control with finer levels: a fused point claims the pixels
+  // within this radius in every view that saw it, so a surface gets about
+  // one point per (2r+1)^2 pixels of the finest level (one level: 0).
   int fusion_spacing_px = 1;
   int threads = 0;  // OpenMP threads; 0 = all cores
 

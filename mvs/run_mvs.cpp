@@ -238,7 +238,10 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
                                 std::to_string(plans.size()) + "); the images overlap too little");
   }
   const auto t_fusion = Clock::now();
-  result.points = fuse_depth_maps(fusion_views, options, reporter);
+  // Density control is for the finer levels' pixels; one level keeps every pixel.
+  MvsOptions fusion_options = options;
+  if (!multi_scale) fusion_options.fusion_spacing_px = 0;
+  result.points = fuse_depth_maps(fusion_views, fusion_options, reporter);
   stats.seconds_fusion = seconds_since(t_fusion);
   stats.points = result.points.size();
   if (result.points.empty()) {

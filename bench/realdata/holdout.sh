@@ -16,20 +16,23 @@
 # the same WORK to compare them side by side.
 #
 #   bench/realdata/holdout.sh DATA BIN WORK [--holdout NAME] [--photos N] [--label L]
-#                             [--set stage.key=value]... [--keep] [--sfm-only]
+#                             [--set stage.key=value]... [--keep] [--sfm-only] [--shared-sfm]
 #
 # --holdout   photo to hold out (default: the middle one by name)
 # --photos N  use only the N photos nearest the held-out one by name (quick runs)
 # --label L   name of this run under WORK/runs/ (default: from BIN and the --set values)
 # --keep      keep the run's points and mesh (default: only model.glb and the renders)
 # --sfm-only  only make the two SfM workspaces and the camera models
+# --shared-sfm  no SfM of the training photos: the run uses the SfM of all
+#             photos with the held-out one removed (its images, cameras and
+#             observations); quicker, but that photo shaped the cameras
 # Prints one markdown row per camera; figures also in WORK/runs/L/summary.json.
 set -euo pipefail
 usage() { sed -n '18,26p' "$0" | sed 's/^# *//' >&2; exit 2; }
 [ $# -ge 3 ] || usage
 data="$(cd "$1" && pwd)" bin="$(cd "$2" && pwd)" work="$3"
 shift 3
-holdout="" photos=0 label="" keep=0 sfm_only=0 sets=()
+holdout="" photos=0 label="" keep=0 sfm_only=0 shared=0 sets=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --holdout) holdout="$2"; shift 2 ;;
@@ -38,6 +41,7 @@ while [ $# -gt 0 ]; do
     --set) sets+=(--set "$2"); shift 2 ;;
     --keep) keep=1; shift ;;
     --sfm-only) sfm_only=1; shift ;;
+    --shared-sfm) shared=1; shift ;;
     *) usage ;;
   esac
 done
@@ -62,7 +66,7 @@ if [ "$photos" -gt 0 ] && [ "$photos" -lt "${#all[@]}" ]; then
   [ $(( first + photos )) -le "${#all[@]}" ] || first=$(( ${#all[@]} - photos ))
   all=("${all[@]:$first:$photos}")
 fi
-signature="$(printf '%s\n' "${all[@]}" "holdout $holdout")"
+signature="$(printf '%s\n' "${all[@]}" "holdout $holdout" "shared sfm $shared")"
 if [ -f "$work/photos.txt" ] && [ "$(cat "$work/photos.txt")" != "$signature" ]; then
   echo "$work: made for another photo set or held-out photo (see $work/photos.txt); use another WORK" >&2
   exit 2
@@ -77,14 +81,15 @@ for set_name in all train; do
 done
 
 # SfM once per WORK (whichever BIN comes first), and the models the renders use.
-for set_name in all train; do
-  if [ ! -f "$work/sfm-$set_name/sfm/undistorted/sparse/images.bin" ] &&
-     [ ! -f "$work/sfm-$set_name/sfm/undistorted/sparse/images.txt" ]; then
-    echo "sfm of $set_name photos (once per WORK) ..." >&2
-    "$bin/hos-sfm" --images "$work/photos-$set_name" --workspace "$work/sfm-$set_name" --progress none \
-      --log "$work/sfm-$set_name.log" >/dev/null
+sfm() {
+  if [ ! -f "$work/sfm-$1/sfm/undistorted/sparse/images.bin" ] &&
+     [ ! -f "$work/sfm-$1/sfm/undistorted/sparse/images.txt" ]; then
+    echo "sfm of $1 photos (once per WORK) ..." >&2
+    "$bin/hos-sfm" --images "$work/photos-$1" --workspace "$work/sfm-$1" --progress none \
+      --log "$work/sfm-$1.log" >/dev/null
   fi
-done
+}
+sfm all
 if [ ! -f "$work/models/registered/images.txt" ]; then
   mkdir -p "$work/models/all-txt"
   colmap model_converter --input_path "$work/sfm-all/sfm/undistorted/sparse" \
@@ -92,6 +97,17 @@ if [ ! -f "$work/models/registered/images.txt" ]; then
   python3 "$here/models.py" subset "$work/models/all-txt" "$work/models/registered" "$holdout"
   python3 "$here/models.py" strecha "$data/gt_dense_cameras" "$work/models/truth"
   python3 "$here/models.py" subset "$work/models/truth" "$work/models/true" "$holdout"
+fi
+if [ "$shared" = 1 ]; then
+  if [ ! -f "$work/sfm-train/sfm/undistorted/sparse/images.txt" ]; then
+    mkdir -p "$work/sfm-train/sfm/undistorted/images"
+    for p in "${all[@]}"; do
+      [ "$p" = "$holdout" ] || ln -sf "$work/sfm-all/sfm/undistorted/images/$p" "$work/sfm-train/sfm/undistorted/images/$p"
+    done
+    python3 "$here/models.py" without "$work/models/all-txt" "$work/sfm-train/sfm/undistorted/sparse" "$holdout"
+  fi
+else
+  sfm train
 fi
 
 [ "$sfm_only" = 0 ] || exit 0

@@ -5,6 +5,9 @@
                                             <image>.camera file per image) as a PINHOLE model
   models.py subset MODEL_TXT_DIR OUT_DIR NAME...
                                             the named images of a text model, with their cameras
+  models.py without MODEL_TXT_DIR OUT_DIR NAME
+                                            the model without one image: its observations leave
+                                            the tracks, points seen by fewer than 2 images go
 """
 import math
 import os
@@ -84,9 +87,37 @@ def subset(model, out, names):
     write_model(out, cameras, images)
 
 
+def without(model, out, name):
+    lines = [l.rstrip("\n") for l in open(os.path.join(model, "images.txt")) if not l.startswith("#")]
+    images, dropped = [], None
+    for i in range(0, len(lines) - 1, 2):
+        fields = lines[i].split()
+        if len(fields) >= 10 and fields[9] == name:
+            dropped = fields[0]
+        elif len(fields) >= 10:
+            images.append(lines[i] + "\n" + lines[i + 1])
+    if dropped is None:
+        sys.exit(f"{model}: no image named {name}")
+    os.makedirs(out, exist_ok=True)
+    with open(os.path.join(out, "images.txt"), "w") as f:
+        f.write("\n".join(images) + "\n")
+    with open(os.path.join(model, "cameras.txt")) as src, open(os.path.join(out, "cameras.txt"), "w") as f:
+        f.write(src.read())
+    with open(os.path.join(model, "points3D.txt")) as src, open(os.path.join(out, "points3D.txt"), "w") as f:
+        for line in src:
+            fields = line.split()
+            if not fields or line.startswith("#"):
+                continue
+            track = [(fields[k], fields[k + 1]) for k in range(8, len(fields) - 1, 2) if fields[k] != dropped]
+            if len({image for image, _ in track}) >= 2:
+                f.write(" ".join(fields[:8] + [v for pair in track for v in pair]) + "\n")
+
+
 if __name__ == "__main__":
     if len(sys.argv) >= 4 and sys.argv[1] == "strecha":
         strecha(sys.argv[2], sys.argv[3])
+    elif len(sys.argv) == 5 and sys.argv[1] == "without":
+        without(sys.argv[2], sys.argv[3], sys.argv[4])
     elif len(sys.argv) >= 5 and sys.argv[1] == "subset":
         subset(sys.argv[2], sys.argv[3], sys.argv[4:])
     else:
