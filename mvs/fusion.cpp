@@ -93,8 +93,7 @@ Agreement agreeing_pixels(const std::vector<FusionView>& views,
     const Eigen::Vector3d back = ref.R * Xs + ref.t;
     if (back.z() <= 0) continue;
     const Eigen::Vector3d buv = ref.K * back / back.z();
-    if ((buv.head<2>() - Eigen::Vector2d(x + 0.5, y + 0.5)).squaredNorm() > rules.max_reproj2)
-      continue;
+    if ((buv.head<2>() - Eigen::Vector2d(x + 0.5, y + 0.5)).squaredNorm() > rules.max_reproj2) continue;
     obs.push_back({static_cast<int>(s), qx, qy, Xs, ns});
   }
   return agreement;
@@ -119,12 +118,9 @@ int independent_views(const std::vector<Observation>& obs, const FusionRules& ru
 // well and every other view that covers it has a depth there: a view that
 // sees nothing matchable at that spot (background, a gap between parts of
 // the object) speaks against the point.
-bool reliable_two_view(const std::vector<FusionView>& views,
-                       const Agreement& a,
-                       const FusionRules& rules) {
+bool reliable_two_view(const std::vector<FusionView>& views, const Agreement& a, const FusionRules& rules) {
   const MvsOptions& o = rules.options;
-  if (o.two_view_max_cost <= 0.0 || a.views_without_depth > o.two_view_max_views_without_depth)
-    return false;
+  if (o.two_view_max_cost <= 0.0 || a.views_without_depth > o.two_view_max_views_without_depth) return false;
   for (const auto& obs : a.observations) {
     if (!(views[obs.view].map.cost.at<float>(obs.y, obs.x) <= o.two_view_max_cost)) return false;
   }
@@ -137,8 +133,7 @@ bool merge(const std::vector<FusionView>& views,
            const std::vector<Observation>& obs,
            const Eigen::Vector3d& ref_centre,
            PointCloud& cloud) {
-  Eigen::Vector3d p = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero(),
-                  c = Eigen::Vector3d::Zero();
+  Eigen::Vector3d p = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero(), c = Eigen::Vector3d::Zero();
   for (const auto& o : obs) {
     p += o.point;
     n += o.normal;
@@ -153,8 +148,7 @@ bool merge(const std::vector<FusionView>& views,
   if (n.dot(ref_centre - p) < 0) n = -n;
   cloud.positions.push_back(p.cast<float>());
   cloud.normals.push_back(n.cast<float>());
-  cloud.colors.push_back({static_cast<std::uint8_t>(std::lround(c.x())),
-                          static_cast<std::uint8_t>(std::lround(c.y())),
+  cloud.colors.push_back({static_cast<std::uint8_t>(std::lround(c.x())), static_cast<std::uint8_t>(std::lround(c.y())),
                           static_cast<std::uint8_t>(std::lround(c.z()))});
   return true;
 }
@@ -174,8 +168,7 @@ void claim(const std::vector<FusionView>& views,
     mask.at<uchar>(o.y, o.x) = 1;
     for (int y = std::max(0, o.y - r); y <= std::min(depth.rows - 1, o.y + r); ++y) {
       for (int x = std::max(0, o.x - r); x <= std::min(depth.cols - 1, o.x + r); ++x) {
-        if (std::abs(depth.at<float>(y, x) - d) <= options.max_depth_error * d)
-          mask.at<uchar>(y, x) = 1;
+        if (std::abs(depth.at<float>(y, x) - d) <= options.max_depth_error * d) mask.at<uchar>(y, x) = 1;
       }
     }
   }
@@ -200,15 +193,12 @@ void fuse_pixel(const std::vector<FusionView>& views,
     if (used[o.view].at<uchar>(o.y, o.x)) return;
   }
   claim(views, obs, rules.options, used);
-  if (merge(views, obs, rules.centres[r], cloud))
-    cloud.confidence.push_back(static_cast<float>(independent));
+  if (merge(views, obs, rules.centres[r], cloud)) cloud.confidence.push_back(static_cast<float>(independent));
 }
 
 }  // namespace
 
-PointCloud fuse_depth_maps(const std::vector<FusionView>& views,
-                           const MvsOptions& options,
-                           Reporter& reporter) {
+PointCloud fuse_depth_maps(const std::vector<FusionView>& views, const MvsOptions& options, Reporter& reporter) {
   const FusionRules rules(views, options);
   std::vector<cv::Mat> used;
   for (const auto& v : views) used.push_back(cv::Mat::zeros(v.map.depth.size(), CV_8U));

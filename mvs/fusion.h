@@ -34,8 +34,6 @@ struct FusionView {
 
 FusionView make_fusion_view(const MvsView& view, DepthMap map);
 
-PointCloud fuse_depth_maps(const std::vector<FusionView>& views,
-                           const MvsOptions& options,
-                           Reporter& reporter);
+PointCloud fuse_depth_maps(const std::vector<FusionView>& views, const MvsOptions& options, Reporter& reporter);
 
 }  // namespace hos::mvs

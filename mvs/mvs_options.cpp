@@ -13,11 +13,9 @@ void MvsOptions::validate() const {
 void register_options(OptionSet& set, MvsOptions& o) {
   set.add_choice("backend", o.backend, {"cpu", "colmap"},
                  "cpu: hos PatchMatch; colmap: COLMAP's patch_match_stereo (needs CUDA)");
-  set.add("max_image_size", o.max_image_size, "longest image side of the finest matching level", 64,
-          16384);
+  set.add("max_image_size", o.max_image_size, "longest image side of the finest matching level", 64, 16384);
   set.add("coarse_image_size", o.coarse_image_size,
-          "longest image side of the full PatchMatch level (levels double up to max_image_size)",
-          64, 16384);
+          "longest image side of the full PatchMatch level (levels double up to max_image_size)", 64, 16384);
   set.add("num_source_views", o.num_source_views, "source views per reference view", 1, 32);
   set.add("best_k", o.best_k, "photo-consistency: mean of the best K source views", 1, 32);
   set.add("window_radius", o.window_radius, "matching window half size (pixels)", 1, 15);
@@ -25,28 +23,23 @@ void register_options(OptionSet& set, MvsOptions& o) {
   set.add("iterations", o.iterations, "PatchMatch sweeps at the coarse level", 1, 20);
   set.add("refine_iterations", o.refine_iterations, "sweeps per finer level", 0, 20);
   set.add("refine_settled_cost", o.refine_settled_cost,
-          "finer levels: pixels whose upsampled plane costs (1 - NCC) at most this skip the sweeps",
-          0.0, 2.0);
+          "finer levels: pixels whose upsampled plane costs (1 - NCC) at most this skip the sweeps", 0.0, 2.0);
   set.add("geometric_weight", o.geometric_weight,
-          "finer levels: cost per view of a plane the neighbours' coarse depth maps contradict",
-          0.0, 2.0);
+          "finer levels: cost per view of a plane the neighbours' coarse depth maps contradict", 0.0, 2.0);
   set.add("geometric_max_error_px", o.geometric_max_error_px,
           "reprojection error (coarse pixels) at which a view's geometric cost reaches "
           "geometric_weight",
           0.1, 20.0);
   set.add("detail_restore_margin", o.detail_restore_margin,
-          "a plane whose matching cost is lower by this keeps its place against the geometric vote",
-          0.0, 2.0);
+          "a plane whose matching cost is lower by this keeps its place against the geometric vote", 0.0, 2.0);
   set.add("min_triangulation_angle_deg", o.min_triangulation_angle_deg,
           "smallest triangulation angle of a source view, and between views counted as agreeing in "
           "fusion",
           0.0, 60.0);
   set.add("max_cost", o.max_cost, "largest accepted matching cost (1 - NCC)", 0.0, 2.0);
-  set.add("min_texture_std", o.min_texture_std,
-          "window intensity std below which a pixel is textureless", 0.0, 1.0);
+  set.add("min_texture_std", o.min_texture_std, "window intensity std below which a pixel is textureless", 0.0, 1.0);
   set.add("sigma_color", o.sigma_color, "bilateral weight intensity scale", 1e-3, 10.0);
-  set.add("min_consistent_views", o.min_consistent_views,
-          "views that must agree for a point to survive", 1, 32);
+  set.add("min_consistent_views", o.min_consistent_views, "views that must agree for a point to survive", 1, 32);
   set.add("two_view_max_cost", o.two_view_max_cost,
           "also keep points one other view confirms when both pixels' cost (1 - NCC) is at most "
           "this (0 = never)",
@@ -54,8 +47,7 @@ void register_options(OptionSet& set, MvsOptions& o) {
   set.add("two_view_max_views_without_depth", o.two_view_max_views_without_depth,
           "two-view points: other views covering the point that may have no depth there", 0, 1024);
   set.add("max_depth_error", o.max_depth_error, "relative depth difference to agree", 1e-4, 0.5);
-  set.add("max_normal_error_deg", o.max_normal_error_deg,
-          "normal angle difference to agree (degrees)", 1.0, 90.0);
+  set.add("max_normal_error_deg", o.max_normal_error_deg, "normal angle difference to agree (degrees)", 1.0, 90.0);
   set.add("max_reprojection_error_px", o.max_reprojection_error_px,
           "forward-backward reprojection error to agree (pixels)", 0.1, 20.0);
   set.add("fusion_spacing_px", o.fusion_spacing_px,

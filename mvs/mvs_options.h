@@ -13,25 +13,20 @@ struct MvsOptions {
   std::string backend = "cpu";  // cpu | colmap (COLMAP's CUDA PatchMatch, only when available)
   // Multi-scale matching: full PatchMatch at coarse_image_size, then levels
   // of twice the size up to max_image_size, refined from the level below.
-  int max_image_size =
-      2048;  // longest image side of the finest level (thin structures need pixels)
-  int coarse_image_size =
-      640;  // longest side of the full PatchMatch level; >= max_image_size: one level
-  int num_source_views = 4;   // source views per reference view
-  int best_k = 2;             // photo-consistency: mean of the best K source costs (occlusions)
-  int window_radius = 4;      // matching window half size in pixels
-  int window_step = 2;        // sample every step-th pixel of the window
-  int iterations = 4;         // coarse level sweeps (red-black, both colours)
-  int refine_iterations = 1;  // sweeps per finer level (they start from a converged plane)
+  int max_image_size = 2048;    // longest image side of the finest level (thin structures need pixels)
+  int coarse_image_size = 640;  // longest side of the full PatchMatch level; >= max_image_size: one level
+  int num_source_views = 4;     // source views per reference view
+  int best_k = 2;               // photo-consistency: mean of the best K source costs (occlusions)
+  int window_radius = 4;        // matching window half size in pixels
+  int window_step = 2;          // sample every step-th pixel of the window
+  int iterations = 4;           // coarse level sweeps (red-black, both colours)
+  int refine_iterations = 1;    // sweeps per finer level (they start from a converged plane)
   // Finer level: pixels whose upsampled plane costs at most this skip the sweeps (most of a smooth
   // surface).
   double refine_settled_cost = 0.15;
-  double geometric_weight =
-      0.3;  // finer levels: cost of a plane the neighbours' coarse maps contradict
-  double geometric_max_error_px =
-      2.0;  // reprojection error (coarse pixels) at which the weight is reached
-  double detail_restore_margin =
-      0.15;  // a plane this much better photometrically outvotes the neighbours
+  double geometric_weight = 0.3;        // finer levels: cost of a plane the neighbours' coarse maps contradict
+  double geometric_max_error_px = 2.0;  // reprojection error (coarse pixels) at which the weight is reached
+  double detail_restore_margin = 0.15;  // a plane this much better photometrically outvotes the neighbours
   // Source views below this angle are not chosen; in fusion, agreeing views
   // closer than this to one already counted are no further evidence.
   double min_triangulation_angle_deg = 3.0;

@@ -60,14 +60,9 @@ class PatchMatcher {
                double depth_max,
                const MvsOptions& options,
                const std::vector<const DepthPrior*>& priors = {})
-      : ref_(ref),
-        sources_(sources),
-        options_(options),
-        inv_min_(1.0 / depth_max),
-        inv_max_(1.0 / depth_min) {
+      : ref_(ref), sources_(sources), options_(options), inv_min_(1.0 / depth_max), inv_max_(1.0 / depth_min) {
     for (int dy = -options.window_radius; dy <= options.window_radius; dy += options.window_step) {
-      for (int dx = -options.window_radius; dx <= options.window_radius;
-           dx += options.window_step) {
+      for (int dx = -options.window_radius; dx <= options.window_radius; dx += options.window_step) {
         offsets_.emplace_back(dx, dy);
         offset_x_.push_back(float(dx));
         offset_y_.push_back(float(dy));
@@ -98,8 +93,7 @@ class PatchMatcher {
         planes_[i] = random_plane(x, y, i * 7919u);
       }
     }
-    for_seed_pixels(
-        seeds, [&](int x, int y, const Plane& seed) { planes_[std::size_t(y) * w + x] = seed; });
+    for_seed_pixels(seeds, [&](int x, int y, const Plane& seed) { planes_[std::size_t(y) * w + x] = seed; });
     score_all();
   }
 
@@ -118,8 +112,8 @@ class PatchMatcher {
         const std::size_t i = std::size_t(y) * w + x;
         const cv::Vec3f cn = coarse.normal.at<cv::Vec3f>(cy, cx);
         const Eigen::Vector3d n(cn[0], cn[1], cn[2]);
-        const Eigen::Vector3d on_plane = coarse_K_inv * Eigen::Vector3d(cx + 0.5, cy + 0.5, 1.0) *
-                                         coarse.depth.at<float>(cy, cx);
+        const Eigen::Vector3d on_plane =
+            coarse_K_inv * Eigen::Vector3d(cx + 0.5, cy + 0.5, 1.0) * coarse.depth.at<float>(cy, cx);
         const double denom = n.dot(ray(x, y));
         const double depth = std::abs(denom) > 1e-9 ? n.dot(on_plane) / denom : 0.0;
         if (depth > 0.5 / inv_max_ && depth < 2.0 / inv_min_) {
@@ -175,9 +169,8 @@ class PatchMatcher {
     for (std::size_t i = 0; i < settled_.size(); ++i) {
       stats.refined_pixels += textured_[i] && !settled_[i];
       // The vote was capped: the plane's own photometric cost won.
-      stats.restored_pixels +=
-          has_priors_ && textured_[i] && photo_[i] < 2.0f &&
-          costs_[i] >= photo_[i] + float(options_.detail_restore_margin) - 1e-6f;
+      stats.restored_pixels += has_priors_ && textured_[i] && photo_[i] < 2.0f &&
+                               costs_[i] >= photo_[i] + float(options_.detail_restore_margin) - 1e-6f;
     }
   }
 
@@ -191,9 +184,7 @@ class PatchMatcher {
   };
 
   // Viewing ray of pixel (x, y) with z = 1.
-  Eigen::Vector3d ray(int x, int y) const {
-    return ref_.K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1.0);
-  }
+  Eigen::Vector3d ray(int x, int y) const { return ref_.K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1.0); }
 
   // Calls f(x, y, plane) for the 3x3 pixels around each sparse point's
   // projection: its depth, fronto-parallel.
@@ -269,12 +260,10 @@ class PatchMatcher {
     if (qx < 0 || qy < 0 || qx >= depth.cols || qy >= depth.rows) return weight;
     const float d = depth.at<float>(qy, qx);
     if (!(d > 0)) return weight;
-    const Eigen::Vector3f back =
-        f.R_back * (f.K_inv * Eigen::Vector3f(qx + 0.5f, qy + 0.5f, 1.0f) * d) + f.t_back;
+    const Eigen::Vector3f back = f.R_back * (f.K_inv * Eigen::Vector3f(qx + 0.5f, qy + 0.5f, 1.0f) * d) + f.t_back;
     if (!(back.z() > 0)) return weight;
     const Eigen::Vector3f ref_uv = ref_.K.cast<float>() * back / back.z();
-    const float error =
-        (ref_uv.head<2>() - Eigen::Vector2f(x + 0.5f, y + 0.5f)).norm() * geometric_pixel_;
+    const float error = (ref_uv.head<2>() - Eigen::Vector2f(x + 0.5f, y + 0.5f)).norm() * geometric_pixel_;
     return weight * std::min(error, max_error) / max_error;
   }
 
@@ -315,8 +304,7 @@ class PatchMatcher {
     const int r = options_.window_radius;
     const double r2 = double(r) * r;
     std::vector<float> spatial(k);
-    for (std::size_t j = 0; j < k; ++j)
-      spatial[j] = static_cast<float>(-offsets_[j].squaredNorm() / (2.0 * r2));
+    for (std::size_t j = 0; j < k; ++j) spatial[j] = static_cast<float>(-offsets_[j].squaredNorm() / (2.0 * r2));
     const float inv_sigma = static_cast<float>(1.0 / options_.sigma_color);
 #pragma omp parallel for schedule(static)
     for (int y = r; y < h - r; ++y) {
@@ -380,16 +368,14 @@ class PatchMatcher {
     const int stride = static_cast<int>(src.gray.step1());
     alignas(64) int index[kMaxWindow];
     alignas(64) float fx[kMaxWindow], fy[kMaxWindow], value[kMaxWindow];
-    const float h00 = H(0, 0), h01 = H(0, 1), h10 = H(1, 0), h11 = H(1, 1), h20 = H(2, 0),
-                h21 = H(2, 1);
+    const float h00 = H(0, 0), h01 = H(0, 1), h10 = H(1, 0), h11 = H(1, 1), h20 = H(2, 0), h21 = H(2, 1);
 #pragma omp simd
     for (int j = 0; j < k; ++j) {
       const float mx = centre.x() + ox[j] * h00 + oy[j] * h01;
       const float my = centre.y() + ox[j] * h10 + oy[j] * h11;
       const float iz = 1.0f / (centre.z() + ox[j] * h20 + oy[j] * h21);
       const float u = mx * iz - 0.5f, v = my * iz - 0.5f;
-      const int x0 = std::min(static_cast<int>(u), max_x),
-                y0 = std::min(static_cast<int>(v), max_y);
+      const int x0 = std::min(static_cast<int>(u), max_x), y0 = std::min(static_cast<int>(v), max_y);
       fx[j] = u - static_cast<float>(x0);
       fy[j] = v - static_cast<float>(y0);
       index[j] = y0 * stride + x0;
@@ -439,8 +425,7 @@ class PatchMatcher {
     float sorted[32], sorted_photo[32], photo_only[32];
     for (int s = 0; s < nsrc; ++s) {
       const Eigen::Matrix3f H = relative_[s].A + relative_[s].b * m.transpose();
-      const float photo =
-          view_cost(x, y, H, *sources_[s], &weights_[i * k], &centred_[i * k], ref_var_[i]);
+      const float photo = view_cost(x, y, H, *sources_[s], &weights_[i * k], &centred_[i * k], ref_var_[i]);
       const float c = photo + (has_priors_ ? geometric_cost(s, x_ref.cast<float>(), x, y) : 0.0f);
       int j = s;
       for (; j > 0 && sorted[j - 1] > c; --j) {
@@ -452,8 +437,7 @@ class PatchMatcher {
       j = s;
       for (; j > 0 && photo_only[j - 1] > photo; --j) photo_only[j] = photo_only[j - 1];
       photo_only[j] = photo;
-      const int known =
-          best - (nsrc - 1 - s);  // best-K members that must be among the scored views
+      const int known = best - (nsrc - 1 - s);  // best-K members that must be among the scored views
       if (known > 0 && s + 1 < nsrc) {
         float bound = 0, photo_bound = 0;
         for (int b = 0; b < known; ++b) {
@@ -482,8 +466,7 @@ class PatchMatcher {
     int count = 0;
     bool contains(const Plane& p) const {
       for (int j = 0; j < count; ++j) {
-        if (std::abs(planes[j].depth - p.depth) <= 1e-5f * p.depth &&
-            planes[j].normal.dot(p.normal) >= 0.99999f) {
+        if (std::abs(planes[j].depth - p.depth) <= 1e-5f * p.depth && planes[j].normal.dot(p.normal) >= 0.99999f) {
           return true;
         }
       }
@@ -496,8 +479,7 @@ class PatchMatcher {
 
   // Scores candidate at pixel i and keeps it if it is better; true if kept.
   bool try_plane(int x, int y, std::size_t i, const Plane& candidate, Tried& tried) {
-    if (!(candidate.depth > 0) || !std::isfinite(candidate.depth) || tried.contains(candidate))
-      return false;
+    if (!(candidate.depth > 0) || !std::isfinite(candidate.depth) || tried.contains(candidate)) return false;
     tried.add(candidate);
     const Cost c = cost(x, y, candidate, costs_[i]);
     if (!(c.effective < costs_[i])) return false;
@@ -520,8 +502,7 @@ class PatchMatcher {
     // sweep's colour-1 pass, colour 1 before this sweep's colour-0 pass.
     const int unchanged_before = colour == 0 ? iteration - 1 : iteration;
     // Propagation from the neighbours of the other colour (distance 1 and 3).
-    static constexpr int kNeighbours[8][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1},
-                                              {-3, 0}, {3, 0}, {0, -3}, {0, 3}};
+    static constexpr int kNeighbours[8][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}, {-3, 0}, {3, 0}, {0, -3}, {0, 3}};
     for (const auto& o : kNeighbours) {
       const int nx = x + o[0], ny = y + o[1];
       if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
@@ -544,8 +525,7 @@ class PatchMatcher {
     Plane perturbed = current;
     const double range = (1.0 / inv_min_ - 1.0 / inv_max_) * 0.05 * scale;
     perturbed.depth = static_cast<float>(current.depth + (random_unit(seed) * 2 - 1) * range);
-    const Eigen::Vector3d dn(random_unit(seed + 1) - 0.5, random_unit(seed + 2) - 0.5,
-                             random_unit(seed + 3) - 0.5);
+    const Eigen::Vector3d dn(random_unit(seed + 1) - 0.5, random_unit(seed + 2) - 0.5, random_unit(seed + 3) - 0.5);
     perturbed.normal = facing_camera(current.normal.cast<double>() + 0.6 * scale * dn, x, y);
     changed |= try_plane(x, y, i, perturbed, tried);
     Plane depth_only = current;
@@ -579,17 +559,14 @@ class PatchMatcher {
 
 }  // namespace
 
-MvsView load_view(const UndistortedWorkspace& workspace,
-                  const ImageRecord& image,
-                  int max_image_size) {
+MvsView load_view(const UndistortedWorkspace& workspace, const ImageRecord& image, int max_image_size) {
   const auto path = workspace.image_path(image);
   cv::Mat color = cv::imread(path.string(), cv::IMREAD_COLOR);
   if (color.empty()) throw InputError(path.string(), "cannot read the image");
   const Camera& camera = workspace.model.camera_of(image);
   if (color.cols != camera.width || color.rows != camera.height) {
-    throw InputError(path.string(), "image is " + std::to_string(color.cols) + "x" +
-                                        std::to_string(color.rows) + " but its camera says " +
-                                        std::to_string(camera.width) + "x" +
+    throw InputError(path.string(), "image is " + std::to_string(color.cols) + "x" + std::to_string(color.rows) +
+                                        " but its camera says " + std::to_string(camera.width) + "x" +
                                         std::to_string(camera.height));
   }
   const double scale = std::min(1.0, double(max_image_size) / std::max(color.cols, color.rows));
@@ -617,8 +594,7 @@ MvsView load_view(const UndistortedWorkspace& workspace,
 }
 
 MvsView downscale_view(const MvsView& view, int max_image_size) {
-  const double scale =
-      std::min(1.0, double(max_image_size) / std::max(view.width(), view.height()));
+  const double scale = std::min(1.0, double(max_image_size) / std::max(view.width(), view.height()));
   if (scale >= 1.0) return view;
   MvsView small = view;
   cv::resize(view.color, small.color, cv::Size(), scale, scale, cv::INTER_AREA);
@@ -663,10 +639,7 @@ PlaneMap refine_planes(const MvsView& ref,
   return matcher.planes();
 }
 
-DepthMap to_depth_map(const PlaneMap& planes,
-                      const MvsView& ref,
-                      const MvsOptions& options,
-                      PatchMatchStats* stats) {
+DepthMap to_depth_map(const PlaneMap& planes, const MvsView& ref, const MvsOptions& options, PatchMatchStats* stats) {
   const int w = planes.depth.cols, h = planes.depth.rows;
   DepthMap map;
   map.depth = cv::Mat::zeros(h, w, CV_32F);
@@ -704,9 +677,8 @@ DepthMap estimate_depth_map(const MvsView& ref,
                             const MvsOptions& options,
                             Reporter& reporter,
                             PatchMatchStats* stats) {
-  return to_depth_map(
-      match_planes(ref, sources, depth_min, depth_max, seed_points, options, reporter), ref,
-      options, stats);
+  return to_depth_map(match_planes(ref, sources, depth_min, depth_max, seed_points, options, reporter), ref, options,
+                      stats);
 }
 
 }  // namespace hos::mvs

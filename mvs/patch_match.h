@@ -35,9 +35,7 @@ struct MvsView {
 
 // Loads and downscales an image of the workspace. Throws InputError naming
 // the file if it cannot be read or its size disagrees with its camera.
-MvsView load_view(const UndistortedWorkspace& workspace,
-                  const ImageRecord& image,
-                  int max_image_size);
+MvsView load_view(const UndistortedWorkspace& workspace, const ImageRecord& image, int max_image_size);
 
 // Every pixel's plane at one level, reliable or not (a finer level starts
 // from it): depth along the camera z axis, normal in the reference camera's
@@ -68,9 +66,8 @@ struct DepthMap {
 struct PatchMatchStats {
   std::size_t valid_pixels = 0;
   std::size_t textureless_pixels = 0;
-  std::size_t refined_pixels = 0;  // finer levels: pixels the sweeps revisited
-  std::size_t restored_pixels =
-      0;  // finer levels: kept their own plane against the neighbours' vote
+  std::size_t refined_pixels = 0;   // finer levels: pixels the sweeps revisited
+  std::size_t restored_pixels = 0;  // finer levels: kept their own plane against the neighbours' vote
 };
 
 // The view at a smaller size (longest side at most max_image_size).

@@ -17,9 +17,7 @@ namespace hos::mvs {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // Depth range of a view from the sparse points in front of it (2nd-98th
 // percentile, widened), so PatchMatch samples where the scene is.
@@ -34,8 +32,7 @@ bool depth_range(const SparseModel& model,
     const Eigen::Vector3d xc = image.cam_from_world(point.xyz);
     if (xc.z() <= 0) continue;
     const auto uv = camera.project(xc);
-    if (!uv || uv->x() < 0 || uv->y() < 0 || uv->x() >= camera.width || uv->y() >= camera.height)
-      continue;
+    if (!uv || uv->x() < 0 || uv->y() < 0 || uv->x() >= camera.width || uv->y() >= camera.height) continue;
     depths.push_back(xc.z());
     // Only points the image observes seed it (others may be occluded).
     for (const auto& e : point.track) {
@@ -71,12 +68,10 @@ std::vector<ViewPlan> plan_views(const SparseModel& model,
     ViewPlan plan;
     plan.image = &image;
     plan.sources = sources[plans.size()];
-    if (plan.sources.empty() ||
-        !depth_range(model, image, plan.seeds, plan.depth_min, plan.depth_max)) {
-      reporter.warn(format_message(
-          "mvs: ", image.name,
-          plan.sources.empty() ? ": no source view with enough overlap and baseline; skipped"
-                               : ": too few sparse points to bound its depth; skipped"));
+    if (plan.sources.empty() || !depth_range(model, image, plan.seeds, plan.depth_min, plan.depth_max)) {
+      reporter.warn(format_message("mvs: ", image.name,
+                                   plan.sources.empty() ? ": no source view with enough overlap and baseline; skipped"
+                                                        : ": too few sparse points to bound its depth; skipped"));
       plan.skipped = true;
       ++stats.views_skipped;
     }
@@ -90,8 +85,7 @@ std::vector<ViewPlan> plan_views(const SparseModel& model,
 // (one level when the coarse one is already that large).
 std::vector<int> level_sizes(const MvsOptions& options, const SparseModel& model) {
   int photo_size = 0;
-  for (const auto& [id, camera] : model.cameras)
-    photo_size = std::max({photo_size, camera.width, camera.height});
+  for (const auto& [id, camera] : model.cameras) photo_size = std::max({photo_size, camera.width, camera.height});
   const int finest = std::min(options.max_image_size, photo_size);
   std::vector<int> sizes{std::min(options.coarse_image_size, finest)};
   while (sizes.back() < finest) sizes.push_back(std::min(2 * sizes.back(), finest));
@@ -116,14 +110,11 @@ struct ViewSet {
 
 ViewSet load_view_set(const UndistortedWorkspace& workspace, const ViewPlan& plan, int size) {
   ViewSet set{load_view(workspace, *plan.image, size), {}};
-  for (int id : plan.sources)
-    set.sources.push_back(load_view(workspace, workspace.model.images.at(id), size));
+  for (int id : plan.sources) set.sources.push_back(load_view(workspace, workspace.model.images.at(id), size));
   return set;
 }
 
-void write_depth_map(const std::filesystem::path& folder,
-                     const std::string& name,
-                     const DepthMap& map) {
+void write_depth_map(const std::filesystem::path& folder, const std::string& name, const DepthMap& map) {
   const std::string stem = (folder / name).string();
   std::filesystem::create_directories(std::filesystem::path(stem).parent_path());
   cv::imwrite(stem + ".depth.tiff", map.depth);
@@ -138,10 +129,9 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
                   const std::filesystem::path& depth_map_folder) {
   options.validate();
   if (options.backend == "colmap") {
-    throw ConfigError(
-        "mvs.backend",
-        "the colmap backend needs COLMAP built with CUDA, which this installation is not; "
-        "use mvs.backend=cpu");
+    throw ConfigError("mvs.backend",
+                      "the colmap backend needs COLMAP built with CUDA, which this installation is not; "
+                      "use mvs.backend=cpu");
   }
 #ifdef _OPENMP
   if (options.threads > 0) omp_set_num_threads(options.threads);
@@ -169,8 +159,7 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
   std::vector<PlaneMap> coarse(plans.size());
   std::vector<DepthPrior> priors(plans.size());
   std::vector<FusionView> fusion_views;
-  const auto finish_view = [&](std::size_t i, const MvsView& ref, const PlaneMap& planes,
-                               PatchMatchStats& pm) {
+  const auto finish_view = [&](std::size_t i, const MvsView& ref, const PlaneMap& planes, PatchMatchStats& pm) {
     DepthMap map = to_depth_map(planes, ref, options, &pm);
     MvsViewStats& vs = stats.per_view[i];
     vs.valid_pixels = pm.valid_pixels;
@@ -178,9 +167,8 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
     stats.megapixels_per_view = ref.width() * ref.height() / 1e6;
     if (!depth_map_folder.empty()) write_depth_map(depth_map_folder, plans[i].image->name, map);
     reporter.debug(format_message("mvs: ", vs.name, ": ", pm.valid_pixels, " pixels with depth, ",
-                                  pm.textureless_pixels, " textureless, ", pm.refined_pixels,
-                                  " refined, ", pm.restored_pixels,
-                                  " restored against the coarse vote"));
+                                  pm.textureless_pixels, " textureless, ", pm.refined_pixels, " refined, ",
+                                  pm.restored_pixels, " restored against the coarse vote"));
     fusion_views.push_back(make_fusion_view(ref, std::move(map)));
   };
   reporter.begin("depth maps", static_cast<std::int64_t>(plans.size() * (multi_scale ? 2 : 1)));
@@ -192,11 +180,10 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
     }
     const auto t_view = Clock::now();
     const ViewSet views = load_view_set(workspace, plans[i], sizes.front());
-    coarse[i] = match_planes(views.ref, views.source_ptrs(), plans[i].depth_min, plans[i].depth_max,
-                             plans[i].seeds, options, reporter);
+    coarse[i] = match_planes(views.ref, views.source_ptrs(), plans[i].depth_min, plans[i].depth_max, plans[i].seeds,
+                             options, reporter);
     if (multi_scale) {
-      priors[i] = {views.ref.K, views.ref.R, views.ref.t,
-                   to_depth_map(coarse[i], views.ref, options).depth};
+      priors[i] = {views.ref.K, views.ref.R, views.ref.t, to_depth_map(coarse[i], views.ref, options).depth};
     } else {
       PatchMatchStats pm;
       finish_view(i, views.ref, coarse[i], pm);
@@ -222,9 +209,8 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
       const bool finest = level + 1 == sizes.size();
       const ViewSet smaller = finest ? ViewSet{} : full.downscaled(sizes[level]);
       const ViewSet& views = finest ? full : smaller;
-      planes =
-          refine_planes(views.ref, views.source_ptrs(), source_priors, planes, plans[i].depth_min,
-                        plans[i].depth_max, plans[i].seeds, options, reporter, &pm);
+      planes = refine_planes(views.ref, views.source_ptrs(), source_priors, planes, plans[i].depth_min,
+                             plans[i].depth_max, plans[i].seeds, options, reporter, &pm);
     }
     finish_view(i, full.ref, planes, pm);
     stats.per_view[i].seconds += seconds_since(t_view);
@@ -233,8 +219,7 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
   reporter.end();
   stats.seconds_depth = seconds_since(t_depth);
   if (fusion_views.size() < 2) {
-    throw StageError("mvs", "fewer than two views could be matched (" +
-                                std::to_string(fusion_views.size()) + " of " +
+    throw StageError("mvs", "fewer than two views could be matched (" + std::to_string(fusion_views.size()) + " of " +
                                 std::to_string(plans.size()) + "); the images overlap too little");
   }
   const auto t_fusion = Clock::now();
@@ -245,12 +230,11 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
   stats.seconds_fusion = seconds_since(t_fusion);
   stats.points = result.points.size();
   if (result.points.empty()) {
-    throw StageError("mvs",
-                     "no point is consistent across views (textureless or non-overlapping images)");
+    throw StageError("mvs", "no point is consistent across views (textureless or non-overlapping images)");
   }
-  reporter.info(format_message(
-      "mvs: ", stats.points, " points from ", stats.views - stats.views_skipped, "/", stats.views,
-      " views; depth maps ", stats.seconds_depth, " s, fusion ", stats.seconds_fusion, " s"));
+  reporter.info(format_message("mvs: ", stats.points, " points from ", stats.views - stats.views_skipped, "/",
+                               stats.views, " views; depth maps ", stats.seconds_depth, " s, fusion ",
+                               stats.seconds_fusion, " s"));
   return result;
 }
 

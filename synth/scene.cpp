@@ -107,8 +107,10 @@ render::ProceduralAlbedo make_albedo(std::uint32_t seed, float scale) {
     const float s = std::sin(2 * kPi * (5.0f * p.dot(stripe_dir) + 2.0f * warp));
     if (s > 0.6f) col = 0.4f * col + 0.6f * stripe;
     const float d = cell_distance(9.0f * p, seed + 53);
-    if (d < 0.28f) col = spot;
-    else if (d < 0.34f) col *= 0.3f;  // dark rim: a corner-rich edge
+    if (d < 0.28f)
+      col = spot;
+    else if (d < 0.34f)
+      col *= 0.3f;  // dark rim: a corner-rich edge
     const float fine = fbm(25.0f * p, 2, seed + 71);
     col *= 0.7f + 0.6f * fine;
     return col.cwiseMax(Eigen::Vector3f::Constant(0.02f)).cwiseMin(Eigen::Vector3f::Constant(0.95f));
@@ -205,8 +207,7 @@ TriangleMesh make_rounded_box(const Eigen::Vector3f& half, float r, int n) {
 TriangleMesh make_ground(float y, float half, int n) {
   TriangleMesh m;
   for (int i = 0; i <= n; ++i)
-    for (int j = 0; j <= n; ++j)
-      m.vertices.emplace_back(-half + 2 * half * i / n, y, -half + 2 * half * j / n);
+    for (int j = 0; j <= n; ++j) m.vertices.emplace_back(-half + 2 * half * i / n, y, -half + 2 * half * j / n);
   auto id = [&](int i, int j) { return i * (n + 1) + j; };
   // Normal towards up (-y).
   for (int i = 0; i < n; ++i)
@@ -224,8 +225,7 @@ void place(TriangleMesh& m, const Eigen::Matrix3f& R, const Eigen::Vector3f& t) 
 void append(TriangleMesh& to, const TriangleMesh& m) {
   const int offset = static_cast<int>(to.vertices.size());
   to.vertices.insert(to.vertices.end(), m.vertices.begin(), m.vertices.end());
-  for (const Eigen::Vector3i& f : m.faces)
-    to.faces.push_back(f + Eigen::Vector3i::Constant(offset));
+  for (const Eigen::Vector3i& f : m.faces) to.faces.push_back(f + Eigen::Vector3i::Constant(offset));
 }
 
 // A round railing: kRailingBars upright bars of kRailingBarWidth square
@@ -239,9 +239,8 @@ TriangleMesh make_railing() {
   const float radius = 0.5f, half_height = 0.4f;
   TriangleMesh m;
   for (int i = 0; i < kRailingBars; ++i) {
-    TriangleMesh bar =
-        make_rounded_box(Eigen::Vector3f(kRailingBarWidth / 2, half_height, kRailingBarWidth / 2),
-                         kRailingBarWidth / 8, 4);
+    TriangleMesh bar = make_rounded_box(Eigen::Vector3f(kRailingBarWidth / 2, half_height, kRailingBarWidth / 2),
+                                        kRailingBarWidth / 8, 4);
     const float a = 2 * kPi * i / kRailingBars;
     place(bar, Eigen::AngleAxisf(-a, Eigen::Vector3f::UnitY()).toRotationMatrix(),
           Eigen::Vector3f(radius * std::cos(a), 0.0f, radius * std::sin(a)));
@@ -301,8 +300,9 @@ Scene make_scene(const SceneOptions& options) {
   }
   if (all || options.name == "torus") {
     TriangleMesh torus = make_torus(0.38f, 0.14f, 96, 32);
-    const Eigen::Matrix3f R = (Eigen::AngleAxisf(angle(rng), Eigen::Vector3f::UnitY()) *
-                               Eigen::AngleAxisf(0.5f, Eigen::Vector3f::UnitX())).toRotationMatrix();
+    const Eigen::Matrix3f R =
+        (Eigen::AngleAxisf(angle(rng), Eigen::Vector3f::UnitY()) * Eigen::AngleAxisf(0.5f, Eigen::Vector3f::UnitX()))
+            .toRotationMatrix();
     place(torus, R, all ? Eigen::Vector3f(1.05f + jitter(rng), 0.25f, 0.45f + jitter(rng)) : Eigen::Vector3f::Zero());
     add(std::move(torus), "torus", 2, 0.6f);
   }

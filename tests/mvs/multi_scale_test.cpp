@@ -82,9 +82,8 @@ TEST(MultiScaleMvs, MeetsTheAccuracyBoundsOfSingleScale) {
   const double f_multi = compare(multi, truth).scores[0].f_score;
   const double f_single = compare(single, truth).scores[0].f_score;
   std::cout << multi.size() << " points (single-scale " << single.size()
-            << "); within 0.5% of the diagonal: " << accurate / n
-            << "; normals within 20 degrees: " << oriented / n << "; F@0.5% " << f_multi
-            << " (single-scale " << f_single << ")\n";
+            << "); within 0.5% of the diagonal: " << accurate / n << "; normals within 20 degrees: " << oriented / n
+            << "; F@0.5% " << f_multi << " (single-scale " << f_single << ")\n";
   EXPECT_GE(accurate / n, 0.90);
   EXPECT_GE(oriented / n, 0.80);
   EXPECT_GE(f_multi, f_single - 0.01);
@@ -110,9 +109,8 @@ TEST(MultiScaleMvs, KeepsThinBarsThatSingleScaleLoses) {
   const PointCloud single = fused_points(s, single_scale(320));
   const double multi_recall = multi.size() > 0 ? compare(multi, railing).scores[1].recall : 0.0;
   const double single_recall = single.size() > 0 ? compare(single, railing).scores[1].recall : 0.0;
-  std::cout << "railing completeness at 1% of the diagonal: multi-scale " << multi_recall << " ("
-            << multi.size() << " points), single-scale " << single_recall << " (" << single.size()
-            << " points)\n";
+  std::cout << "railing completeness at 1% of the diagonal: multi-scale " << multi_recall << " (" << multi.size()
+            << " points), single-scale " << single_recall << " (" << single.size() << " points)\n";
   EXPECT_GE(multi_recall, single_recall + 0.2);
 }
 

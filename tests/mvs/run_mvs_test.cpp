@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <optional>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <unordered_set>
 
 #include "core/error.h"
@@ -48,7 +48,8 @@ TEST(RunMvs, FusedPointsAreAccurateAndCorrectlyOriented) {
   // The reference view itself plus the views that had to agree (one under
   // the two-view rule).
   const MvsOptions defaults;
-  const float min_views = defaults.two_view_max_cost > 0 ? 2.0f : 1.0f + static_cast<float>(defaults.min_consistent_views);
+  const float min_views =
+      defaults.two_view_max_cost > 0 ? 2.0f : 1.0f + static_cast<float>(defaults.min_consistent_views);
   for (float c : points.confidence) EXPECT_GE(c, min_views);
 }
 
@@ -59,7 +60,8 @@ TEST(RunMvs, PointsCoverTheSurfaceThatTwoViewsSee) {
   // Fused points hashed in cells of the radius.
   const auto cell = [&](const Eigen::Vector3d& p) {
     const Eigen::Vector3i c = (p / radius).array().floor().cast<int>();
-    return (std::int64_t(c.x() & 0xFFFFF) << 40) | (std::int64_t(c.y() & 0xFFFFF) << 20) | std::int64_t(c.z() & 0xFFFFF);
+    return (std::int64_t(c.x() & 0xFFFFF) << 40) | (std::int64_t(c.y() & 0xFFFFF) << 20) |
+           std::int64_t(c.z() & 0xFFFFF);
   };
   std::unordered_multimap<std::int64_t, std::size_t> grid;
   for (std::size_t i = 0; i < points.size(); ++i) grid.emplace(cell(points.positions[i].cast<double>()), i);
@@ -109,8 +111,8 @@ TEST(RunMvs, PointsCoverTheSurfaceThatTwoViewsSee) {
 TEST(RunMvs, DepthMapsMatchTheRenderedDepth) {
   const auto& s = synthetic_workspace();
   (void)mvs_result();
-  const cv::Mat estimate = cv::imread((s.dir->path() / "depth_maps" / "view_000.png.depth.tiff").string(),
-                                      cv::IMREAD_UNCHANGED);
+  const cv::Mat estimate =
+      cv::imread((s.dir->path() / "depth_maps" / "view_000.png.depth.tiff").string(), cv::IMREAD_UNCHANGED);
   ASSERT_FALSE(estimate.empty());
   const cv::Mat& truth = s.truth.views[0].depth;
   std::vector<double> errors;
@@ -201,7 +203,8 @@ TEST(RunMvs, TexturelessViewGivesNoPointsInsteadOfNoise) {
   std::filesystem::copy(s.dir->path() / "scene", dir.path() / "scene", std::filesystem::copy_options::recursive);
   // Every image a flat grey: nothing can be matched.
   for (const auto& [id, image] : ws.model.images) {
-    cv::imwrite((dir.path() / "scene" / "images" / image.name).string(), cv::Mat(240, 320, CV_8UC3, cv::Scalar(90, 90, 90)));
+    cv::imwrite((dir.path() / "scene" / "images" / image.name).string(),
+                cv::Mat(240, 320, CV_8UC3, cv::Scalar(90, 90, 90)));
   }
   ws = load_undistorted_workspace(dir.path() / "scene");
   MvsOptions options;

@@ -12,8 +12,7 @@ SyntheticWorkspace make_synthetic_workspace(const synth::SceneOptions& scene_opt
   synth::write_dataset(s.dir->path() / "scene", s.scene, scene_options, options);
   s.truth = synth::render_dataset(s.scene, options);
   s.workspace = load_undistorted_workspace(s.dir->path() / "scene");
-  s.diagonal =
-      bounding_box(read_mesh_ply(s.dir->path() / "scene" / "gt_objects.ply").vertices).diagonal();
+  s.diagonal = bounding_box(read_mesh_ply(s.dir->path() / "scene" / "gt_objects.ply").vertices).diagonal();
   return s;
 }
 
