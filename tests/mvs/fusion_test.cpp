@@ -66,9 +66,11 @@ void expect_fused(const PointCloud& cloud, const std::map<int, int>& expected) {
 // The tests state their thresholds: a point needs the reference and
 // min_views - 1 more views; neighbouring cameras are atan(0.1 / 5) = 1.15
 // degrees apart at the plane, so they count as distinct below that angle;
-// two-view points off unless a test turns them on.
+// two-view points off unless a test turns them on; every pixel fused (no
+// density control) so each agreeing pixel is one point.
 MvsOptions views_must_agree(int min_views) {
   MvsOptions options;
+  options.fusion_spacing_px = 0;
   options.min_consistent_views = min_views - 1;
   options.min_triangulation_angle_deg = 1.0;
   options.two_view_max_cost = 0.0;
@@ -122,7 +124,7 @@ TEST(Fusion, TwoViewPointsNeedALowCostOnBothPixels) {
   auto views = plane_seen_by_two_views();
   MvsOptions options = three_views_must_agree();
   EXPECT_EQ(fuse_depth_maps(views, options, null_reporter()).size(), 0u);  // two_view_max_cost 0: never
-  options.two_view_max_cost = 0.2;  // the maps' cost is 0.1
+  options.two_view_max_cost = 0.2;                                         // the maps' cost is 0.1
   expect_fused(fuse_depth_maps(views, options, null_reporter()), expected_confidence({true, true, false, false}, 2));
   views[1].map.cost.setTo(0.3);  // one pixel of the pair matched worse than allowed
   EXPECT_EQ(fuse_depth_maps(views, options, null_reporter()).size(), 0u);
