@@ -3,6 +3,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/exit_codes.h"
 #include "core/huge_pages.h"
@@ -52,6 +53,7 @@ int main(int argc, char** argv) {
   return hos::apps::run_stage_main("recon", flags, [&](hos::Reporter& reporter) {
     hos::apps::apply_config_and_overrides(option_set, flags);
     options.validate();
+    hos::check_writable_target(output_path);  // before the solve, not after
     hos::PointCloud points;
     std::string source = input_path;
     if (!scans_path.empty()) {
@@ -63,6 +65,11 @@ int main(int argc, char** argv) {
       if (read_report.num_skipped_nonfinite > 0) {
         reporter.warn(hos::format_message(input_path, ": skipped ", read_report.num_skipped_nonfinite,
                                           " points with non-finite coordinates"));
+      }
+      if (read_report.num_invalid_confidence > 0) {
+        reporter.warn(hos::format_message(
+            input_path, ": property 'confidence' is NaN, infinite or negative at ",
+            read_report.num_invalid_confidence, " points; they weigh nothing"));
       }
     }
     if (!view_dir.empty()) hos::recon::orient_by_view_direction(points, parse_vector("--view-dir", view_dir));

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "core/atomic_file.h"
 #include "core/exit_codes.h"
 #include "core/ply_io.h"
 #include "core/undistorted_workspace.h"
@@ -33,6 +34,7 @@ int main(int argc, char** argv) {
   return hos::apps::run_stage_main("texture", flags, [&](hos::Reporter& reporter) {
     hos::apps::apply_config_and_overrides(option_set, flags);
     options.validate();
+    hos::check_writable_target(output_path);  // before the work, not after
     const hos::TriangleMesh mesh = hos::read_mesh_ply(mesh_path);
     const hos::UndistortedWorkspace workspace = hos::load_undistorted_workspace(workspace_path);
     const hos::texture::TextureResult result = hos::texture::texture_mesh(mesh, workspace, options, reporter);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -221,14 +222,42 @@ std::vector<std::string> OptionSet::keys() const {
   return out;
 }
 
+namespace {
+
+// A key given twice in one map would silently lose one of its values.
+void check_unique_keys(const YAML::Node& node, const std::string& path) {
+  if (node.IsSequence()) {
+    for (const auto& item : node) check_unique_keys(item, path);
+  }
+  if (!node.IsMap()) return;
+  std::map<std::string, int> first_line;
+  for (const auto& item : node) {
+    const int line = item.first.Mark().line + 1;
+    const auto [it, inserted] = first_line.emplace(item.first.Scalar(), line);
+    if (!inserted) {
+      throw ConfigError(item.first.Scalar(), "is given twice (in " + path + ", lines " +
+                                                 std::to_string(it->second) + " and " +
+                                                 std::to_string(line) + ")");
+    }
+    check_unique_keys(item.second, path);
+  }
+}
+
+}  // namespace
+
 YAML::Node load_yaml_file(const std::string& path) {
+  YAML::Node root;
   try {
-    return YAML::LoadFile(path);
+    root = YAML::LoadFile(path);
   } catch (const YAML::BadFile&) {
     throw InputError(path, "cannot open config file");
-  } catch (const YAML::ParserException& e) {
-    throw InputError(path, "YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  } catch (const YAML::Exception& e) {
+    // A configuration error like an unknown key (exit 2), not unreadable input.
+    throw ConfigError(
+        path, "YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
+  check_unique_keys(root, path);
+  return root;
 }
 
 }  // namespace hos

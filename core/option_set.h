@@ -130,8 +130,9 @@ extern template std::string print_number<float>(float);
 // Edit distance, for "did you mean" messages.
 std::size_t edit_distance(const std::string& a, const std::string& b);
 
-// Loads a YAML file; throws InputError with the file name and the parser's
-// line and column on a syntax error.
+// Loads a YAML file; throws InputError when it cannot be opened, ConfigError
+// with the file name and line on a syntax error or a key given twice in one
+// map (naming both lines).
 YAML::Node load_yaml_file(const std::string& path);
 
 template <typename Number>

@@ -429,7 +429,7 @@ class VertexSink {
     }
     if (layout_.confidence >= 0) {
       const double c = row[layout_.confidence];
-      cloud_.confidence[slot] = std::isfinite(c) ? static_cast<float>(c) : 0.0f;
+      cloud_.confidence[slot] = static_cast<float>(c);  // checked by count_invalid_confidence
     }
     for (std::size_t e = 0; e < layout_.extra.size(); ++e) {
       (*extra_columns_[e])[slot] = static_cast<float>(row[layout_.extra[e]]);
@@ -470,7 +470,21 @@ struct ParsedPly {
   PointCloud vertices;
   std::vector<Eigen::Vector3i> faces;
   std::size_t num_nonfinite = 0;
+  std::size_t num_invalid_confidence = 0;
 };
+
+// A confidence is a weight: NaN, infinite or negative ones become 0 (the
+// point then weighs nothing) and are counted for the reader's report.
+std::size_t zero_invalid_confidence(std::vector<float>& confidence) {
+  std::size_t invalid = 0;
+  for (float& c : confidence) {
+    if (!(c >= 0.0f) || !std::isfinite(c)) {
+      c = 0.0f;
+      ++invalid;
+    }
+  }
+  return invalid;
+}
 
 // Reads the rows of one element with ASCII tokens or list properties, one value
 // at a time. Vertex rows go to `sink`; face lists (when `face_list` >= 0) are
@@ -567,7 +581,10 @@ ParsedPly parse_ply(const fs::path& path, bool want_faces) {
         }
       }
     }
-    if (sink) out.num_nonfinite = sink->compact();
+    if (sink) {
+      out.num_nonfinite = sink->compact();
+      out.num_invalid_confidence = zero_invalid_confidence(out.vertices.confidence);
+    }
   }
   body.expect_end();
   if (!have_vertex) throw InputError(file, "PLY file has no 'vertex' element");
@@ -676,7 +693,10 @@ std::string header_start(PlyFormat format) {
 
 PointCloud read_point_cloud_ply(const fs::path& path, PlyReadReport* report) {
   ParsedPly parsed = parse_ply(path, /*want_faces=*/false);
-  if (report) report->num_skipped_nonfinite = parsed.num_nonfinite;
+  if (report) {
+    report->num_skipped_nonfinite = parsed.num_nonfinite;
+    report->num_invalid_confidence = parsed.num_invalid_confidence;
+  }
   return std::move(parsed.vertices);
 }
 

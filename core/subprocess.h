@@ -37,8 +37,10 @@ struct ProcessResult {
   bool ok() const { return exit_code == 0 && !cancelled; }
 };
 
-// Starts the program and waits for it. Throws StageError when the program
-// cannot be started at all (not found, not executable), naming it.
+// Starts the program and waits for it. The child is sent SIGTERM when the
+// calling thread ends (PR_SET_PDEATHSIG: also when this process is killed),
+// so it never outlives its caller; call it from a thread that waits for it. Throws StageError when
+// the program cannot be started at all (not found, not executable), naming it.
 ProcessResult run_process(const ProcessOptions& options);
 
 // Full path of program found on PATH (or program itself if it contains a

@@ -1,6 +1,7 @@
 #include "pipeline/stages.h"
 
 #include "core/error.h"
+#include "pipeline/output_checks.h"
 
 #include <filesystem>
 
@@ -32,8 +33,8 @@ const std::vector<StageSpec>& pipeline_stages() {
          if (!o.existing_model.empty()) args.insert(args.end(), {"--sparse", o.existing_model.string()});
          return args;
        },
-       [](Fingerprint& f, const DriverOptions& o, const StagePaths&) {
-         f.add_folder_listing(o.photos);
+       [](Fingerprint& f, const DriverOptions& o, const StagePaths& p) {
+         f.add_folder_listing(o.photos, pipeline_files_in_photos(o.photos, o.output, p.root));
          if (!o.existing_model.empty()) f.add_folder_contents(o.existing_model);
        },
        [](const StagePaths& p) { return fs::exists(p.undistorted / "sparse") && fs::exists(p.sfm_report); },

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/error.h"
 #include "recon/active_nodes.h"
@@ -36,6 +37,13 @@ constexpr double kBytesPerBandNode = 48.0;
 constexpr double kBytesPerSample = 128.0;
 constexpr double kBytesPerSampleScreened = 256.0;
 constexpr double kFixedBytes = 16.0 * 1024 * 1024;
+
+// A byte count in double as size_t, saturating (a grid far beyond any
+// machine must compare as too large, not wrap).
+std::size_t saturated_bytes(double bytes) {
+  constexpr double kMax = 0.5 * static_cast<double>(std::numeric_limits<std::size_t>::max());
+  return bytes >= kMax ? static_cast<std::size_t>(kMax) : static_cast<std::size_t>(bytes);
+}
 
 std::string megabytes(std::size_t bytes) {
   return std::to_string(static_cast<long long>(std::llround(static_cast<double>(bytes) / (1024.0 * 1024.0)))) + " MB";
@@ -116,7 +124,7 @@ std::size_t estimate_peak_bytes(const GridGeometry& grid, const std::vector<Eige
   double per_node = options.screening > 0.0 ? kBytesPerNodeScreened : kBytesPerNode;
   if (options.energy == SmoothnessEnergy::kTotalVariation) per_node = kBytesPerNodeTotalVariation;
   const double whole = common + per_node * nodes;
-  if (!band_possible(grid, options)) return static_cast<std::size_t>(whole);
+  if (!band_possible(grid, options)) return saturated_bytes(whole);
   const double stored = static_cast<double>(band_stored_nodes_bound(grid, points, options.solver.band_voxels));
   const double banded = common + kBytesPerNodeBanded * nodes + kBytesPerBandNode * stored;
   // The solve uses the band when its active nodes are at most half of the
@@ -124,9 +132,9 @@ std::size_t estimate_peak_bytes(const GridGeometry& grid, const std::vector<Eige
   // bound, when within half, bounds them too); above, either may be.
   if (2.0 * stored <= nodes ||
       2.0 * static_cast<double>(band_active_nodes_bound(grid, points, options.solver.band_voxels)) <= nodes) {
-    return static_cast<std::size_t>(banded);
+    return saturated_bytes(banded);
   }
-  return static_cast<std::size_t>(std::max(whole, banded));
+  return saturated_bytes(std::max(whole, banded));
 }
 
 std::size_t memory_budget_bytes(const ReconOptions& options) {

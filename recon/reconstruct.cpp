@@ -1,5 +1,6 @@
 #include "recon/reconstruct.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -10,6 +11,7 @@
 #include "recon/isosurface.h"
 #include "recon/memory_budget.h"
 #include "recon/multigrid.h"
+#include "recon/sample_frame.h"
 #include "recon/trim.h"
 #include "recon/vector_field.h"
 
@@ -178,6 +180,11 @@ void check_reconstructable(const PointCloud& points, const std::string& source) 
                      "the points have no normals (nx ny nz); give --view-dir, --scanner-pos or "
                      "--scans to orient them");
   }
+  BoundingBox box;
+  for (const auto& p : points.positions) {
+    if (p.allFinite()) box.extend(p);
+  }
+  check_extent(box, source);
   for (const auto& n : points.normals) {
     if (n.allFinite() && n.squaredNorm() > 0.0f) return;
   }
@@ -186,13 +193,17 @@ void check_reconstructable(const PointCloud& points, const std::string& source) 
 
 GridGeometry make_domain(const BoundingBox& box, const ReconOptions& options, int levels) {
   const Eigen::Vector3d extent = box.extent().cast<double>();
-  const double longest = std::max(extent.maxCoeff(), 1e-12);
+  const double longest = extent.maxCoeff();
   const Eigen::Vector3d side = extent.array() + 2.0 * options.margin * longest;
   GridGeometry g;
   g.spacing = options.voxel_size > 0.0 ? options.voxel_size : side.maxCoeff() / options.resolution;
   for (int a = 0; a < 3; ++a) {
-    // At least a few nodes across every axis, also for flat point sets.
-    const int nodes = std::max(8, static_cast<int>(std::ceil(side[a] / g.spacing)) + 1);
+    // At least a few nodes across every axis, also for flat point sets; at
+    // most kMaxDomainNodes, counted in double so that a tiny voxel size
+    // cannot overflow (the memory check then refuses such a grid).
+    const double wanted = std::ceil(side[a] / g.spacing) + 1.0;
+    const int nodes = static_cast<int>(std::clamp(std::isfinite(wanted) ? wanted : kMaxDomainNodes,
+                                                  8.0, static_cast<double>(kMaxDomainNodes)));
     g.dims[a] = admissible_dims(nodes, levels);
   }
   g.origin = box.center().cast<double>() - 0.5 * g.spacing * (g.dims.cast<double>().array() - 1.0).matrix();
@@ -209,35 +220,33 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   ReconResult result;
   ReconStats& stats = result.stats;
 
-  // Unit orientations (weighted by confidence); points without one are dropped.
-  std::vector<Eigen::Vector3f> points, normals;
-  std::vector<float> weights;
-  for (std::size_t i = 0; i < input.size(); ++i) {
-    const Eigen::Vector3f& n = input.normals[i];
-    const float len = n.norm();
-    if (!input.positions[i].allFinite() || !std::isfinite(len) || len == 0.0f) {
-      ++stats.num_samples_dropped;
-      continue;
-    }
-    points.push_back(input.positions[i]);
-    normals.push_back(n / len);
-    if (options.use_confidence && input.has_confidence()) {
-      weights.push_back(std::max(0.0f, input.confidence[i]));
-    }
-  }
-  if (stats.num_samples_dropped > 0) {
-    reporter.warn(format_message("recon: ", stats.num_samples_dropped,
+  // Unit orientations (weighted by confidence) in the unit frame: every step
+  // below is independent of the input's units and position.
+  OrientedSamples samples = prepare_samples(input, options.use_confidence, "input points");
+  const std::vector<Eigen::Vector3f>& points = samples.points;
+  const std::vector<Eigen::Vector3f>& normals = samples.normals;
+  const std::vector<float>& weights = samples.weights;
+  stats.num_samples_dropped = samples.dropped_without_normal + samples.dropped_far;
+  if (samples.dropped_without_normal > 0) {
+    reporter.warn(format_message("recon: ", samples.dropped_without_normal,
                                  " points without a usable normal were ignored"));
   }
+  if (samples.dropped_far > 0) {
+    reporter.warn(format_message(
+        "recon: ", samples.dropped_far,
+        " far outlier points (more than the object's extent away from it) were ignored"));
+  }
   stats.num_samples = points.size();
+  ReconOptions unit_options = options;
+  unit_options.voxel_size = options.voxel_size / samples.frame.scale;
 
   const auto t_field = Clock::now();
   reporter.begin("orientation field", 0);
   const BoundingBox box = bounding_box(points);
-  check_memory_budget(box, points, options);  // before anything grid-sized exists
-  const GridGeometry grid = make_domain(box, options);
+  check_memory_budget(box, points, unit_options);  // before anything grid-sized exists
+  const GridGeometry grid = make_domain(box, unit_options);
   stats.grid_dims = grid.dims;
-  stats.voxel_size = grid.spacing;
+  stats.voxel_size = grid.spacing * samples.frame.scale;
   reporter.info(format_message("recon: grid ", grid.dims.x(), "x", grid.dims.y(), "x",
                                grid.dims.z(), ", voxel ", grid.spacing, ", ", points.size(),
                                " samples"));
@@ -349,6 +358,9 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   if (result.mesh.faces.empty()) {
     throw NumericalError("recon", "the isosurface is empty (the orientations may be inconsistent)");
   }
+  to_world(samples.frame, result.mesh);
+  f.geometry.origin = samples.frame.to_world(f.geometry.origin);
+  f.geometry.spacing *= samples.frame.scale;
   reporter.info(format_message("recon: isovalue ", stats.isovalue, ", ", result.mesh.num_vertices(),
                                " vertices, ", result.mesh.num_faces(), " faces (",
                                stats.faces_trimmed, " trimmed)"));

@@ -34,7 +34,8 @@ struct ReconResult {
 };
 
 // Throws InputError(source, reason) when the points cannot be reconstructed:
-// fewer than 4 points, no normals, all normals zero.
+// fewer than 4 points, no normals, all normals zero, an extent that is zero
+// or below numerical resolution.
 void check_reconstructable(const PointCloud& points, const std::string& source);
 
 // Throws ConfigError for bad options, InputError for unusable points,
@@ -42,8 +43,12 @@ void check_reconstructable(const PointCloud& points, const std::string& source);
 ReconResult reconstruct_surface(const PointCloud& points, const ReconOptions& options,
                                 Reporter& reporter);
 
+// Nodes per axis beyond which a domain is not made larger: far more than
+// any machine holds, small enough that node counts stay exact in int64.
+inline constexpr int kMaxDomainNodes = 1 << 20;
+
 // The grid for the points' bounding box: margin, cubic cells, dims that
-// coarsen at least levels - 1 times.
+// coarsen at least levels - 1 times (at most about kMaxDomainNodes).
 GridGeometry make_domain(const BoundingBox& box, const ReconOptions& options, int levels = 5);
 
 }  // namespace hos::recon

@@ -28,6 +28,29 @@ std::string join_skipped(const std::vector<SkippedInput>& skipped) {
   return out;
 }
 
+// COLMAP reads only 8 bits per channel; 16-bit PNG and TIFF photos (common
+// from raw development) and float TIFFs (taken as 0..1) are scaled down.
+cv::Mat to_8_bits(const cv::Mat& image) {
+  double scale = 1.0;
+  switch (image.depth()) {
+    case CV_16U:
+      scale = 255.0 / 65535.0;
+      break;
+    case CV_16S:
+      scale = 255.0 / 32767.0;
+      break;
+    case CV_32F:
+    case CV_64F:
+      scale = 255.0;
+      break;
+    default:
+      break;
+  }
+  cv::Mat out;
+  image.convertTo(out, CV_8U, scale);
+  return out;
+}
+
 }  // namespace
 
 const std::vector<std::string>& supported_image_extensions() {
@@ -78,7 +101,10 @@ ImageInputs prepare_images(const fs::path& folder, const fs::path& staging_dir,
   for (const auto& entry : fs::directory_iterator(folder, ec)) {
     const std::string name = entry.path().filename().string();
     if (name.empty() || name[0] == '.') continue;
-    if (entry.is_directory()) continue;
+    // An entry that cannot be examined (a symlink loop, a dangling link) is
+    // kept here and skipped below with the reason.
+    std::error_code entry_ec;
+    if (entry.is_directory(entry_ec)) continue;
     files.push_back(entry.path());
   }
   if (ec) throw InputError(folder.string(), "cannot list the folder: " + ec.message());
@@ -128,7 +154,8 @@ ImageInputs prepare_images(const fs::path& folder, const fs::path& staging_dir,
     // must not apply it a second time.
     cv::Mat image;
     try {
-      image = cv::imdecode(bytes, cv::IMREAD_COLOR | cv::IMREAD_IGNORE_ORIENTATION);
+      image = cv::imdecode(bytes,
+                           cv::IMREAD_COLOR | cv::IMREAD_ANYDEPTH | cv::IMREAD_IGNORE_ORIENTATION);
     } catch (const cv::Exception&) {
       image.release();
     }
@@ -145,6 +172,10 @@ ImageInputs prepare_images(const fs::path& folder, const fs::path& staging_dir,
     staged.name = file.filename().string();
     staged.source = file;
     staged.focal_length_mm = exif.focal_length_mm;
+    if (image.depth() != CV_8U) {
+      image = to_8_bits(image);
+      staged.rewritten = true;
+    }
     if (exif.orientation != 1) {
       image = apply_exif_orientation(image, exif.orientation);
       staged.rewritten = true;

@@ -26,7 +26,7 @@ struct StagedImage {
   int width = 0;                     // size as staged (upright, downscaled)
   int height = 0;
   std::optional<double> focal_length_mm;  // from EXIF
-  bool rewritten = false;            // re-encoded (rotated or downscaled) rather than linked
+  bool rewritten = false;  // re-encoded (rotated, downscaled or 16 to 8 bits) rather than linked
 };
 
 struct ImageInputs {
@@ -43,7 +43,9 @@ const std::vector<std::string>& supported_image_extensions();
 cv::Mat apply_exif_orientation(const cv::Mat& image, int orientation);
 
 // Checks every file at the top level of folder (hidden files are ignored),
-// warns about each skipped one with the reason, and stages the usable photos
+// warns about each skipped one with the reason (an entry that cannot be
+// read at all, such as a symlink loop, included), and stages the usable photos
+// (converted to 8 bits per channel when deeper)
 // into staging_dir (created). Throws InputError when the folder is missing or
 // fewer than 3 usable photos remain, listing what was skipped.
 ImageInputs prepare_images(const std::filesystem::path& folder,

@@ -138,6 +138,22 @@ TEST(PlyIo, NonFiniteCoordinatesAreSkippedAndCounted) {
   }
 }
 
+TEST(PlyIo, UnusableConfidencesReadAsZeroAndCounted) {
+  testing::TempDir dir;
+  std::ofstream(dir / "conf.ply")
+      << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+         "property float z\nproperty float confidence\nend_header\n"
+         "0 0 0 nan\n1 0 0 -1\n0 1 0 inf\n0 0 1 2\n";
+  PlyReadReport report;
+  const PointCloud c = read_point_cloud_ply(dir / "conf.ply", &report);
+  ASSERT_EQ(c.confidence.size(), 4u);
+  EXPECT_EQ(report.num_invalid_confidence, 3u);
+  EXPECT_EQ(c.confidence[0], 0.0f);
+  EXPECT_EQ(c.confidence[1], 0.0f);
+  EXPECT_EQ(c.confidence[2], 0.0f);
+  EXPECT_EQ(c.confidence[3], 2.0f);
+}
+
 TEST(PlyIo, ReadsPolygonsAndForeignPropertyNames) {
   hos::testing::TempDir dir;
   std::ofstream(dir / "quad.ply") << "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\n"

@@ -1,7 +1,9 @@
 // The hos-recon executable: a good run, and bad inputs with their exit codes.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "synth/shapes.h"
 #include "core/exit_codes.h"
@@ -82,6 +84,36 @@ TEST(HosRecon, BadInputsGetAClearMessageAndExitCode) {
   EXPECT_NE(log_of(dir).find("largest resolution that fits"), std::string::npos) << log_of(dir);
   EXPECT_FALSE(std::filesystem::exists(dir / "big.ply"));
   EXPECT_FALSE(std::filesystem::exists(dir / "mesh.ply.tmp"));
+}
+
+TEST(HosRecon, OutputThatIsAFolderIsRefusedBeforeTheSolve) {
+  hos::testing::TempDir dir;
+  write_point_cloud_ply(dir / "sphere.ply", testing::sample_sphere(2000, 1.0, 0.0, 3));
+  std::filesystem::create_directories(dir / "mesh.ply");
+  EXPECT_EQ(run_recon("--input " + (dir / "sphere.ply").string() + " --output " +
+                          (dir / "mesh.ply").string() + " --resolution 16",
+                      dir),
+            kExitOutputFailed);
+  EXPECT_NE(log_of(dir).find("is a folder"), std::string::npos) << log_of(dir);
+  EXPECT_EQ(log_of(dir).find("CG iterations"), std::string::npos)
+      << "detected only after the solve";
+}
+
+TEST(HosRecon, UnusableConfidencesAreCountedInAWarning) {
+  hos::testing::TempDir dir;
+  PointCloud points = testing::sample_sphere(4000, 1.0, 0.0, 4);
+  points.confidence.assign(points.size(), 1.0f);
+  points.confidence[0] = std::numeric_limits<float>::quiet_NaN();
+  points.confidence[1] = -2.0f;
+  write_point_cloud_ply(dir / "points.ply", points);
+  EXPECT_EQ(run_recon("--input " + (dir / "points.ply").string() + " --output " +
+                          (dir / "mesh.ply").string() + " --resolution 16",
+                      dir),
+            kExitSuccess)
+      << log_of(dir);
+  EXPECT_NE(log_of(dir).find("'confidence' is NaN, infinite or negative at 2 points"),
+            std::string::npos)
+      << log_of(dir);
 }
 
 }  // namespace
