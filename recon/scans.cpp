@@ -1,5 +1,6 @@
 #include "recon/scans.h"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -35,6 +36,9 @@ std::vector<RangeScanEntry> read_stanford_conf(const fs::path& conf) {
       throw InputError(conf.string(), "line " + std::to_string(line_number) +
                                           ": expected 'bmesh FILE tx ty tz qx qy qz qw'");
     }
+    if (!std::isfinite(t[0] + t[1] + t[2]) || !std::isfinite(q[0] + q[1] + q[2] + q[3])) {
+      throw InputError(conf.string(), "line " + std::to_string(line_number) + ": the pose holds a non-finite number");
+    }
     entry.file = conf.parent_path() / file;
     entry.translation = Eigen::Vector3d(t[0], t[1], t[2]);
     const Eigen::Quaterniond rotation(q[3], q[0], q[1], q[2]);
@@ -63,6 +67,9 @@ PointCloud load_stanford_scans(const fs::path& conf, Reporter& reporter) {
     }
     for (auto& p : cloud.positions) {
       p = scan.to_world(p.cast<double>()).cast<float>();
+      if (!p.allFinite()) {
+        throw InputError(conf.string(), scan.file.filename().string() + ": its pose moves points beyond the float range");
+      }
       centre += p.cast<double>();
     }
     total += cloud.size();

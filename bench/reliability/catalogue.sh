@@ -104,7 +104,7 @@ code=$(pipeline photos first.glb); row "... and run again" "$code" log.txt
 code=$(pipeline photos /proc/out.glb --workspace ws2); row "output folder not writable (/proc)" "$code" log.txt
 pipeline photos photos/model.glb > /dev/null
 code=$(pipeline photos photos/model.glb)
-row "output inside the photo folder, second run ($(grep -c 'up to date' log.txt) of 4 stages skipped)" "$code" log.txt
+row "output inside the photo folder, second run ($(grep -c 'up to date, skipped' log.txt) of 4 stages skipped)" "$code" log.txt
 code=$(pipeline photos fresh.glb --from recon)
 row "--from recon without a workspace (workspace created: $([ -d fresh_workspace ] && echo yes || echo no))" "$code" log.txt
 echo damaged > first_workspace/mvs/points.ply

@@ -361,11 +361,11 @@ TEST_F(DriverTest, FailedFinalCopyIsAnOutputErrorWithTheReason) {
 
 TEST_F(DriverTest, LowDiskSpaceIsWarnedBeforeTheStage) {
   testing::MessageLog log;
-  warn_if_low_space(dir_, std::uintmax_t{1} << 62, "mvs", log);
+  warn_if_low_space(dir_.path(), std::uintmax_t{1} << 62, "mvs", log);
   EXPECT_THAT(log.warnings(), HasSubstr("the mvs stage may need about"));
   EXPECT_THAT(log.warnings(), HasSubstr("the disk mounted at"));
   testing::MessageLog quiet;
-  warn_if_low_space(dir_, 1, "mvs", quiet);
+  warn_if_low_space(dir_.path(), 1, "mvs", quiet);
   EXPECT_TRUE(quiet.warnings().empty());
 }
 
