@@ -5,7 +5,8 @@
 # load, out-of-range conversion) fails the test that meets it.
 #   scripts/sanitize.sh                 # every fast test
 #   scripts/sanitize.sh -R 'Fuzz|Ply'   # extra arguments go to ctest
-# HOS_SANITIZE (default address,undefined) and HOS_JOBS (default nproc) apply.
+# HOS_SANITIZE (default address,undefined), HOS_JOBS (default nproc) and
+# HOS_MODULES (default all, e.g. "core;recon;pipeline") apply.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${HOS_SANITIZE_BUILD_DIR:-$root/build-sanitize}"
@@ -16,7 +17,7 @@ launcher=()
 if command -v ccache > /dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
 if [ ! -f "$build/CMakeCache.txt" ]; then
   cmake -S "$root" -B "$build" "${generator[@]}" "${launcher[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DHOS_SANITIZE="${HOS_SANITIZE:-address,undefined}"
+    -DHOS_SANITIZE="${HOS_SANITIZE:-address,undefined}" ${HOS_MODULES:+-DHOS_MODULES="$HOS_MODULES"}
 fi
 cmake --build "$build" -j "$jobs"
 # halt_on_error: a report fails the test; leaks are reported at exit.

@@ -21,6 +21,7 @@
 #include "recon/scans.h"
 #include "tests/fuzz/mutator.h"
 #include "tests/sfm/jpeg_fixtures.h"
+#include "tests/support/sparse_model_fixture.h"
 #include "tests/support/test_support.h"
 
 namespace hos {
@@ -123,32 +124,9 @@ TEST(FuzzReaders, PlyMeshes) {
   }
 }
 
-SparseModel small_model() {
-  SparseModel m;
-  m.cameras[1] = Camera::pinhole(1, 640, 480, 500.5, 501.25, 320, 240);
-  for (int id : {3, 7}) {
-    ImageRecord im;
-    im.id = id;
-    im.camera_id = 1;
-    im.name = "img_" + std::to_string(id) + ".jpg";
-    im.cam_from_world_rotation = Eigen::Quaterniond(0.9, 0.1 * id, -0.2, 0.3).normalized();
-    im.cam_from_world_translation = Eigen::Vector3d(0.5 * id, -1.0, 2.5);
-    im.keypoints = {{Eigen::Vector2d(10.5, 20.25), 11}, {Eigen::Vector2d(100, 200), -1}};
-    m.images[id] = im;
-  }
-  Point3D p;
-  p.id = 11;
-  p.xyz = Eigen::Vector3d(0.25, -1.5, 4.0);
-  p.color = {10, 200, 30};
-  p.error = 0.75;
-  p.track = {{3, 0}, {7, 0}};
-  m.points[11] = p;
-  return m;
-}
-
 void fuzz_colmap(ColmapFormat format, const std::string& ext, std::uint64_t salt) {
   testing::TempDir dir;
-  write_colmap_model(small_model(), dir / "valid", format);
+  write_colmap_model(hos::testing::small_sparse_model(), dir / "valid", format);
   const bool text = format == ColmapFormat::kText;
   // Each of the three files in turn, the others valid.
   for (const char* name : {"cameras", "images", "points3D"}) {
