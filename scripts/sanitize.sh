@@ -6,7 +6,7 @@
 #   scripts/sanitize.sh                 # every fast test
 #   scripts/sanitize.sh -R 'Fuzz|Ply'   # extra arguments go to ctest
 # HOS_SANITIZE (default address,undefined), HOS_JOBS (default nproc) and
-# HOS_MODULES (default all, e.g. "core;recon;pipeline") apply.
+# HOS_MODULES (default all, e.g. "core;render;synth;recon") apply.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${HOS_SANITIZE_BUILD_DIR:-$root/build-sanitize}"
