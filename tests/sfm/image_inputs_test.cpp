@@ -167,7 +167,7 @@ TEST(ImageInputs, OrientationTableMatchesExifDefinition) {
 }
 
 TEST(ImageInputs, SixteenBitPhotosAreStagedAsEightBits) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   fs::create_directories(dir / "photos");
   write_good_jpegs(dir / "photos", 2);
   cv::Mat deep;
@@ -192,7 +192,7 @@ TEST(ImageInputs, SixteenBitPhotosAreStagedAsEightBits) {
 }
 
 TEST(ImageInputs, SymlinkLoopIsSkippedWithAWarning) {
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   fs::create_directories(dir / "photos");
   write_good_jpegs(dir / "photos", 3);
   fs::create_symlink("loop.jpg", dir / "photos" / "loop.jpg");  // points at itself
