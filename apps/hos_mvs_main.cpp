@@ -2,12 +2,12 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "apps/stage_main.h"
 #include "core/atomic_file.h"
 #include "core/exit_codes.h"
 #include "core/ply_io.h"
 #include "core/undistorted_workspace.h"
 #include "mvs/run_mvs.h"
-#include "apps/stage_main.h"
 
 int main(int argc, char** argv) {
   hos::mvs::MvsOptions options;

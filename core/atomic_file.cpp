@@ -57,10 +57,10 @@ void write_atomically(const fs::path& target, const std::function<void(const fs:
   }
 }
 
-void write_folder_atomically(const fs::path& target_dir,
-                             const std::function<void(const fs::path&)>& write) {
+void write_folder_atomically(const fs::path& target_dir, const std::function<void(const fs::path&)>& write) {
   const fs::path parent = folder_of(target_dir);
-  if (!fs::is_directory(parent)) throw OutputError(target_dir.string(), "folder " + parent.string() + " does not exist");
+  if (!fs::is_directory(parent))
+    throw OutputError(target_dir.string(), "folder " + parent.string() + " does not exist");
   const fs::path tmp = temporary_sibling(target_dir);
   try {
     write_reporting_failures(target_dir, tmp, [&](const fs::path& dir) {
@@ -87,8 +87,7 @@ void check_writable_target(const fs::path& target) {
   const fs::path probe = temporary_sibling(target);
   const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) {
-    throw OutputError(target.string(),
-                      "cannot create a file in " + folder.string() + ": " + std::strerror(errno));
+    throw OutputError(target.string(), "cannot create a file in " + folder.string() + ": " + std::strerror(errno));
   }
   ::close(fd);
   fs::remove(probe, ec);

@@ -12,8 +12,7 @@ namespace {
 fs::path nearest_existing(fs::path folder) {
   std::error_code ec;
   folder = fs::absolute(folder, ec);
-  while (!folder.empty() && !fs::exists(folder, ec) && folder.has_parent_path() &&
-         folder != folder.parent_path()) {
+  while (!folder.empty() && !fs::exists(folder, ec) && folder.has_parent_path() && folder != folder.parent_path()) {
     folder = folder.parent_path();
   }
   return folder;
@@ -51,9 +50,7 @@ std::string describe_disk(const fs::path& folder) {
   const DiskSpace d = disk_space(folder);
   std::string text = "the disk mounted at " + d.mount_point.string();
   if (d.known) {
-    text += " (" +
-            std::to_string(std::llround(static_cast<double>(d.free_bytes) / (1024.0 * 1024.0))) +
-            " MB free)";
+    text += " (" + std::to_string(std::llround(static_cast<double>(d.free_bytes) / (1024.0 * 1024.0))) + " MB free)";
   }
   return text;
 }

@@ -36,8 +36,7 @@ template std::string print_number<float>(float);
 
 namespace {
 
-void flatten(const YAML::Node& node, const std::string& prefix,
-             std::vector<std::pair<std::string, YAML::Node>>& out) {
+void flatten(const YAML::Node& node, const std::string& prefix, std::vector<std::pair<std::string, YAML::Node>>& out) {
   for (const auto& item : node) {
     const std::string key = prefix.empty() ? item.first.Scalar() : prefix + "." + item.first.Scalar();
     if (item.second.IsMap()) {
@@ -96,12 +95,14 @@ void OptionSet::add(const std::string& key, bool& value, std::string doc) {
 }
 
 void OptionSet::add(const std::string& key, std::string& value, std::string doc) {
-  add_entry({key, std::move(doc), "a string", [&value](const std::string& t) { value = t; },
-             [&value]() { return value; }});
+  add_entry(
+      {key, std::move(doc), "a string", [&value](const std::string& t) { value = t; }, [&value]() { return value; }});
 }
 
-void OptionSet::add_choice(const std::string& key, std::string& value,
-                           std::vector<std::string> choices, std::string doc) {
+void OptionSet::add_choice(const std::string& key,
+                           std::string& value,
+                           std::vector<std::string> choices,
+                           std::string doc) {
   std::string allowed = "one of:";
   for (const auto& c : choices) allowed += " " + c;
   add_entry({key, std::move(doc), allowed,
@@ -154,8 +155,7 @@ std::string OptionSet::closest_key(const std::string& key) const {
   return best;
 }
 
-void OptionSet::apply_assignment(const std::string& key, const std::string& value,
-                                 const std::string& source) {
+void OptionSet::apply_assignment(const std::string& key, const std::string& value, const std::string& source) {
   const Entry* entry = find(key);
   const std::string full_key = section_ + "." + key;
   if (!entry) {
@@ -174,8 +174,8 @@ void OptionSet::apply_assignment(const std::string& key, const std::string& valu
 void OptionSet::apply_yaml(const YAML::Node& node, const std::string& source) {
   if (!node || node.IsNull()) return;
   if (!node.IsMap()) {
-    throw ConfigError(section_, "must be a map of options (in " + source + ", line " +
-                                    std::to_string(node.Mark().line + 1) + ")");
+    throw ConfigError(
+        section_, "must be a map of options (in " + source + ", line " + std::to_string(node.Mark().line + 1) + ")");
   }
   std::vector<std::pair<std::string, YAML::Node>> flat;
   flatten(node, "", flat);
@@ -235,9 +235,8 @@ void check_unique_keys(const YAML::Node& node, const std::string& path) {
     const int line = item.first.Mark().line + 1;
     const auto [it, inserted] = first_line.emplace(item.first.Scalar(), line);
     if (!inserted) {
-      throw ConfigError(item.first.Scalar(), "is given twice (in " + path + ", lines " +
-                                                 std::to_string(it->second) + " and " +
-                                                 std::to_string(line) + ")");
+      throw ConfigError(item.first.Scalar(), "is given twice (in " + path + ", lines " + std::to_string(it->second) +
+                                                 " and " + std::to_string(line) + ")");
     }
     check_unique_keys(item.second, path);
   }
@@ -253,8 +252,7 @@ YAML::Node load_yaml_file(const std::string& path) {
     throw InputError(path, "cannot open config file");
   } catch (const YAML::Exception& e) {
     // A configuration error like an unknown key (exit 2), not unreadable input.
-    throw ConfigError(
-        path, "YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+    throw ConfigError(path, "YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
   check_unique_keys(root, path);
   return root;

@@ -29,8 +29,7 @@ bool is_executable_file(const std::string& path) {
 }
 
 // The child's environment: ours plus the requested overrides.
-std::vector<std::string> child_environment(
-    const std::vector<std::pair<std::string, std::string>>& overrides) {
+std::vector<std::string> child_environment(const std::vector<std::pair<std::string, std::string>>& overrides) {
   std::map<std::string, std::string> vars;
   for (char** e = environ; e && *e; ++e) {
     const std::string entry(*e);

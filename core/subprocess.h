@@ -29,9 +29,9 @@ struct ProcessOptions {
 };
 
 struct ProcessResult {
-  int exit_code = -1;        // exit status, or 128 + signal number
-  int signal = 0;            // signal that ended the child, 0 if it exited
-  bool cancelled = false;    // we stopped it because cancellation was requested
+  int exit_code = -1;      // exit status, or 128 + signal number
+  int signal = 0;          // signal that ended the child, 0 if it exited
+  bool cancelled = false;  // we stopped it because cancellation was requested
   double wall_seconds = 0.0;
   std::int64_t peak_rss_bytes = 0;  // of the child and the processes it waited for
   bool ok() const { return exit_code == 0 && !cancelled; }

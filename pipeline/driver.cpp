@@ -9,6 +9,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/exit_codes.h"
+#include "core/subprocess.h"
 #include "pipeline/file_hash.h"
 #include "pipeline/output_checks.h"
 #include "pipeline/pipeline_config.h"
@@ -16,7 +17,6 @@
 #include "pipeline/stage_paths.h"
 #include "pipeline/stages.h"
 #include "pipeline/workspace_lock.h"
-#include "core/subprocess.h"
 
 namespace hos::pipeline {
 namespace fs = std::filesystem;
@@ -31,15 +31,20 @@ std::string config_fingerprint(const PipelineConfig& config, const std::string& 
 // Maps a failed stage's exit code onto the same error kind, so the driver
 // exits with the code that names the cause. input_hint is added when the
 // stage rejects its input.
-[[noreturn]] void throw_stage_failure(const std::string& stage, int code, const fs::path& log,
+[[noreturn]] void throw_stage_failure(const std::string& stage,
+                                      int code,
+                                      const fs::path& log,
                                       const std::string& input_hint) {
   const std::string where = "see " + log.string();
   switch (code) {
-    case kExitUsage: throw ConfigError(stage, "the stage rejected its configuration; " + where);
+    case kExitUsage:
+      throw ConfigError(stage, "the stage rejected its configuration; " + where);
     case kExitBadInput:
       throw InputError(stage, "the stage rejected its input; " + where + (input_hint.empty() ? "" : "; " + input_hint));
-    case kExitOutputFailed: throw OutputError(stage, "the stage could not write its output; " + where);
-    case kExitInterrupted: throw Cancelled();
+    case kExitOutputFailed:
+      throw OutputError(stage, "the stage could not write its output; " + where);
+    case kExitInterrupted:
+      throw Cancelled();
     default:
       throw StageError(stage, "failed (exit code " + std::to_string(code) + "); " + where);
   }
@@ -170,8 +175,12 @@ std::string input_hint(const StageSpec& spec) {
 }
 
 // Runs one stage executable and records how it went; throws on failure.
-void run_stage_process(const StageSpec& spec, const DriverOptions& options, const StagePaths& paths,
-                       RunRecord& record, StageRecord& stage_record, Reporter& reporter) {
+void run_stage_process(const StageSpec& spec,
+                       const DriverOptions& options,
+                       const StagePaths& paths,
+                       RunRecord& record,
+                       StageRecord& stage_record,
+                       Reporter& reporter) {
   warn_if_low_space(paths.root, estimated_stage_bytes(spec.name, options.photos, paths), spec.name, reporter);
   const fs::path log = paths.log(spec.name);
   std::error_code ec;
@@ -196,7 +205,8 @@ void run_stage_process(const StageSpec& spec, const DriverOptions& options, cons
   if (run.cancelled || run.exit_code == kExitInterrupted) {
     stage_record.state = "interrupted";
     save_run_record(record, paths.run_record);
-    reporter.error("interrupted during " + spec.name + "; finished stages are kept. Re-run the same command to resume.");
+    reporter.error("interrupted during " + spec.name +
+                   "; finished stages are kept. Re-run the same command to resume.");
     throw Cancelled();
   }
   if (run.exit_code != 0) {
@@ -217,8 +227,13 @@ void run_stage_process(const StageSpec& spec, const DriverOptions& options, cons
 // Runs a stage of the range unless its inputs and config are unchanged since
 // its last successful run; `rerun` forces it and is set once a stage ran,
 // since everything after depends on its new output.
-StageOutcome run_or_skip_stage(const StageSpec& spec, const DriverOptions& options, const StagePaths& paths,
-                               const PipelineConfig& config, RunRecord& record, bool& rerun, Reporter& reporter) {
+StageOutcome run_or_skip_stage(const StageSpec& spec,
+                               const DriverOptions& options,
+                               const StagePaths& paths,
+                               const PipelineConfig& config,
+                               RunRecord& record,
+                               bool& rerun,
+                               Reporter& reporter) {
   StageOutcome outcome;
   outcome.stage = spec.name;
   Fingerprint inputs;
@@ -288,8 +303,9 @@ DriverResult run_pipeline(const DriverOptions& options, Reporter& reporter) {
 std::vector<std::string> summary_table(const DriverResult& result) {
   std::vector<std::string> lines;
   std::ostringstream header;
-  header << std::left << std::setw(9) << "stage" << std::setw(12) << "state" << std::setw(11) << "time"
-         << std::setw(11) << "peak mem" << "figures";
+  header << std::left << std::setw(9) << "stage" << std::setw(12) << "state" << std::setw(11) << "time" << std::setw(11)
+         << "peak mem"
+         << "figures";
   lines.push_back(header.str());
   for (const auto& s : result.stages) {
     std::ostringstream row;

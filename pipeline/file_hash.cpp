@@ -9,13 +9,11 @@ namespace hos::pipeline {
 namespace fs = std::filesystem;
 namespace {
 
-std::vector<fs::path> sorted_files(const fs::path& folder,
-                                   const std::vector<fs::path>& excluded = {}) {
+std::vector<fs::path> sorted_files(const fs::path& folder, const std::vector<fs::path>& excluded = {}) {
   std::vector<fs::path> files;
   std::error_code ec, base_ec;
   const fs::path base = excluded.empty() ? folder : fs::weakly_canonical(folder, base_ec);
-  for (auto it = fs::recursive_directory_iterator(
-           folder, fs::directory_options::skip_permission_denied, ec);
+  for (auto it = fs::recursive_directory_iterator(folder, fs::directory_options::skip_permission_denied, ec);
        !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
     // An entry that cannot be examined (a symlink loop) is left out; its own
     // error must not end the listing.
@@ -62,8 +60,7 @@ void Fingerprint::add_file_contents(const fs::path& file) {
   add("<end>");
 }
 
-void Fingerprint::add_folder_listing(const fs::path& folder,
-                                     const std::vector<fs::path>& excluded) {
+void Fingerprint::add_folder_listing(const fs::path& folder, const std::vector<fs::path>& excluded) {
   add("<listing>");
   for (const auto& file : sorted_files(folder, excluded)) {
     std::error_code ec;

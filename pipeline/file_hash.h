@@ -19,8 +19,7 @@ class Fingerprint {
   // Names, sizes and modification times of the files of a folder (recursively,
   // sorted), not their contents: cheap for folders of large photos. Files
   // and folders in `excluded` (absolute, normalised) are left out.
-  void add_folder_listing(const std::filesystem::path& folder,
-                          const std::vector<std::filesystem::path>& excluded = {});
+  void add_folder_listing(const std::filesystem::path& folder, const std::vector<std::filesystem::path>& excluded = {});
   // Contents of every file of a folder (recursively, sorted by path).
   void add_folder_contents(const std::filesystem::path& folder);
   std::string hex() const;

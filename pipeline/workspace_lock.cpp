@@ -37,26 +37,23 @@ WorkspaceLock::WorkspaceLock(const fs::path& workspace, Reporter& reporter) {
   // Close-on-exec: a stage child must not keep the lock after the driver dies.
   fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd_ < 0)
-    throw OutputError(file.string(),
-                      std::string("cannot create the workspace lock: ") + std::strerror(errno));
+    throw OutputError(file.string(), std::string("cannot create the workspace lock: ") + std::strerror(errno));
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     const int err = errno;
     const std::string owner = read_owner(fd_);
     ::close(fd_);
     fd_ = -1;
     if (err != EWOULDBLOCK) {
-      throw OutputError(file.string(),
-                        std::string("cannot lock the workspace: ") + std::strerror(err));
+      throw OutputError(file.string(), std::string("cannot lock the workspace: ") + std::strerror(err));
     }
-    throw ConfigError("workspace " + workspace.string(),
-                      "is in use by another hos-pipeline (" +
-                          (owner.empty() ? std::string("pid unknown") : owner) +
-                          "); wait for it to finish, or give another --workspace");
+    throw ConfigError("workspace " + workspace.string(), "is in use by another hos-pipeline (" +
+                                                             (owner.empty() ? std::string("pid unknown") : owner) +
+                                                             "); wait for it to finish, or give another --workspace");
   }
   const std::string previous = read_owner(fd_);
   if (!previous.empty()) {
-    reporter.warn("taking over the workspace lock of an earlier run that did not finish (" +
-                  previous + "); its finished stages are kept");
+    reporter.warn("taking over the workspace lock of an earlier run that did not finish (" + previous +
+                  "); its finished stages are kept");
   }
   write_owner(fd_, "pid " + std::to_string(::getpid()));
 }

@@ -51,8 +51,7 @@ std::string megabytes(std::size_t bytes) {
 
 // Would reconstruct_surface try a band on `grid` (see solve_with_bands)?
 bool band_possible(const GridGeometry& grid, const ReconOptions& options) {
-  return options.energy != SmoothnessEnergy::kTotalVariation && options.solver.band_voxels > 0 &&
-         grid.can_coarsen(3);
+  return options.energy != SmoothnessEnergy::kTotalVariation && options.solver.band_voxels > 0 && grid.can_coarsen(3);
 }
 
 // An upper bound of the nodes within [c - r, c + 1 + r] per axis of some
@@ -60,8 +59,7 @@ bool band_possible(const GridGeometry& grid, const ReconOptions& options) {
 // the grid's nodes. With blocks of b nodes per axis, a corner in block K
 // reaches blocks K - ceil(r / b) to K + 1 + floor(r / b): those are marked
 // around every block holding a corner, and their nodes counted.
-std::int64_t nodes_near_samples_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points,
-                                      int r) {
+std::int64_t nodes_near_samples_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points, int r) {
   // Blocks of 4 nodes keep the bound within 1.32-1.38x of the stored band on
   // the sphere and the bunny (1.95x on isolated points); grids above 1024
   // nodes use larger blocks so that the block grid stays small.
@@ -69,9 +67,7 @@ std::int64_t nodes_near_samples_bound(const GridGeometry& grid, const std::vecto
   const int b = std::max(4, (dims.maxCoeff() + 255) / 256);
   const int below = (r + b - 1) / b, above = 1 + r / b;
   const Eigen::Vector3i blocks = (dims.array() + b - 1) / b;
-  const auto block_index = [&](int x, int y, int z) {
-    return (std::int64_t{z} * blocks.y() + y) * blocks.x() + x;
-  };
+  const auto block_index = [&](int x, int y, int z) { return (std::int64_t{z} * blocks.y() + y) * blocks.x() + x; };
   std::vector<std::uint8_t> seeded(static_cast<std::size_t>(blocks.prod()), 0);
   std::vector<Eigen::Vector3i> seeds;
   for (const auto& p : points) {
@@ -106,17 +102,16 @@ std::int64_t nodes_near_samples_bound(const GridGeometry& grid, const std::vecto
 
 // A sample marks the corners c and c + 1 of its cell (per axis); the band
 // dilates them by `voxels` (the active nodes) and stores a halo of kHalo more.
-std::int64_t band_active_nodes_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points,
-                                     int voxels) {
+std::int64_t band_active_nodes_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points, int voxels) {
   return nodes_near_samples_bound(grid, points, std::max(voxels, 0));
 }
 
-std::int64_t band_stored_nodes_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points,
-                                     int voxels) {
+std::int64_t band_stored_nodes_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points, int voxels) {
   return nodes_near_samples_bound(grid, points, std::max(voxels, 0) + ActiveNodes::kHalo);
 }
 
-std::size_t estimate_peak_bytes(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points,
+std::size_t estimate_peak_bytes(const GridGeometry& grid,
+                                const std::vector<Eigen::Vector3f>& points,
                                 const ReconOptions& options) {
   const double nodes = static_cast<double>(grid.num_nodes());
   const double per_sample = options.screening > 0.0 ? kBytesPerSampleScreened : kBytesPerSample;
@@ -145,8 +140,10 @@ std::size_t memory_budget_bytes(const ReconOptions& options) {
   return static_cast<std::size_t>(0.75 * static_cast<double>(pages) * static_cast<double>(page_size));
 }
 
-int largest_resolution_within(const BoundingBox& box, const std::vector<Eigen::Vector3f>& points,
-                              const ReconOptions& options, std::size_t budget) {
+int largest_resolution_within(const BoundingBox& box,
+                              const std::vector<Eigen::Vector3f>& points,
+                              const ReconOptions& options,
+                              std::size_t budget) {
   ReconOptions trial = options;
   trial.voxel_size = 0.0;
   const auto fits = [&](int resolution) {
@@ -166,15 +163,16 @@ int largest_resolution_within(const BoundingBox& box, const std::vector<Eigen::V
   return lo;
 }
 
-void check_memory_budget(const BoundingBox& box, const std::vector<Eigen::Vector3f>& points,
+void check_memory_budget(const BoundingBox& box,
+                         const std::vector<Eigen::Vector3f>& points,
                          const ReconOptions& options) {
   const std::size_t budget = memory_budget_bytes(options);
   const GridGeometry grid = make_domain(box, options);
   const std::size_t estimate = estimate_peak_bytes(grid, points, options);
   if (estimate <= budget) return;
   const int fitting = largest_resolution_within(box, points, options, budget);
-  const std::string dims = std::to_string(grid.dims.x()) + "x" + std::to_string(grid.dims.y()) + "x" +
-                           std::to_string(grid.dims.z());
+  const std::string dims =
+      std::to_string(grid.dims.x()) + "x" + std::to_string(grid.dims.y()) + "x" + std::to_string(grid.dims.z());
   std::string reason = "a " + dims + " grid needs about " + megabytes(estimate) + ", more than the budget of " +
                        megabytes(budget) + " (recon.max_memory_mb, --max-memory); ";
   reason += fitting > 0 ? "the largest resolution that fits is " + std::to_string(fitting)

@@ -18,9 +18,9 @@ struct ReconStats {
   std::size_t num_samples = 0;
   std::size_t num_samples_dropped = 0;  // without a usable orientation
   int multigrid_levels = 0;
-  int solver_iterations = 0;           // summed over all linear solves
-  double relative_residual = 0.0;      // of the final linear solve
-  std::int64_t band_nodes = 0;         // fine nodes solved in the band; 0 = every node
+  int solver_iterations = 0;       // summed over all linear solves
+  double relative_residual = 0.0;  // of the final linear solve
+  std::int64_t band_nodes = 0;     // fine nodes solved in the band; 0 = every node
   double isovalue = 0.0;
   std::size_t faces_before_trim = 0;
   std::size_t faces_trimmed = 0;
@@ -40,8 +40,7 @@ void check_reconstructable(const PointCloud& points, const std::string& source);
 
 // Throws ConfigError for bad options, InputError for unusable points,
 // NumericalError if the solve fails, Cancelled on request.
-ReconResult reconstruct_surface(const PointCloud& points, const ReconOptions& options,
-                                Reporter& reporter);
+ReconResult reconstruct_surface(const PointCloud& points, const ReconOptions& options, Reporter& reporter);
 
 // Nodes per axis beyond which a domain is not made larger: far more than
 // any machine holds, small enough that node counts stay exact in int64.

@@ -64,19 +64,14 @@ void check_extent(const BoundingBox& box, const std::string& source) {
   const Eigen::Vector3d lo = box.min.cast<double>(), hi = box.max.cast<double>();
   const double longest = (hi - lo).maxCoeff();
   const double magnitude = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
-  if (!(longest > kMinAbsoluteExtent) || !std::isfinite(longest) ||
-      longest < kMinRelativeExtent * magnitude) {
-    throw InputError(
-        source,
-        format_message("the points' extent is ", longest, " at coordinates up to ", magnitude,
-                       ": they (nearly) coincide, so there is no surface to reconstruct "
-                       "(the extent must be above 1/65536 of the coordinates)"));
+  if (!(longest > kMinAbsoluteExtent) || !std::isfinite(longest) || longest < kMinRelativeExtent * magnitude) {
+    throw InputError(source, format_message("the points' extent is ", longest, " at coordinates up to ", magnitude,
+                                            ": they (nearly) coincide, so there is no surface to reconstruct "
+                                            "(the extent must be above 1/65536 of the coordinates)"));
   }
 }
 
-OrientedSamples prepare_samples(const PointCloud& input,
-                                bool use_confidence,
-                                const std::string& source) {
+OrientedSamples prepare_samples(const PointCloud& input, bool use_confidence, const std::string& source) {
   OrientedSamples s;
   const bool weighted = use_confidence && input.has_confidence();
   for (std::size_t i = 0; i < input.size(); ++i) {
@@ -88,18 +83,13 @@ OrientedSamples prepare_samples(const PointCloud& input,
     }
     s.points.push_back(input.positions[i]);
     s.normals.push_back((n / len).cast<float>());
-    if (weighted)
-      s.weights.push_back(std::isfinite(input.confidence[i]) ? std::max(0.0f, input.confidence[i])
-                                                             : 0.0f);
+    if (weighted) s.weights.push_back(std::isfinite(input.confidence[i]) ? std::max(0.0f, input.confidence[i]) : 0.0f);
   }
-  if (s.points.empty())
-    throw InputError(source, "no point has a finite position and a usable normal");
-  if (weighted &&
-      std::none_of(s.weights.begin(), s.weights.end(), [](float w) { return w > 0.0f; })) {
-    throw InputError(
-        source,
-        "property 'confidence' is 0 (or negative or NaN) at every point: nothing to weight the "
-        "orientations by; fix the input or set recon.use_confidence=false");
+  if (s.points.empty()) throw InputError(source, "no point has a finite position and a usable normal");
+  if (weighted && std::none_of(s.weights.begin(), s.weights.end(), [](float w) { return w > 0.0f; })) {
+    throw InputError(source,
+                     "property 'confidence' is 0 (or negative or NaN) at every point: nothing to weight the "
+                     "orientations by; fix the input or set recon.use_confidence=false");
   }
   s.dropped_far = drop_far_outliers(s.points, s.normals, s.weights);
   const BoundingBox box = bounding_box(s.points);

@@ -37,9 +37,7 @@ struct OrientedSamples {
 // the robust box, so one stray point cannot make the domain huge and the
 // object a few voxels wide. Throws InputError(source, ...) when nothing is
 // left or the extent is zero or below numerical resolution.
-OrientedSamples prepare_samples(const PointCloud& input,
-                                bool use_confidence,
-                                const std::string& source);
+OrientedSamples prepare_samples(const PointCloud& input, bool use_confidence, const std::string& source);
 
 // Throws InputError(source, ...) when box (of float points) has a longest
 // extent that is zero, not finite, or too small to resolve relative to its

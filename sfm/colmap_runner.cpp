@@ -69,8 +69,8 @@ ColmapInfo locate_colmap(const std::string& configured) {
   const ProcessResult result = run_process(process);
   ColmapInfo info = parse_colmap_banner(banner);
   if (!result.ok() || info.version.empty()) {
-    throw StageError("sfm", path + " does not run as COLMAP (exit code " +
-                                std::to_string(result.exit_code) + "); " + kInstallHint);
+    throw StageError(
+        "sfm", path + " does not run as COLMAP (exit code " + std::to_string(result.exit_code) + "); " + kInstallHint);
   }
   info.executable = path;
   return info;
@@ -127,16 +127,15 @@ ColmapStepResult run_colmap_step(const ColmapInfo& colmap, const ColmapStep& ste
   if (result.cancelled) throw Cancelled();
   if (!disk_full.empty()) {
     const std::string folder = folder_written_by(step);
-    throw OutputError(folder, "the disk is full: " + describe_disk(folder) + "; COLMAP " +
-                                  step.command + " said: " + disk_full +
-                                  ". Free some space and run the same command again");
+    throw OutputError(folder, "the disk is full: " + describe_disk(folder) + "; COLMAP " + step.command +
+                                  " said: " + disk_full + ". Free some space and run the same command again");
   }
   ColmapStepResult out;
   out.seconds = result.wall_seconds;
   out.exit_code = result.exit_code;
   out.last_lines.assign(tail.begin(), tail.end());
-  reporter.debug(format_message("colmap ", step.command, " finished in ", result.wall_seconds,
-                                " s with exit code ", result.exit_code));
+  reporter.debug(format_message("colmap ", step.command, " finished in ", result.wall_seconds, " s with exit code ",
+                                result.exit_code));
   return out;
 }
 

@@ -37,10 +37,10 @@ ColmapInfo parse_colmap_banner(std::string_view banner);
 std::optional<std::int64_t> parse_colmap_progress(std::string_view line);
 
 struct ColmapStep {
-  std::string command;              // "feature_extractor", "mapper", ...
-  std::vector<std::string> args;    // "--database_path", "x", ...
-  std::string title;                // progress step name shown to the user
-  std::int64_t total = 0;           // work items for the progress bar (0 = unknown)
+  std::string command;            // "feature_extractor", "mapper", ...
+  std::vector<std::string> args;  // "--database_path", "x", ...
+  std::string title;              // progress step name shown to the user
+  std::int64_t total = 0;         // work items for the progress bar (0 = unknown)
 };
 
 struct ColmapStepResult {

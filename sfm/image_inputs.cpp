@@ -62,19 +62,26 @@ bool ImageInputs::same_camera() const {
   if (images.empty()) return true;
   const StagedImage& first = images.front();
   return std::all_of(images.begin(), images.end(), [&](const StagedImage& image) {
-    return image.width == first.width && image.height == first.height &&
-           image.focal_length_mm == first.focal_length_mm;
+    return image.width == first.width && image.height == first.height && image.focal_length_mm == first.focal_length_mm;
   });
 }
 
 cv::Mat apply_exif_orientation(const cv::Mat& image, int orientation) {
   cv::Mat out;
   switch (orientation) {
-    case 2: cv::flip(image, out, 1); break;   // mirrored horizontally
-    case 3: cv::flip(image, out, -1); break;  // rotated 180
-    case 4: cv::flip(image, out, 0); break;   // mirrored vertically
-    case 5: cv::transpose(image, out); break;
-    case 6:                                    // needs a 90 degree clockwise turn
+    case 2:
+      cv::flip(image, out, 1);
+      break;  // mirrored horizontally
+    case 3:
+      cv::flip(image, out, -1);
+      break;  // rotated 180
+    case 4:
+      cv::flip(image, out, 0);
+      break;  // mirrored vertically
+    case 5:
+      cv::transpose(image, out);
+      break;
+    case 6:  // needs a 90 degree clockwise turn
       cv::transpose(image, out);
       cv::flip(out, out, 1);
       break;
@@ -86,13 +93,17 @@ cv::Mat apply_exif_orientation(const cv::Mat& image, int orientation) {
       cv::transpose(image, out);
       cv::flip(out, out, 0);
       break;
-    default: out = image; break;
+    default:
+      out = image;
+      break;
   }
   return out;
 }
 
-ImageInputs prepare_images(const fs::path& folder, const fs::path& staging_dir,
-                           const SfmOptions& options, Reporter& reporter) {
+ImageInputs prepare_images(const fs::path& folder,
+                           const fs::path& staging_dir,
+                           const SfmOptions& options,
+                           Reporter& reporter) {
   std::error_code ec;
   if (!fs::exists(folder, ec)) throw InputError(folder.string(), "photo folder does not exist");
   if (!fs::is_directory(folder, ec)) throw InputError(folder.string(), "is not a folder of photos");
@@ -154,8 +165,7 @@ ImageInputs prepare_images(const fs::path& folder, const fs::path& staging_dir,
     // must not apply it a second time.
     cv::Mat image;
     try {
-      image = cv::imdecode(bytes,
-                           cv::IMREAD_COLOR | cv::IMREAD_ANYDEPTH | cv::IMREAD_IGNORE_ORIENTATION);
+      image = cv::imdecode(bytes, cv::IMREAD_COLOR | cv::IMREAD_ANYDEPTH | cv::IMREAD_IGNORE_ORIENTATION);
     } catch (const cv::Exception&) {
       image.release();
     }
@@ -164,8 +174,8 @@ ImageInputs prepare_images(const fs::path& folder, const fs::path& staging_dir,
       continue;
     }
     if (std::min(image.cols, image.rows) < options.min_image_size) {
-      skip("too small (" + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
-           "; sfm.min_image_size is " + std::to_string(options.min_image_size) + ")");
+      skip("too small (" + std::to_string(image.cols) + "x" + std::to_string(image.rows) + "; sfm.min_image_size is " +
+           std::to_string(options.min_image_size) + ")");
       continue;
     }
     StagedImage staged;

@@ -71,9 +71,9 @@ TEST(ColmapIo, AgreesWithTheRealColmap) {
   std::filesystem::create_directories(dir / "colmap_txt");
   const auto convert = [&](const std::string& in, const std::string& out, const std::string& type) {
     return hos::testing::run_command("QT_QPA_PLATFORM=offscreen colmap model_converter --input_path " +
-                                    hos::testing::shell_quote((dir / in).string()) + " --output_path " +
-                                    hos::testing::shell_quote((dir / out).string()) + " --output_type " + type,
-                                dir / "colmap.log");
+                                         hos::testing::shell_quote((dir / in).string()) + " --output_path " +
+                                         hos::testing::shell_quote((dir / out).string()) + " --output_type " + type,
+                                     dir / "colmap.log");
   };
   // Our text read by COLMAP, written as COLMAP's binary, read by us.
   ASSERT_EQ(convert("ours_txt", "colmap_bin", "BIN"), 0);

@@ -96,8 +96,7 @@ TEST(OptionSet, DuplicateKeysAreRefusedNamingBothLines) {
     EXPECT_NE(what.find("lambda"), std::string::npos) << what;
     EXPECT_NE(what.find("lines 2 and 4"), std::string::npos) << what;
   }
-  std::ofstream(dir / "sections.yaml")
-      << "recon:\n  lambda: 0.5\nmvs: {}\nrecon:\n  resolution: 64\n";
+  std::ofstream(dir / "sections.yaml") << "recon:\n  lambda: 0.5\nmvs: {}\nrecon:\n  resolution: 64\n";
   EXPECT_THROW(load_yaml_file((dir / "sections.yaml").string()), ConfigError);
 }
 

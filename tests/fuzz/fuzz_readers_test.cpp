@@ -16,9 +16,9 @@
 #include "core/error.h"
 #include "core/ply_io.h"
 #include "pipeline/pipeline_config.h"
+#include "recon/scans.h"
 #include "sfm/exif.h"
 #include "sfm/image_inputs.h"
-#include "recon/scans.h"
 #include "tests/fuzz/mutator.h"
 #include "tests/sfm/jpeg_fixtures.h"
 #include "tests/support/sparse_model_fixture.h"
@@ -49,12 +49,12 @@ void expect_documented_outcome(const std::string& reader,
     problem = std::string(typeid(e).name()) + ": " + e.what();
   }
   if (problem.empty()) return;
-  const fs::path keep = fs::path("fuzz-failures") /
-                        (reader + "-" + std::to_string(seed) + "-" + std::to_string(iteration));
+  const fs::path keep =
+      fs::path("fuzz-failures") / (reader + "-" + std::to_string(seed) + "-" + std::to_string(iteration));
   fs::create_directories(keep.parent_path());
   write_file(keep, mutant);
-  ADD_FAILURE() << reader << " (seed " << seed << ", iteration " << iteration << ", kept as "
-                << keep.string() << ") ended in an undocumented error (exit 70): " << problem;
+  ADD_FAILURE() << reader << " (seed " << seed << ", iteration " << iteration << ", kept as " << keep.string()
+                << ") ended in an undocumented error (exit 70): " << problem;
 }
 
 // Mutants of `valid`, each written to `file` and read by `read`.
@@ -104,12 +104,11 @@ void check_cloud(const PointCloud& c) {
 TEST(FuzzReaders, PlyPointClouds) {
   testing::TempDir dir;
   int salt = 0;
-  for (const PlyFormat format :
-       {PlyFormat::kAscii, PlyFormat::kBinaryLittleEndian, PlyFormat::kBinaryBigEndian}) {
+  for (const PlyFormat format : {PlyFormat::kAscii, PlyFormat::kBinaryLittleEndian, PlyFormat::kBinaryBigEndian}) {
     write_point_cloud_ply(dir / "valid.ply", small_cloud(), format);
     const fs::path file = dir / "mutant.ply";
-    fuzz_file("ply-points-" + std::to_string(salt), ++salt, read_file(dir / "valid.ply"),
-              format == PlyFormat::kAscii, file, [&] { check_cloud(read_point_cloud_ply(file)); });
+    fuzz_file("ply-points-" + std::to_string(salt), ++salt, read_file(dir / "valid.ply"), format == PlyFormat::kAscii,
+              file, [&] { check_cloud(read_point_cloud_ply(file)); });
   }
 }
 
@@ -119,8 +118,8 @@ TEST(FuzzReaders, PlyMeshes) {
   for (const PlyFormat format : {PlyFormat::kAscii, PlyFormat::kBinaryLittleEndian}) {
     write_mesh_ply(dir / "valid.ply", small_mesh(), format);
     const fs::path file = dir / "mutant.ply";
-    fuzz_file("ply-mesh-" + std::to_string(salt), ++salt, read_file(dir / "valid.ply"),
-              format == PlyFormat::kAscii, file, [&] { read_mesh_ply(file).check_consistent(); });
+    fuzz_file("ply-mesh-" + std::to_string(salt), ++salt, read_file(dir / "valid.ply"), format == PlyFormat::kAscii,
+              file, [&] { read_mesh_ply(file).check_consistent(); });
   }
 }
 
@@ -134,11 +133,8 @@ void fuzz_colmap(ColmapFormat format, const std::string& ext, std::uint64_t salt
     fs::copy(dir / "valid", dir / "model");
     const fs::path file = dir / "model" / (std::string(name) + ext);
     fuzz_file(
-        std::string("colmap-") + name + ext, salt++,
-        read_file(dir / "valid" / (std::string(name) + ext)), text, file,
-        [&] {
-          text ? read_colmap_model_text(dir / "model") : read_colmap_model_binary(dir / "model");
-        },
+        std::string("colmap-") + name + ext, salt++, read_file(dir / "valid" / (std::string(name) + ext)), text, file,
+        [&] { text ? read_colmap_model_text(dir / "model") : read_colmap_model_binary(dir / "model"); },
         kIterations / 2);
   }
 }
@@ -164,8 +160,7 @@ TEST(FuzzReaders, StanfordConf) {
   scan.normals.clear();
   write_point_cloud_ply(dir / "a.ply", scan, PlyFormat::kAscii);
   write_point_cloud_ply(dir / "b.ply", scan, PlyFormat::kBinaryLittleEndian);
-  const std::string conf =
-      "camera 0 0 1 0 0 0 1\nbmesh a.ply 0 0 0 0 0 0 1\nbmesh b.ply 0.1 -0.2 0.3 0 1 0 0\n";
+  const std::string conf = "camera 0 0 1 0 0 0 1\nbmesh a.ply 0 0 0 0 0 0 1\nbmesh b.ply 0.1 -0.2 0.3 0 1 0 0\n";
   fuzz_file("stanford-conf", 50, conf, /*text=*/true, dir / "scans.conf",
             [&] { check_cloud(recon::load_stanford_scans(dir / "scans.conf", null_reporter())); });
   // A damaged scan behind a valid .conf.
@@ -173,8 +168,7 @@ TEST(FuzzReaders, StanfordConf) {
   const std::string valid_scan = read_file(dir / "b.ply");
   fuzz_file(
       "stanford-scan", 51, valid_scan, /*text=*/false, dir / "b.ply",
-      [&] { check_cloud(recon::load_stanford_scans(dir / "scans.conf", null_reporter())); },
-      kIterations / 2);
+      [&] { check_cloud(recon::load_stanford_scans(dir / "scans.conf", null_reporter())); }, kIterations / 2);
 }
 
 TEST(FuzzReaders, PhotoHeaders) {
@@ -223,9 +217,8 @@ TEST(FuzzReaders, PhotoFolders) {
       write_file(dir / "photos" / ("p" + std::to_string(k) + valid[k].first), mutant);
       all += mutant;
     }
-    expect_documented_outcome("photos", seed, i, all, [&] {
-      sfm::prepare_images(dir / "photos", dir / "staged", options, null_reporter());
-    });
+    expect_documented_outcome("photos", seed, i, all,
+                              [&] { sfm::prepare_images(dir / "photos", dir / "staged", options, null_reporter()); });
   }
 }
 

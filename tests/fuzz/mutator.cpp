@@ -26,9 +26,7 @@ constexpr std::array<const char*, 14> kSpecialNumbers{"0",
                                                       "0.0000001",
                                                       "-0"};
 
-bool is_number_char(char c) {
-  return (c >= '0' && c <= '9') || c == '.' || c == '-' || c == 'e' || c == '+';
-}
+bool is_number_char(char c) { return (c >= '0' && c <= '9') || c == '.' || c == '-' || c == 'e' || c == '+'; }
 
 }  // namespace
 
@@ -68,8 +66,7 @@ std::string Mutator::mutate(const std::string& input, bool text) {
 
 void Mutator::flip_bits(std::string& s) {
   if (s.empty()) return;
-  for (std::size_t k = 0, n = 1 + below(8); k < n; ++k)
-    s[below(s.size())] ^= static_cast<char>(1u << below(8));
+  for (std::size_t k = 0, n = 1 + below(8); k < n; ++k) s[below(s.size())] ^= static_cast<char>(1u << below(8));
 }
 
 void Mutator::set_special_bytes(std::string& s) {

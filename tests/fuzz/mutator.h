@@ -19,9 +19,7 @@ class Mutator {
   std::string mutate(const std::string& input, bool text);
 
  private:
-  std::size_t below(std::size_t n) {
-    return n == 0 ? 0 : std::uniform_int_distribution<std::size_t>(0, n - 1)(rng_);
-  }
+  std::size_t below(std::size_t n) { return n == 0 ? 0 : std::uniform_int_distribution<std::size_t>(0, n - 1)(rng_); }
   void flip_bits(std::string& s);
   void set_special_bytes(std::string& s);
   void erase_run(std::string& s);

@@ -289,8 +289,7 @@ TEST_F(DriverTest, SecondRunOnTheSameWorkspaceIsRefusedNamingTheFirst) {
     run_pipeline(options_, null_reporter());
     ADD_FAILURE() << "the second run was not refused";
   } catch (const ConfigError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("in use by another hos-pipeline (pid " +
-                                    std::to_string(::getpid()) + ")"));
+    EXPECT_THAT(e.what(), HasSubstr("in use by another hos-pipeline (pid " + std::to_string(::getpid()) + ")"));
   }
   first_reporter.cancel = true;
   first.join();

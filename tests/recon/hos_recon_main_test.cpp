@@ -5,9 +5,9 @@
 #include <fstream>
 #include <limits>
 
-#include "synth/shapes.h"
 #include "core/exit_codes.h"
 #include "core/ply_io.h"
+#include "synth/shapes.h"
 #include "tests/recon/shape_samples.h"
 #include "tests/support/test_support.h"
 
@@ -18,8 +18,7 @@ using hos::testing::run_command;
 using hos::testing::shell_quote;
 
 int run_recon(const std::string& args, const hos::testing::TempDir& dir) {
-  return run_command(shell_quote((hos::testing::bin_dir() / "hos-recon").string()) +
-                         " --progress none " + args,
+  return run_command(shell_quote((hos::testing::bin_dir() / "hos-recon").string()) + " --progress none " + args,
                      dir / "log.txt");
 }
 
@@ -31,8 +30,8 @@ std::string log_of(const hos::testing::TempDir& dir) {
 TEST(HosRecon, ReconstructsASphereFile) {
   hos::testing::TempDir dir;
   write_point_cloud_ply(dir / "points.ply", synth::sample_sphere(20000, 1.0, 0.002, 1));
-  ASSERT_EQ(run_recon("--input " + (dir / "points.ply").string() + " --output " +
-                          (dir / "mesh.ply").string() + " --resolution 32",
+  ASSERT_EQ(run_recon("--input " + (dir / "points.ply").string() + " --output " + (dir / "mesh.ply").string() +
+                          " --resolution 32",
                       dir),
             kExitSuccess)
       << log_of(dir);
@@ -54,10 +53,9 @@ TEST(HosRecon, BadInputsGetAClearMessageAndExitCode) {
   EXPECT_NE(log_of(dir).find("no normals"), std::string::npos);
   // The same points oriented from a scanner position inside reconstruct
   // (inward normals, so the surface is still found).
-  EXPECT_EQ(run_recon("--input " + (dir / "unoriented.ply").string() + out +
-                          " --resolution 16 --scanner-pos 0,0,0",
-                      dir),
-            kExitSuccess)
+  EXPECT_EQ(
+      run_recon("--input " + (dir / "unoriented.ply").string() + out + " --resolution 16 --scanner-pos 0,0,0", dir),
+      kExitSuccess)
       << log_of(dir);
 
   PointCloud one;
@@ -71,8 +69,7 @@ TEST(HosRecon, BadInputsGetAClearMessageAndExitCode) {
   EXPECT_NE(log_of(dir).find("garbage.ply"), std::string::npos);
 
   EXPECT_EQ(run_recon("--input a.ply", dir), kExitUsage);
-  EXPECT_EQ(run_recon("--input " + (dir / "one.ply").string() + out + " --set recon.lamda=1", dir),
-            kExitUsage);
+  EXPECT_EQ(run_recon("--input " + (dir / "one.ply").string() + out + " --set recon.lamda=1", dir), kExitUsage);
   EXPECT_NE(log_of(dir).find("lambda"), std::string::npos) << "closest valid key";
 
   // A grid beyond the memory budget is refused up front, naming what fits.
@@ -90,13 +87,12 @@ TEST(HosRecon, OutputThatIsAFolderIsRefusedBeforeTheSolve) {
   hos::testing::TempDir dir;
   write_point_cloud_ply(dir / "sphere.ply", testing::sample_sphere(2000, 1.0, 0.0, 3));
   std::filesystem::create_directories(dir / "mesh.ply");
-  EXPECT_EQ(run_recon("--input " + (dir / "sphere.ply").string() + " --output " +
-                          (dir / "mesh.ply").string() + " --resolution 16",
+  EXPECT_EQ(run_recon("--input " + (dir / "sphere.ply").string() + " --output " + (dir / "mesh.ply").string() +
+                          " --resolution 16",
                       dir),
             kExitOutputFailed);
   EXPECT_NE(log_of(dir).find("is a folder"), std::string::npos) << log_of(dir);
-  EXPECT_EQ(log_of(dir).find("CG iterations"), std::string::npos)
-      << "detected only after the solve";
+  EXPECT_EQ(log_of(dir).find("CG iterations"), std::string::npos) << "detected only after the solve";
 }
 
 TEST(HosRecon, UnusableConfidencesAreCountedInAWarning) {
@@ -106,13 +102,12 @@ TEST(HosRecon, UnusableConfidencesAreCountedInAWarning) {
   points.confidence[0] = std::numeric_limits<float>::quiet_NaN();
   points.confidence[1] = -2.0f;
   write_point_cloud_ply(dir / "points.ply", points);
-  EXPECT_EQ(run_recon("--input " + (dir / "points.ply").string() + " --output " +
-                          (dir / "mesh.ply").string() + " --resolution 16",
+  EXPECT_EQ(run_recon("--input " + (dir / "points.ply").string() + " --output " + (dir / "mesh.ply").string() +
+                          " --resolution 16",
                       dir),
             kExitSuccess)
       << log_of(dir);
-  EXPECT_NE(log_of(dir).find("'confidence' is NaN, infinite or negative at 2 points"),
-            std::string::npos)
+  EXPECT_NE(log_of(dir).find("'confidence' is NaN, infinite or negative at 2 points"), std::string::npos)
       << log_of(dir);
 }
 

@@ -63,8 +63,7 @@ TEST(SampleFrame, IdenticalPointsAreBadInput) {
 
 TEST(SampleFrame, ExtentBelowFloatResolutionIsBadInput) {
   // A sphere of radius 1e-4 at 1e3 from the origin: about one float step across.
-  const PointCloud points =
-      scaled(testing::sample_sphere(2000, 1.0, 0.0, 1), 1e-4, {1e3, 0.0, 0.0});
+  const PointCloud points = scaled(testing::sample_sphere(2000, 1.0, 0.0, 1), 1e-4, {1e3, 0.0, 0.0});
   EXPECT_THROW(check_reconstructable(points, "points.ply"), InputError);
   EXPECT_THROW(reconstruct_surface(points, small_options(), null_reporter()), InputError);
 }
@@ -75,8 +74,7 @@ TEST(SampleFrame, ResultScalesWithTheInput) {
   const PointCloud unit = testing::sample_sphere(20000, 1.0, 0.0, 2);
   for (const double scale : {1e-30, 1e-6, 1.0, 1e20}) {
     const Eigen::Vector3d center = Eigen::Vector3d(3.0, -2.0, 1.0) * scale;
-    const ReconResult r =
-        reconstruct_surface(scaled(unit, scale, center), small_options(), null_reporter());
+    const ReconResult r = reconstruct_surface(scaled(unit, scale, center), small_options(), null_reporter());
     const auto [mean, worst] = relative_radial_error(r.mesh, center, scale);
     SCOPED_TRACE(scale);
     EXPECT_LT(mean, 0.02);

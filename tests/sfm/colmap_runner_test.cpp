@@ -39,23 +39,17 @@ TEST(ColmapRunner, ParsesProgressLines) {
   EXPECT_FALSE(parse_colmap_progress("").has_value());
 }
 
-TEST(ColmapRunner, TailIsIndented) {
-  EXPECT_EQ(format_tail({"a", "b"}), "\n    a\n    b");
-}
+TEST(ColmapRunner, TailIsIndented) { EXPECT_EQ(format_tail({"a", "b"}), "\n    a\n    b"); }
 
 TEST(ColmapRunner, FullDiskNamesTheDiskAndFolderAsAnOutputError) {
   // A stand-in for COLMAP that fails the way SQLite does on a full disk.
   testing::TempDir dir;
   const fs::path fake = dir / "colmap";
-  std::ofstream(fake)
-      << "#!/bin/sh\necho 'E1202 sqlite3.cc: SQLite error: database or disk is full'\nexit 1\n";
+  std::ofstream(fake) << "#!/bin/sh\necho 'E1202 sqlite3.cc: SQLite error: database or disk is full'\nexit 1\n";
   ::chmod(fake.c_str(), 0755);
   ColmapInfo colmap;
   colmap.executable = fake.string();
-  const ColmapStep step{"feature_extractor",
-                        {"--database_path", (dir / "ws" / "database.db").string()},
-                        "features",
-                        0};
+  const ColmapStep step{"feature_extractor", {"--database_path", (dir / "ws" / "database.db").string()}, "features", 0};
   try {
     run_colmap_step(colmap, step, null_reporter());
     FAIL() << "no error";

@@ -23,8 +23,7 @@ void write_bytes(const fs::path& path, const std::vector<std::uint8_t>& bytes) {
 
 void write_good_jpegs(const fs::path& folder, int count, int width = 120, int height = 90) {
   for (int i = 0; i < count; ++i) {
-    cv::imwrite((folder / ("good" + std::to_string(i) + ".jpg")).string(),
-                testing::gradient_image(width, height));
+    cv::imwrite((folder / ("good" + std::to_string(i) + ".jpg")).string(), testing::gradient_image(width, height));
   }
 }
 
@@ -174,14 +173,12 @@ TEST(ImageInputs, SixteenBitPhotosAreStagedAsEightBits) {
   testing::gradient_image(120, 90).convertTo(deep, CV_16U, 257.0);  // 8 -> 16 bits, same picture
   ASSERT_TRUE(cv::imwrite((dir / "photos" / "deep.png").string(), deep));
   ASSERT_TRUE(cv::imwrite((dir / "photos" / "deep.tif").string(), deep));
-  const ImageInputs inputs =
-      prepare_images(dir / "photos", dir / "staged", SfmOptions{}, null_reporter());
+  const ImageInputs inputs = prepare_images(dir / "photos", dir / "staged", SfmOptions{}, null_reporter());
   ASSERT_EQ(inputs.images.size(), 4u);
   for (const char* name : {"deep.png", "deep.tif"}) {
     const cv::Mat staged = cv::imread((dir / "staged" / name).string(), cv::IMREAD_UNCHANGED);
     ASSERT_FALSE(staged.empty()) << name;
-    EXPECT_EQ(staged.depth(), CV_8U)
-        << name << " was staged with more than 8 bits (COLMAP cannot read it)";
+    EXPECT_EQ(staged.depth(), CV_8U) << name << " was staged with more than 8 bits (COLMAP cannot read it)";
     // The same picture: within one grey level of the 8-bit original.
     cv::Mat original = testing::gradient_image(120, 90), diff;
     cv::absdiff(staged, original, diff);
