@@ -2,11 +2,12 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "apps/stage_main.h"
+#include "core/atomic_file.h"
 #include "core/exit_codes.h"
 #include "core/ply_io.h"
 #include "core/undistorted_workspace.h"
 #include "mvs/run_mvs.h"
-#include "apps/stage_main.h"
 
 int main(int argc, char** argv) {
   hos::mvs::MvsOptions options;
@@ -29,6 +30,7 @@ int main(int argc, char** argv) {
   return hos::apps::run_stage_main("mvs", flags, [&](hos::Reporter& reporter) {
     hos::apps::apply_config_and_overrides(option_set, flags);
     options.validate();
+    hos::check_writable_target(output_path);  // before the work, not after
     const hos::UndistortedWorkspace workspace = hos::load_undistorted_workspace(workspace_path);
     const hos::mvs::MvsResult result = hos::mvs::run_mvs(workspace, options, reporter, depth_maps);
     hos::write_point_cloud_ply(output_path, result.points);

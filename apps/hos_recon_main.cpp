@@ -3,11 +3,12 @@
 #include <iostream>
 #include <sstream>
 
+#include "apps/stage_main.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/exit_codes.h"
 #include "core/huge_pages.h"
 #include "core/ply_io.h"
-#include "apps/stage_main.h"
 #include "recon/reconstruct.h"
 #include "recon/scans.h"
 
@@ -52,6 +53,7 @@ int main(int argc, char** argv) {
   return hos::apps::run_stage_main("recon", flags, [&](hos::Reporter& reporter) {
     hos::apps::apply_config_and_overrides(option_set, flags);
     options.validate();
+    hos::check_writable_target(output_path);  // before the solve, not after
     hos::PointCloud points;
     std::string source = input_path;
     if (!scans_path.empty()) {
@@ -64,6 +66,10 @@ int main(int argc, char** argv) {
         reporter.warn(hos::format_message(input_path, ": skipped ", read_report.num_skipped_nonfinite,
                                           " points with non-finite coordinates"));
       }
+      if (read_report.num_invalid_confidence > 0) {
+        reporter.warn(hos::format_message(input_path, ": property 'confidence' is NaN, infinite or negative at ",
+                                          read_report.num_invalid_confidence, " points; they weigh nothing"));
+      }
     }
     if (!view_dir.empty()) hos::recon::orient_by_view_direction(points, parse_vector("--view-dir", view_dir));
     if (!scanner_pos.empty()) {
@@ -71,14 +77,12 @@ int main(int argc, char** argv) {
     }
     hos::recon::check_reconstructable(points, source);
     const hos::recon::ReconResult result = hos::recon::reconstruct_surface(points, options, reporter);
-    hos::write_mesh_ply(output_path, result.mesh,
-                        ascii ? hos::PlyFormat::kAscii : hos::PlyFormat::kBinaryLittleEndian);
+    hos::write_mesh_ply(output_path, result.mesh, ascii ? hos::PlyFormat::kAscii : hos::PlyFormat::kBinaryLittleEndian);
     const auto& s = result.stats;
     reporter.info(hos::format_message("wrote ", output_path, ": ", result.mesh.num_vertices(), " vertices, ",
-                                      result.mesh.num_faces(), " faces; grid ", s.grid_dims.x(), "x",
-                                      s.grid_dims.y(), "x", s.grid_dims.z(), ", ", s.solver_iterations,
-                                      " solver iterations, residual ", s.relative_residual, ", times field ",
-                                      s.seconds_field, " s, solve ", s.seconds_solve, " s, mesh ",
-                                      s.seconds_mesh, " s"));
+                                      result.mesh.num_faces(), " faces; grid ", s.grid_dims.x(), "x", s.grid_dims.y(),
+                                      "x", s.grid_dims.z(), ", ", s.solver_iterations, " solver iterations, residual ",
+                                      s.relative_residual, ", times field ", s.seconds_field, " s, solve ",
+                                      s.seconds_solve, " s, mesh ", s.seconds_mesh, " s"));
   });
 }

@@ -3,10 +3,11 @@
 #include <filesystem>
 #include <iostream>
 
+#include "apps/stage_main.h"
+#include "core/atomic_file.h"
 #include "core/exit_codes.h"
 #include "core/ply_io.h"
 #include "core/undistorted_workspace.h"
-#include "apps/stage_main.h"
 #include "texture/gltf_writer.h"
 #include "texture/texture_mesh.h"
 #include "texture/texture_report.h"
@@ -33,6 +34,7 @@ int main(int argc, char** argv) {
   return hos::apps::run_stage_main("texture", flags, [&](hos::Reporter& reporter) {
     hos::apps::apply_config_and_overrides(option_set, flags);
     options.validate();
+    hos::check_writable_target(output_path);  // before the work, not after
     const hos::TriangleMesh mesh = hos::read_mesh_ply(mesh_path);
     const hos::UndistortedWorkspace workspace = hos::load_undistorted_workspace(workspace_path);
     const hos::texture::TextureResult result = hos::texture::texture_mesh(mesh, workspace, options, reporter);
@@ -42,12 +44,11 @@ int main(int argc, char** argv) {
     hos::texture::write_glb(output_path, result.mesh, write_options);
     if (!report_path.empty()) hos::texture::write_texture_report(report_path, result);
     const auto& s = result.stats;
-    reporter.info(hos::format_message("textured ", s.faces, " faces from ", s.num_views,
-                                      " photos: ", s.num_charts, " charts in ", s.num_atlases,
-                                      " atlas(es), ", s.num_unseen_faces, " unseen faces, ",
-                                      s.num_outlier_rejections, " outlier views rejected"));
-    reporter.info(hos::format_message("seam colour jump ", s.mean_seam_jump_before, " -> ",
-                                      s.mean_seam_jump_after, " (8-bit RGB)"));
+    reporter.info(hos::format_message("textured ", s.faces, " faces from ", s.num_views, " photos: ", s.num_charts,
+                                      " charts in ", s.num_atlases, " atlas(es), ", s.num_unseen_faces,
+                                      " unseen faces, ", s.num_outlier_rejections, " outlier views rejected"));
+    reporter.info(hos::format_message("seam colour jump ", s.mean_seam_jump_before, " -> ", s.mean_seam_jump_after,
+                                      " (8-bit RGB)"));
     for (const auto& [step, seconds] : s.step_seconds) {
       reporter.debug(hos::format_message("step ", step, ": ", seconds, " s"));
     }

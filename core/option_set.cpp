@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -35,8 +36,7 @@ template std::string print_number<float>(float);
 
 namespace {
 
-void flatten(const YAML::Node& node, const std::string& prefix,
-             std::vector<std::pair<std::string, YAML::Node>>& out) {
+void flatten(const YAML::Node& node, const std::string& prefix, std::vector<std::pair<std::string, YAML::Node>>& out) {
   for (const auto& item : node) {
     const std::string key = prefix.empty() ? item.first.Scalar() : prefix + "." + item.first.Scalar();
     if (item.second.IsMap()) {
@@ -95,12 +95,14 @@ void OptionSet::add(const std::string& key, bool& value, std::string doc) {
 }
 
 void OptionSet::add(const std::string& key, std::string& value, std::string doc) {
-  add_entry({key, std::move(doc), "a string", [&value](const std::string& t) { value = t; },
-             [&value]() { return value; }});
+  add_entry(
+      {key, std::move(doc), "a string", [&value](const std::string& t) { value = t; }, [&value]() { return value; }});
 }
 
-void OptionSet::add_choice(const std::string& key, std::string& value,
-                           std::vector<std::string> choices, std::string doc) {
+void OptionSet::add_choice(const std::string& key,
+                           std::string& value,
+                           std::vector<std::string> choices,
+                           std::string doc) {
   std::string allowed = "one of:";
   for (const auto& c : choices) allowed += " " + c;
   add_entry({key, std::move(doc), allowed,
@@ -153,8 +155,7 @@ std::string OptionSet::closest_key(const std::string& key) const {
   return best;
 }
 
-void OptionSet::apply_assignment(const std::string& key, const std::string& value,
-                                 const std::string& source) {
+void OptionSet::apply_assignment(const std::string& key, const std::string& value, const std::string& source) {
   const Entry* entry = find(key);
   const std::string full_key = section_ + "." + key;
   if (!entry) {
@@ -173,8 +174,8 @@ void OptionSet::apply_assignment(const std::string& key, const std::string& valu
 void OptionSet::apply_yaml(const YAML::Node& node, const std::string& source) {
   if (!node || node.IsNull()) return;
   if (!node.IsMap()) {
-    throw ConfigError(section_, "must be a map of options (in " + source + ", line " +
-                                    std::to_string(node.Mark().line + 1) + ")");
+    throw ConfigError(
+        section_, "must be a map of options (in " + source + ", line " + std::to_string(node.Mark().line + 1) + ")");
   }
   std::vector<std::pair<std::string, YAML::Node>> flat;
   flatten(node, "", flat);
@@ -221,14 +222,40 @@ std::vector<std::string> OptionSet::keys() const {
   return out;
 }
 
+namespace {
+
+// A key given twice in one map would silently lose one of its values.
+void check_unique_keys(const YAML::Node& node, const std::string& path) {
+  if (node.IsSequence()) {
+    for (const auto& item : node) check_unique_keys(item, path);
+  }
+  if (!node.IsMap()) return;
+  std::map<std::string, int> first_line;
+  for (const auto& item : node) {
+    const int line = item.first.Mark().line + 1;
+    const auto [it, inserted] = first_line.emplace(item.first.Scalar(), line);
+    if (!inserted) {
+      throw ConfigError(item.first.Scalar(), "is given twice (in " + path + ", lines " + std::to_string(it->second) +
+                                                 " and " + std::to_string(line) + ")");
+    }
+    check_unique_keys(item.second, path);
+  }
+}
+
+}  // namespace
+
 YAML::Node load_yaml_file(const std::string& path) {
+  YAML::Node root;
   try {
-    return YAML::LoadFile(path);
+    root = YAML::LoadFile(path);
   } catch (const YAML::BadFile&) {
     throw InputError(path, "cannot open config file");
-  } catch (const YAML::ParserException& e) {
-    throw InputError(path, "YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  } catch (const YAML::Exception& e) {
+    // A configuration error like an unknown key (exit 2), not unreadable input.
+    throw ConfigError(path, "YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
+  check_unique_keys(root, path);
+  return root;
 }
 
 }  // namespace hos

@@ -37,24 +37,21 @@ class OptionSet {
   void add(const std::string& key, bool& value, std::string doc);
   // A number in [min, max]; NaN and infinities are refused.
   template <typename Number>
-    requires std::is_arithmetic_v<Number> && (!std::is_same_v<Number, bool>)
-  void add(const std::string& key, Number& value, std::string doc, Number min, Number max);
+  requires std::is_arithmetic_v<Number> &&(!std::is_same_v<Number, bool>)void add(
+      const std::string& key, Number& value, std::string doc, Number min, Number max);
   void add(const std::string& key, std::string& value, std::string doc);
   // A string restricted to a list of choices.
-  void add_choice(const std::string& key, std::string& value, std::vector<std::string> choices,
-                  std::string doc);
+  void add_choice(const std::string& key, std::string& value, std::vector<std::string> choices, std::string doc);
   // An enum parsed by name from a table; the error lists the valid names.
   template <typename Enum>
-  void add_enum(const std::string& key, Enum& value,
-                std::vector<std::pair<std::string, Enum>> table, std::string doc);
+  void add_enum(const std::string& key, Enum& value, std::vector<std::pair<std::string, Enum>> table, std::string doc);
 
   // Applies a YAML map of this section (nested maps become dotted keys).
   // An unknown key throws ConfigError naming the key, source file and line and
   // the closest valid key; a bad value names the allowed type or range.
   void apply_yaml(const YAML::Node& node, const std::string& source);
   // Applies one "key=value" override (key without the section prefix).
-  void apply_assignment(const std::string& key, const std::string& value,
-                        const std::string& source = "command line");
+  void apply_assignment(const std::string& key, const std::string& value, const std::string& source = "command line");
   bool has_key(const std::string& key) const;
 
   // Throws ConfigError for the first option whose current value is outside
@@ -87,7 +84,7 @@ class OptionSet {
   struct Entry {
     std::string key;
     std::string doc;
-    std::string allowed;  // "integer in [1, 64]", "one of: a, b"
+    std::string allowed;                            // "integer in [1, 64]", "one of: a, b"
     std::function<void(const std::string&)> parse;  // throws std::invalid_argument
     std::function<std::string()> print;
     std::function<void()> check;  // throws std::invalid_argument when the current value is not allowed
@@ -130,13 +127,14 @@ extern template std::string print_number<float>(float);
 // Edit distance, for "did you mean" messages.
 std::size_t edit_distance(const std::string& a, const std::string& b);
 
-// Loads a YAML file; throws InputError with the file name and the parser's
-// line and column on a syntax error.
+// Loads a YAML file; throws InputError when it cannot be opened, ConfigError
+// with the file name and line on a syntax error or a key given twice in one
+// map (naming both lines).
 YAML::Node load_yaml_file(const std::string& path);
 
 template <typename Number>
-  requires std::is_arithmetic_v<Number> && (!std::is_same_v<Number, bool>)
-void OptionSet::add(const std::string& key, Number& value, std::string doc, Number min, Number max) {
+requires std::is_arithmetic_v<Number> &&(!std::is_same_v<Number, bool>)void OptionSet::add(
+    const std::string& key, Number& value, std::string doc, Number min, Number max) {
   std::ostringstream range;
   range << (std::is_integral_v<Number> ? "an integer" : "a number") << " in [" << min << ", " << max << "]";
   const std::string allowed = range.str();
@@ -159,8 +157,10 @@ void OptionSet::add(const std::string& key, Number& value, std::string doc, Numb
 }
 
 template <typename Enum>
-void OptionSet::add_enum(const std::string& key, Enum& value,
-                         std::vector<std::pair<std::string, Enum>> table, std::string doc) {
+void OptionSet::add_enum(const std::string& key,
+                         Enum& value,
+                         std::vector<std::pair<std::string, Enum>> table,
+                         std::string doc) {
   std::string allowed = "one of:";
   for (const auto& [name, e] : table) allowed += " " + name;
   Entry entry;

@@ -1,18 +1,19 @@
 #include "core/ply_io.h"
 
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <bit>
 #include <charconv>
 #include <cmath>
 #include <cstring>
-#include <fcntl.h>
-#include <string_view>
-#include <sys/mman.h>
-#include <sys/stat.h>
-#include <unistd.h>
-#include <optional>
 #include <fstream>
+#include <optional>
 #include <sstream>
+#include <string_view>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -29,11 +30,11 @@ struct TypeName {
   PlyType type;
 };
 constexpr TypeName kTypeNames[] = {
-    {"char", PlyType::kInt8},      {"int8", PlyType::kInt8},       {"uchar", PlyType::kUInt8},
-    {"uint8", PlyType::kUInt8},    {"short", PlyType::kInt16},     {"int16", PlyType::kInt16},
-    {"ushort", PlyType::kUInt16},  {"uint16", PlyType::kUInt16},   {"int", PlyType::kInt32},
-    {"int32", PlyType::kInt32},    {"uint", PlyType::kUInt32},     {"uint32", PlyType::kUInt32},
-    {"float", PlyType::kFloat32},  {"float32", PlyType::kFloat32}, {"double", PlyType::kFloat64},
+    {"char", PlyType::kInt8},       {"int8", PlyType::kInt8},       {"uchar", PlyType::kUInt8},
+    {"uint8", PlyType::kUInt8},     {"short", PlyType::kInt16},     {"int16", PlyType::kInt16},
+    {"ushort", PlyType::kUInt16},   {"uint16", PlyType::kUInt16},   {"int", PlyType::kInt32},
+    {"int32", PlyType::kInt32},     {"uint", PlyType::kUInt32},     {"uint32", PlyType::kUInt32},
+    {"float", PlyType::kFloat32},   {"float32", PlyType::kFloat32}, {"double", PlyType::kFloat64},
     {"float64", PlyType::kFloat64},
 };
 
@@ -181,14 +182,22 @@ class BodyReader {
 
   static double decode(PlyType type, const unsigned char* bytes) {
     switch (type) {
-      case PlyType::kInt8: return static_cast<double>(load<std::int8_t>(bytes));
-      case PlyType::kUInt8: return static_cast<double>(load<std::uint8_t>(bytes));
-      case PlyType::kInt16: return static_cast<double>(load<std::int16_t>(bytes));
-      case PlyType::kUInt16: return static_cast<double>(load<std::uint16_t>(bytes));
-      case PlyType::kInt32: return static_cast<double>(load<std::int32_t>(bytes));
-      case PlyType::kUInt32: return static_cast<double>(load<std::uint32_t>(bytes));
-      case PlyType::kFloat32: return static_cast<double>(load<float>(bytes));
-      case PlyType::kFloat64: return load<double>(bytes);
+      case PlyType::kInt8:
+        return static_cast<double>(load<std::int8_t>(bytes));
+      case PlyType::kUInt8:
+        return static_cast<double>(load<std::uint8_t>(bytes));
+      case PlyType::kInt16:
+        return static_cast<double>(load<std::int16_t>(bytes));
+      case PlyType::kUInt16:
+        return static_cast<double>(load<std::uint16_t>(bytes));
+      case PlyType::kInt32:
+        return static_cast<double>(load<std::int32_t>(bytes));
+      case PlyType::kUInt32:
+        return static_cast<double>(load<std::uint32_t>(bytes));
+      case PlyType::kFloat32:
+        return static_cast<double>(load<float>(bytes));
+      case PlyType::kFloat64:
+        return load<double>(bytes);
     }
     return 0.0;
   }
@@ -220,8 +229,7 @@ class BodyReader {
   }
 
   // One row of scalar properties at `p`, decoded into `out` in header order.
-  static void decode_row(const std::vector<PlyProperty>& properties, bool swap, const unsigned char* p,
-                         double* out) {
+  static void decode_row(const std::vector<PlyProperty>& properties, bool swap, const unsigned char* p, double* out) {
     for (std::size_t k = 0; k < properties.size(); ++k) {
       const std::size_t n = type_size(properties[k].type);
       unsigned char bytes[8];
@@ -272,8 +280,8 @@ class BodyReader {
       char* parsed_end = nullptr;
       value = std::strtod(token.c_str(), &parsed_end);
       if (parsed_end != token.c_str() + token.size()) {
-        throw InputError(file_, "element '" + *element_ + "' row " + std::to_string(row_) +
-                                    ": '" + token + "' is not a number");
+        throw InputError(
+            file_, "element '" + *element_ + "' row " + std::to_string(row_) + ": '" + token + "' is not a number");
       }
       ptr = token_end;
     }
@@ -282,8 +290,7 @@ class BodyReader {
   }
 
   [[noreturn]] void truncated() const {
-    throw InputError(file_, "data ends in element '" + *element_ + "' row " +
-                                std::to_string(row_) +
+    throw InputError(file_, "data ends in element '" + *element_ + "' row " + std::to_string(row_) +
                                 ": the file is truncated or the header's counts are wrong");
   }
 
@@ -348,9 +355,8 @@ VertexLayout vertex_layout(const std::string& file, const PlyElement& vertex) {
   VertexLayout layout{};
   const char* pos_names[3] = {"x", "y", "z"};
   const char* normal_names[3] = {"nx", "ny", "nz"};
-  const char* color_names[3][3] = {{"red", "r", "diffuse_red"},
-                                   {"green", "g", "diffuse_green"},
-                                   {"blue", "b", "diffuse_blue"}};
+  const char* color_names[3][3] = {
+      {"red", "r", "diffuse_red"}, {"green", "g", "diffuse_green"}, {"blue", "b", "diffuse_blue"}};
   for (int k = 0; k < 3; ++k) {
     layout.position[k] = vertex.find({pos_names[k]});
     if (layout.position[k] < 0) {
@@ -429,7 +435,7 @@ class VertexSink {
     }
     if (layout_.confidence >= 0) {
       const double c = row[layout_.confidence];
-      cloud_.confidence[slot] = std::isfinite(c) ? static_cast<float>(c) : 0.0f;
+      cloud_.confidence[slot] = static_cast<float>(c);  // checked by count_invalid_confidence
     }
     for (std::size_t e = 0; e < layout_.extra.size(); ++e) {
       (*extra_columns_[e])[slot] = static_cast<float>(row[layout_.extra[e]]);
@@ -470,13 +476,31 @@ struct ParsedPly {
   PointCloud vertices;
   std::vector<Eigen::Vector3i> faces;
   std::size_t num_nonfinite = 0;
+  std::size_t num_invalid_confidence = 0;
 };
+
+// A confidence is a weight: NaN, infinite or negative ones become 0 (the
+// point then weighs nothing) and are counted for the reader's report.
+std::size_t zero_invalid_confidence(std::vector<float>& confidence) {
+  std::size_t invalid = 0;
+  for (float& c : confidence) {
+    if (!(c >= 0.0f) || !std::isfinite(c)) {
+      c = 0.0f;
+      ++invalid;
+    }
+  }
+  return invalid;
+}
 
 // Reads the rows of one element with ASCII tokens or list properties, one value
 // at a time. Vertex rows go to `sink`; face lists (when `face_list` >= 0) are
 // fan-triangulated into `faces`.
-void read_rows_sequentially(BodyReader& body, const std::string& file, const PlyElement& element,
-                            VertexSink* sink, int face_list, std::vector<Eigen::Vector3i>& faces) {
+void read_rows_sequentially(BodyReader& body,
+                            const std::string& file,
+                            const PlyElement& element,
+                            VertexSink* sink,
+                            int face_list,
+                            std::vector<Eigen::Vector3i>& faces) {
   std::vector<double> row(element.properties.size());
   std::vector<int> polygon;
   for (std::size_t r = 0; r < element.count; ++r) {
@@ -489,8 +513,7 @@ void read_rows_sequentially(BodyReader& body, const std::string& file, const Ply
       }
       const double count = body.read(prop.count_type);
       if (!(count >= 0) || count > 1e6) {
-        throw InputError(file, "element '" + element.name + "' row " + std::to_string(r) +
-                                   ": invalid list length");
+        throw InputError(file, "element '" + element.name + "' row " + std::to_string(r) + ": invalid list length");
       }
       const bool keep = static_cast<int>(p) == face_list;
       if (keep) polygon.clear();
@@ -567,7 +590,10 @@ ParsedPly parse_ply(const fs::path& path, bool want_faces) {
         }
       }
     }
-    if (sink) out.num_nonfinite = sink->compact();
+    if (sink) {
+      out.num_nonfinite = sink->compact();
+      out.num_invalid_confidence = zero_invalid_confidence(out.vertices.confidence);
+    }
   }
   body.expect_end();
   if (!have_vertex) throw InputError(file, "PLY file has no 'vertex' element");
@@ -618,9 +644,12 @@ class BodyWriter {
 
 const char* format_name(PlyFormat format) {
   switch (format) {
-    case PlyFormat::kAscii: return "ascii";
-    case PlyFormat::kBinaryLittleEndian: return "binary_little_endian";
-    case PlyFormat::kBinaryBigEndian: return "binary_big_endian";
+    case PlyFormat::kAscii:
+      return "ascii";
+    case PlyFormat::kBinaryLittleEndian:
+      return "binary_little_endian";
+    case PlyFormat::kBinaryBigEndian:
+      return "binary_big_endian";
   }
   return "ascii";
 }
@@ -676,15 +705,17 @@ std::string header_start(PlyFormat format) {
 
 PointCloud read_point_cloud_ply(const fs::path& path, PlyReadReport* report) {
   ParsedPly parsed = parse_ply(path, /*want_faces=*/false);
-  if (report) report->num_skipped_nonfinite = parsed.num_nonfinite;
+  if (report) {
+    report->num_skipped_nonfinite = parsed.num_nonfinite;
+    report->num_invalid_confidence = parsed.num_invalid_confidence;
+  }
   return std::move(parsed.vertices);
 }
 
 TriangleMesh read_mesh_ply(const fs::path& path) {
   ParsedPly parsed = parse_ply(path, /*want_faces=*/true);
   if (parsed.num_nonfinite > 0) {
-    throw InputError(path.string(), std::to_string(parsed.num_nonfinite) +
-                                        " vertices have non-finite coordinates");
+    throw InputError(path.string(), std::to_string(parsed.num_nonfinite) + " vertices have non-finite coordinates");
   }
   TriangleMesh mesh;
   mesh.vertices = std::move(parsed.vertices.positions);
@@ -697,8 +728,7 @@ TriangleMesh read_mesh_ply(const fs::path& path) {
   const int n = static_cast<int>(mesh.vertices.size());
   for (const auto& f : parsed.faces) {
     if ((f.array() < 0).any() || (f.array() >= n).any()) {
-      throw InputError(path.string(), "a face refers to a vertex index outside [0, " +
-                                          std::to_string(n) + ")");
+      throw InputError(path.string(), "a face refers to a vertex index outside [0, " + std::to_string(n) + ")");
     }
   }
   mesh.faces = std::move(parsed.faces);
@@ -707,8 +737,7 @@ TriangleMesh read_mesh_ply(const fs::path& path) {
 
 void write_point_cloud_ply(const fs::path& path, const PointCloud& cloud, PlyFormat format) {
   cloud.check_consistent();
-  const VertexArrays v{&cloud.positions, &cloud.normals, &cloud.colors, &cloud.confidence,
-                       &cloud.scalars};
+  const VertexArrays v{&cloud.positions, &cloud.normals, &cloud.colors, &cloud.confidence, &cloud.scalars};
   const std::string header = header_start(format) + vertex_header(v) + "end_header\n";
   BodyWriter body(format);
   write_vertices(body, v);
@@ -717,8 +746,7 @@ void write_point_cloud_ply(const fs::path& path, const PointCloud& cloud, PlyFor
 
 void write_mesh_ply(const fs::path& path, const TriangleMesh& mesh, PlyFormat format) {
   mesh.check_consistent();
-  const VertexArrays v{&mesh.vertices, &mesh.normals, &mesh.colors, nullptr,
-                       &mesh.vertex_scalars};
+  const VertexArrays v{&mesh.vertices, &mesh.normals, &mesh.colors, nullptr, &mesh.vertex_scalars};
   const std::string header = header_start(format) + vertex_header(v) + "element face " +
                              std::to_string(mesh.faces.size()) +
                              "\nproperty list uchar int vertex_indices\nend_header\n";

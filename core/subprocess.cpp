@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -28,8 +29,7 @@ bool is_executable_file(const std::string& path) {
 }
 
 // The child's environment: ours plus the requested overrides.
-std::vector<std::string> child_environment(
-    const std::vector<std::pair<std::string, std::string>>& overrides) {
+std::vector<std::string> child_environment(const std::vector<std::pair<std::string, std::string>>& overrides) {
   std::map<std::string, std::string> vars;
   for (char** e = environ; e && *e; ++e) {
     const std::string entry(*e);
@@ -109,6 +109,7 @@ ProcessResult run_process(const ProcessOptions& options) {
     throw StageError(options.argv[0], std::string("cannot create a pipe: ") + std::strerror(errno));
   }
   const auto start = std::chrono::steady_clock::now();
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) throw StageError(options.argv[0], std::string("cannot start: ") + std::strerror(errno));
   if (pid == 0) {
@@ -119,6 +120,12 @@ ProcessResult run_process(const ProcessOptions& options) {
     }
     ::signal(SIGINT, SIG_DFL);
     ::signal(SIGTERM, SIG_DFL);
+    // No orphans: when this process dies (even by kill -9) the child gets
+    // SIGTERM, which a stage handles as a clean interruption, passing it on
+    // to its own children the same way. The check covers a parent that died
+    // before the request took effect.
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (::getppid() != parent) ::_exit(128 + SIGTERM);
     ::execve(program.c_str(), argv.data(), envp.data());
     const int err = errno;
     [[maybe_unused]] auto n = ::write(exec_pipe[1], &err, sizeof(err));

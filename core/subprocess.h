@@ -29,16 +29,18 @@ struct ProcessOptions {
 };
 
 struct ProcessResult {
-  int exit_code = -1;        // exit status, or 128 + signal number
-  int signal = 0;            // signal that ended the child, 0 if it exited
-  bool cancelled = false;    // we stopped it because cancellation was requested
+  int exit_code = -1;      // exit status, or 128 + signal number
+  int signal = 0;          // signal that ended the child, 0 if it exited
+  bool cancelled = false;  // we stopped it because cancellation was requested
   double wall_seconds = 0.0;
   std::int64_t peak_rss_bytes = 0;  // of the child and the processes it waited for
   bool ok() const { return exit_code == 0 && !cancelled; }
 };
 
-// Starts the program and waits for it. Throws StageError when the program
-// cannot be started at all (not found, not executable), naming it.
+// Starts the program and waits for it. The child is sent SIGTERM when the
+// calling thread ends (PR_SET_PDEATHSIG: also when this process is killed),
+// so it never outlives its caller; call it from a thread that waits for it. Throws StageError when
+// the program cannot be started at all (not found, not executable), naming it.
 ProcessResult run_process(const ProcessOptions& options);
 
 // Full path of program found on PATH (or program itself if it contains a

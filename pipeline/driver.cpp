@@ -9,12 +9,14 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/exit_codes.h"
+#include "core/subprocess.h"
 #include "pipeline/file_hash.h"
+#include "pipeline/output_checks.h"
 #include "pipeline/pipeline_config.h"
 #include "pipeline/stage_figures.h"
 #include "pipeline/stage_paths.h"
 #include "pipeline/stages.h"
-#include "core/subprocess.h"
+#include "pipeline/workspace_lock.h"
 
 namespace hos::pipeline {
 namespace fs = std::filesystem;
@@ -27,14 +29,22 @@ std::string config_fingerprint(const PipelineConfig& config, const std::string& 
 }
 
 // Maps a failed stage's exit code onto the same error kind, so the driver
-// exits with the code that names the cause.
-[[noreturn]] void throw_stage_failure(const std::string& stage, int code, const fs::path& log) {
+// exits with the code that names the cause. input_hint is added when the
+// stage rejects its input.
+[[noreturn]] void throw_stage_failure(const std::string& stage,
+                                      int code,
+                                      const fs::path& log,
+                                      const std::string& input_hint) {
   const std::string where = "see " + log.string();
   switch (code) {
-    case kExitUsage: throw ConfigError(stage, "the stage rejected its configuration; " + where);
-    case kExitBadInput: throw InputError(stage, "the stage rejected its input; " + where);
-    case kExitOutputFailed: throw OutputError(stage, "the stage could not write its output; " + where);
-    case kExitInterrupted: throw Cancelled();
+    case kExitUsage:
+      throw ConfigError(stage, "the stage rejected its configuration; " + where);
+    case kExitBadInput:
+      throw InputError(stage, "the stage rejected its input; " + where + (input_hint.empty() ? "" : "; " + input_hint));
+    case kExitOutputFailed:
+      throw OutputError(stage, "the stage could not write its output; " + where);
+    case kExitInterrupted:
+      throw Cancelled();
     default:
       throw StageError(stage, "failed (exit code " + std::to_string(code) + "); " + where);
   }
@@ -118,9 +128,10 @@ void check_executables(const DriverOptions& options, const StageRange& range) {
   }
 }
 
-// The workspace folders and the resolved config.yaml.
+// The workspace folders and the resolved config.yaml; the workspace (root)
+// exists and is locked before this.
 void prepare_workspace(const StagePaths& paths, const PipelineConfig& config) {
-  std::vector<fs::path> folders{paths.root, paths.logs};
+  std::vector<fs::path> folders{paths.logs};
   for (const StageSpec& spec : pipeline_stages()) folders.push_back(paths.root / spec.name);
   std::error_code ec;
   for (const auto& dir : folders) {
@@ -146,9 +157,31 @@ void check_earlier_results(const StageRange& range, const StagePaths& paths) {
   }
 }
 
+// The workspace folder, locked against a second run for this one's lifetime.
+WorkspaceLock lock_workspace(const StagePaths& paths, Reporter& reporter) {
+  std::error_code ec;
+  fs::create_directories(paths.root, ec);
+  if (ec) throw OutputError(paths.root.string(), "cannot create the workspace folder: " + ec.message());
+  return WorkspaceLock(paths.root, reporter);
+}
+
+// The hint for a stage that rejects its input: the stage before it wrote it.
+std::string input_hint(const StageSpec& spec) {
+  const auto& specs = pipeline_stages();
+  for (std::size_t i = 1; i < specs.size(); ++i) {
+    if (specs[i].name == spec.name) return damaged_intermediate_hint(specs[i - 1].name);
+  }
+  return "";
+}
+
 // Runs one stage executable and records how it went; throws on failure.
-void run_stage_process(const StageSpec& spec, const DriverOptions& options, const StagePaths& paths,
-                       RunRecord& record, StageRecord& stage_record, Reporter& reporter) {
+void run_stage_process(const StageSpec& spec,
+                       const DriverOptions& options,
+                       const StagePaths& paths,
+                       RunRecord& record,
+                       StageRecord& stage_record,
+                       Reporter& reporter) {
+  warn_if_low_space(paths.root, estimated_stage_bytes(spec.name, options.photos, paths), spec.name, reporter);
   const fs::path log = paths.log(spec.name);
   std::error_code ec;
   fs::remove(log, ec);
@@ -172,13 +205,14 @@ void run_stage_process(const StageSpec& spec, const DriverOptions& options, cons
   if (run.cancelled || run.exit_code == kExitInterrupted) {
     stage_record.state = "interrupted";
     save_run_record(record, paths.run_record);
-    reporter.error("interrupted during " + spec.name + "; finished stages are kept. Re-run the same command to resume.");
+    reporter.error("interrupted during " + spec.name +
+                   "; finished stages are kept. Re-run the same command to resume.");
     throw Cancelled();
   }
   if (run.exit_code != 0) {
     stage_record.state = "failed";
     save_run_record(record, paths.run_record);
-    throw_stage_failure(spec.name, run.exit_code, log);
+    throw_stage_failure(spec.name, run.exit_code, log, input_hint(spec));
   }
   if (!spec.output_exists(paths)) {
     stage_record.state = "failed";
@@ -193,8 +227,13 @@ void run_stage_process(const StageSpec& spec, const DriverOptions& options, cons
 // Runs a stage of the range unless its inputs and config are unchanged since
 // its last successful run; `rerun` forces it and is set once a stage ran,
 // since everything after depends on its new output.
-StageOutcome run_or_skip_stage(const StageSpec& spec, const DriverOptions& options, const StagePaths& paths,
-                               const PipelineConfig& config, RunRecord& record, bool& rerun, Reporter& reporter) {
+StageOutcome run_or_skip_stage(const StageSpec& spec,
+                               const DriverOptions& options,
+                               const StagePaths& paths,
+                               const PipelineConfig& config,
+                               RunRecord& record,
+                               bool& rerun,
+                               Reporter& reporter) {
   StageOutcome outcome;
   outcome.stage = spec.name;
   Fingerprint inputs;
@@ -229,17 +268,19 @@ DriverResult run_pipeline(const DriverOptions& options, Reporter& reporter) {
   const StageRange range = select_stages(options);
   const PipelineConfig config = load_config(options);
   check_executables(options, range);
+  const auto& specs = pipeline_stages();
+  if (range.last == specs.size() - 1) check_writable_target(options.output);
 
   DriverResult result;
   result.workspace = options.workspace.empty() ? default_workspace(options.output) : options.workspace;
   const StagePaths paths(result.workspace);
+  check_earlier_results(range, paths);  // before anything is created in the workspace
+  const WorkspaceLock lock = lock_workspace(paths, reporter);
   prepare_workspace(paths, config);
   RunRecord record = load_run_record(paths.run_record);
   record.photos = fs::absolute(options.photos).string();
   record.output = fs::absolute(options.output).string();
-  check_earlier_results(range, paths);
 
-  const auto& specs = pipeline_stages();
   bool rerun = options.force;
   for (std::size_t i = 0; i < specs.size(); ++i) {
     if (range.contains(i)) {
@@ -253,7 +294,7 @@ DriverResult run_pipeline(const DriverOptions& options, Reporter& reporter) {
   }
 
   if (range.last == specs.size() - 1) {
-    write_atomically(options.output, [&](const fs::path& tmp) { fs::copy_file(paths.textured_model, tmp); });
+    copy_result(paths.textured_model, options.output);
     result.output = options.output;
   }
   return result;
@@ -262,8 +303,9 @@ DriverResult run_pipeline(const DriverOptions& options, Reporter& reporter) {
 std::vector<std::string> summary_table(const DriverResult& result) {
   std::vector<std::string> lines;
   std::ostringstream header;
-  header << std::left << std::setw(9) << "stage" << std::setw(12) << "state" << std::setw(11) << "time"
-         << std::setw(11) << "peak mem" << "figures";
+  header << std::left << std::setw(9) << "stage" << std::setw(12) << "state" << std::setw(11) << "time" << std::setw(11)
+         << "peak mem"
+         << "figures";
   lines.push_back(header.str());
   for (const auto& s : result.stages) {
     std::ostringstream row;

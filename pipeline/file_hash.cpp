@@ -9,12 +9,23 @@ namespace hos::pipeline {
 namespace fs = std::filesystem;
 namespace {
 
-std::vector<fs::path> sorted_files(const fs::path& folder) {
+std::vector<fs::path> sorted_files(const fs::path& folder, const std::vector<fs::path>& excluded = {}) {
   std::vector<fs::path> files;
-  std::error_code ec;
-  for (auto it = fs::recursive_directory_iterator(folder, ec); !ec && it != fs::recursive_directory_iterator();
-       it.increment(ec)) {
-    if (it->is_regular_file(ec)) files.push_back(it->path());
+  std::error_code ec, base_ec;
+  const fs::path base = excluded.empty() ? folder : fs::weakly_canonical(folder, base_ec);
+  for (auto it = fs::recursive_directory_iterator(folder, fs::directory_options::skip_permission_denied, ec);
+       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    // An entry that cannot be examined (a symlink loop) is left out; its own
+    // error must not end the listing.
+    std::error_code entry_ec;
+    if (!excluded.empty()) {
+      const fs::path here = (base / it->path().lexically_relative(folder)).lexically_normal();
+      if (std::find(excluded.begin(), excluded.end(), here) != excluded.end()) {
+        if (it->is_directory(entry_ec)) it.disable_recursion_pending();
+        continue;
+      }
+    }
+    if (it->is_regular_file(entry_ec)) files.push_back(it->path());
   }
   std::sort(files.begin(), files.end());
   return files;
@@ -49,9 +60,9 @@ void Fingerprint::add_file_contents(const fs::path& file) {
   add("<end>");
 }
 
-void Fingerprint::add_folder_listing(const fs::path& folder) {
+void Fingerprint::add_folder_listing(const fs::path& folder, const std::vector<fs::path>& excluded) {
   add("<listing>");
-  for (const auto& file : sorted_files(folder)) {
+  for (const auto& file : sorted_files(folder, excluded)) {
     std::error_code ec;
     const auto size = fs::file_size(file, ec);
     const auto time = fs::last_write_time(file, ec).time_since_epoch().count();

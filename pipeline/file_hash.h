@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace hos::pipeline {
 
@@ -16,8 +17,9 @@ class Fingerprint {
   // The contents of a file (a missing file adds a marker, not an error).
   void add_file_contents(const std::filesystem::path& file);
   // Names, sizes and modification times of the files of a folder (recursively,
-  // sorted), not their contents: cheap for folders of large photos.
-  void add_folder_listing(const std::filesystem::path& folder);
+  // sorted), not their contents: cheap for folders of large photos. Files
+  // and folders in `excluded` (absolute, normalised) are left out.
+  void add_folder_listing(const std::filesystem::path& folder, const std::vector<std::filesystem::path>& excluded = {});
   // Contents of every file of a folder (recursively, sorted by path).
   void add_folder_contents(const std::filesystem::path& folder);
   std::string hex() const;

@@ -1,10 +1,10 @@
 #include "pipeline/stages.h"
 
-#include "core/error.h"
-
 #include <filesystem>
 
+#include "core/error.h"
 #include "mvs/mvs_options.h"
+#include "pipeline/output_checks.h"
 #include "recon/recon_options.h"
 #include "sfm/sfm_options.h"
 #include "texture/texture_options.h"
@@ -32,8 +32,8 @@ const std::vector<StageSpec>& pipeline_stages() {
          if (!o.existing_model.empty()) args.insert(args.end(), {"--sparse", o.existing_model.string()});
          return args;
        },
-       [](Fingerprint& f, const DriverOptions& o, const StagePaths&) {
-         f.add_folder_listing(o.photos);
+       [](Fingerprint& f, const DriverOptions& o, const StagePaths& p) {
+         f.add_folder_listing(o.photos, pipeline_files_in_photos(o.photos, o.output, p.root));
          if (!o.existing_model.empty()) f.add_folder_contents(o.existing_model);
        },
        [](const StagePaths& p) { return fs::exists(p.undistorted / "sparse") && fs::exists(p.sfm_report); },
@@ -43,19 +43,17 @@ const std::vector<StageSpec>& pipeline_stages() {
          return std::vector<std::string>{"--workspace", p.undistorted.string(), "--output", p.points.string()};
        },
        [](Fingerprint& f, const DriverOptions&, const StagePaths& p) { add_undistorted_workspace(f, p); },
-       [](const StagePaths& p) { return fs::exists(p.points); },
-       typed_config<mvs::MvsOptions>("mvs")},
+       [](const StagePaths& p) { return fs::exists(p.points); }, typed_config<mvs::MvsOptions>("mvs")},
       {"recon", "hos-recon",
        [](const DriverOptions&, const StagePaths& p) {
          return std::vector<std::string>{"--input", p.points.string(), "--output", p.mesh.string()};
        },
        [](Fingerprint& f, const DriverOptions&, const StagePaths& p) { f.add_file_contents(p.points); },
-       [](const StagePaths& p) { return fs::exists(p.mesh); },
-       typed_config<recon::ReconOptions>("recon")},
+       [](const StagePaths& p) { return fs::exists(p.mesh); }, typed_config<recon::ReconOptions>("recon")},
       {"texture", "hos-texture",
        [](const DriverOptions&, const StagePaths& p) {
-         return std::vector<std::string>{"--workspace", p.undistorted.string(), "--mesh", p.mesh.string(),
-                                         "--output", p.textured_model.string()};
+         return std::vector<std::string>{"--workspace", p.undistorted.string(),   "--mesh", p.mesh.string(),
+                                         "--output",    p.textured_model.string()};
        },
        [](Fingerprint& f, const DriverOptions&, const StagePaths& p) {
          f.add_file_contents(p.mesh);
@@ -74,7 +72,6 @@ std::size_t stage_index(const std::string& name, const std::string& flag) {
   }
   throw ConfigError(flag + " " + name, "unknown stage; the stages are: " + stage_names_text(", "));
 }
-
 
 std::string stage_names_text(const std::string& separator) {
   std::string text;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/error.h"
 #include "recon/active_nodes.h"
@@ -37,14 +38,20 @@ constexpr double kBytesPerSample = 128.0;
 constexpr double kBytesPerSampleScreened = 256.0;
 constexpr double kFixedBytes = 16.0 * 1024 * 1024;
 
+// A byte count in double as size_t, saturating (a grid far beyond any
+// machine must compare as too large, not wrap).
+std::size_t saturated_bytes(double bytes) {
+  constexpr double kMax = 0.5 * static_cast<double>(std::numeric_limits<std::size_t>::max());
+  return bytes >= kMax ? static_cast<std::size_t>(kMax) : static_cast<std::size_t>(bytes);
+}
+
 std::string megabytes(std::size_t bytes) {
   return std::to_string(static_cast<long long>(std::llround(static_cast<double>(bytes) / (1024.0 * 1024.0)))) + " MB";
 }
 
 // Would reconstruct_surface try a band on `grid` (see solve_with_bands)?
 bool band_possible(const GridGeometry& grid, const ReconOptions& options) {
-  return options.energy != SmoothnessEnergy::kTotalVariation && options.solver.band_voxels > 0 &&
-         grid.can_coarsen(3);
+  return options.energy != SmoothnessEnergy::kTotalVariation && options.solver.band_voxels > 0 && grid.can_coarsen(3);
 }
 
 // An upper bound of the nodes within [c - r, c + 1 + r] per axis of some
@@ -52,8 +59,7 @@ bool band_possible(const GridGeometry& grid, const ReconOptions& options) {
 // the grid's nodes. With blocks of b nodes per axis, a corner in block K
 // reaches blocks K - ceil(r / b) to K + 1 + floor(r / b): those are marked
 // around every block holding a corner, and their nodes counted.
-std::int64_t nodes_near_samples_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points,
-                                      int r) {
+std::int64_t nodes_near_samples_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points, int r) {
   // Blocks of 4 nodes keep the bound within 1.32-1.38x of the stored band on
   // the sphere and the bunny (1.95x on isolated points); grids above 1024
   // nodes use larger blocks so that the block grid stays small.
@@ -61,9 +67,7 @@ std::int64_t nodes_near_samples_bound(const GridGeometry& grid, const std::vecto
   const int b = std::max(4, (dims.maxCoeff() + 255) / 256);
   const int below = (r + b - 1) / b, above = 1 + r / b;
   const Eigen::Vector3i blocks = (dims.array() + b - 1) / b;
-  const auto block_index = [&](int x, int y, int z) {
-    return (std::int64_t{z} * blocks.y() + y) * blocks.x() + x;
-  };
+  const auto block_index = [&](int x, int y, int z) { return (std::int64_t{z} * blocks.y() + y) * blocks.x() + x; };
   std::vector<std::uint8_t> seeded(static_cast<std::size_t>(blocks.prod()), 0);
   std::vector<Eigen::Vector3i> seeds;
   for (const auto& p : points) {
@@ -98,17 +102,16 @@ std::int64_t nodes_near_samples_bound(const GridGeometry& grid, const std::vecto
 
 // A sample marks the corners c and c + 1 of its cell (per axis); the band
 // dilates them by `voxels` (the active nodes) and stores a halo of kHalo more.
-std::int64_t band_active_nodes_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points,
-                                     int voxels) {
+std::int64_t band_active_nodes_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points, int voxels) {
   return nodes_near_samples_bound(grid, points, std::max(voxels, 0));
 }
 
-std::int64_t band_stored_nodes_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points,
-                                     int voxels) {
+std::int64_t band_stored_nodes_bound(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points, int voxels) {
   return nodes_near_samples_bound(grid, points, std::max(voxels, 0) + ActiveNodes::kHalo);
 }
 
-std::size_t estimate_peak_bytes(const GridGeometry& grid, const std::vector<Eigen::Vector3f>& points,
+std::size_t estimate_peak_bytes(const GridGeometry& grid,
+                                const std::vector<Eigen::Vector3f>& points,
                                 const ReconOptions& options) {
   const double nodes = static_cast<double>(grid.num_nodes());
   const double per_sample = options.screening > 0.0 ? kBytesPerSampleScreened : kBytesPerSample;
@@ -116,7 +119,7 @@ std::size_t estimate_peak_bytes(const GridGeometry& grid, const std::vector<Eige
   double per_node = options.screening > 0.0 ? kBytesPerNodeScreened : kBytesPerNode;
   if (options.energy == SmoothnessEnergy::kTotalVariation) per_node = kBytesPerNodeTotalVariation;
   const double whole = common + per_node * nodes;
-  if (!band_possible(grid, options)) return static_cast<std::size_t>(whole);
+  if (!band_possible(grid, options)) return saturated_bytes(whole);
   const double stored = static_cast<double>(band_stored_nodes_bound(grid, points, options.solver.band_voxels));
   const double banded = common + kBytesPerNodeBanded * nodes + kBytesPerBandNode * stored;
   // The solve uses the band when its active nodes are at most half of the
@@ -124,9 +127,9 @@ std::size_t estimate_peak_bytes(const GridGeometry& grid, const std::vector<Eige
   // bound, when within half, bounds them too); above, either may be.
   if (2.0 * stored <= nodes ||
       2.0 * static_cast<double>(band_active_nodes_bound(grid, points, options.solver.band_voxels)) <= nodes) {
-    return static_cast<std::size_t>(banded);
+    return saturated_bytes(banded);
   }
-  return static_cast<std::size_t>(std::max(whole, banded));
+  return saturated_bytes(std::max(whole, banded));
 }
 
 std::size_t memory_budget_bytes(const ReconOptions& options) {
@@ -137,8 +140,10 @@ std::size_t memory_budget_bytes(const ReconOptions& options) {
   return static_cast<std::size_t>(0.75 * static_cast<double>(pages) * static_cast<double>(page_size));
 }
 
-int largest_resolution_within(const BoundingBox& box, const std::vector<Eigen::Vector3f>& points,
-                              const ReconOptions& options, std::size_t budget) {
+int largest_resolution_within(const BoundingBox& box,
+                              const std::vector<Eigen::Vector3f>& points,
+                              const ReconOptions& options,
+                              std::size_t budget) {
   ReconOptions trial = options;
   trial.voxel_size = 0.0;
   const auto fits = [&](int resolution) {
@@ -158,15 +163,16 @@ int largest_resolution_within(const BoundingBox& box, const std::vector<Eigen::V
   return lo;
 }
 
-void check_memory_budget(const BoundingBox& box, const std::vector<Eigen::Vector3f>& points,
+void check_memory_budget(const BoundingBox& box,
+                         const std::vector<Eigen::Vector3f>& points,
                          const ReconOptions& options) {
   const std::size_t budget = memory_budget_bytes(options);
   const GridGeometry grid = make_domain(box, options);
   const std::size_t estimate = estimate_peak_bytes(grid, points, options);
   if (estimate <= budget) return;
   const int fitting = largest_resolution_within(box, points, options, budget);
-  const std::string dims = std::to_string(grid.dims.x()) + "x" + std::to_string(grid.dims.y()) + "x" +
-                           std::to_string(grid.dims.z());
+  const std::string dims =
+      std::to_string(grid.dims.x()) + "x" + std::to_string(grid.dims.y()) + "x" + std::to_string(grid.dims.z());
   std::string reason = "a " + dims + " grid needs about " + megabytes(estimate) + ", more than the budget of " +
                        megabytes(budget) + " (recon.max_memory_mb, --max-memory); ";
   reason += fitting > 0 ? "the largest resolution that fits is " + std::to_string(fitting)

@@ -1,5 +1,6 @@
 #include "recon/reconstruct.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -10,6 +11,7 @@
 #include "recon/isosurface.h"
 #include "recon/memory_budget.h"
 #include "recon/multigrid.h"
+#include "recon/sample_frame.h"
 #include "recon/trim.h"
 #include "recon/vector_field.h"
 
@@ -21,14 +23,10 @@ namespace hos::recon {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // The reference length that makes lambda resolution independent (see ReconOptions).
-double reference_length(const GridGeometry& g) {
-  return g.spacing * static_cast<double>(g.dims.maxCoeff() + 1) / 50.0;
-}
+double reference_length(const GridGeometry& g) { return g.spacing * static_cast<double>(g.dims.maxCoeff() + 1) / 50.0; }
 
 // Per-node IRLS weights 1 / sqrt(|grad f|^2 + eps^2) of the TV energy (2).
 std::vector<double> tv_weights(const ScalarGrid& f, double eps) {
@@ -72,16 +70,19 @@ void prolongate_levels(const GridGeometry& g, int levels, std::vector<double>& x
 // coarsened up to twice. guess receives that coarse solution prolongated to
 // the grid coarsened guess_level times (a starting point for the solve
 // there); guess_level is lowered when the grid coarsens fewer times.
-double coarse_isovalue(const EnergyOperator& fine, const std::vector<double>& rhs,
-                       const std::vector<Eigen::Vector3f>& points, const SolverOptions& solver,
-                       Reporter& reporter, int& guess_level, std::vector<double>& guess) {
+double coarse_isovalue(const EnergyOperator& fine,
+                       const std::vector<double>& rhs,
+                       const std::vector<Eigen::Vector3f>& points,
+                       const SolverOptions& solver,
+                       Reporter& reporter,
+                       int& guess_level,
+                       std::vector<double>& guess) {
   std::vector<EnergyOperator> ops{fine};
   std::vector<double> coarse_rhs;
   while (ops.size() < 3 && ops.back().geometry().can_coarsen(3)) {
     ops.push_back(ops.back().coarsened());
     std::vector<double> rc;
-    restrict_to_coarse(ops[ops.size() - 2].geometry(), ops.size() == 2 ? rhs : coarse_rhs,
-                       ops.back().geometry(), rc);
+    restrict_to_coarse(ops[ops.size() - 2].geometry(), ops.size() == 2 ? rhs : coarse_rhs, ops.back().geometry(), rc);
     coarse_rhs = std::move(rc);
   }
   if (ops.size() == 1) coarse_rhs = rhs;
@@ -89,9 +90,8 @@ double coarse_isovalue(const EnergyOperator& fine, const std::vector<double>& rh
   SolverOptions so = solver;
   so.tolerance = std::max(solver.tolerance, 1e-4);
   const SolveReport report = solve_linear_system(ops.back(), coarse_rhs, x, so, reporter);
-  reporter.debug(format_message("recon: coarse unscreened solve, ", report.iterations,
-                                " CG iterations, ", report.seconds_setup + report.seconds_iterations,
-                                " s"));
+  reporter.debug(format_message("recon: coarse unscreened solve, ", report.iterations, " CG iterations, ",
+                                report.seconds_setup + report.seconds_iterations, " s"));
   ScalarGrid coarse(ops.back().geometry());
   coarse.values = x;
   const double iso = mean_at_samples(coarse, points);
@@ -121,23 +121,25 @@ std::shared_ptr<const ActiveNodes> worthwhile_band(const GridGeometry& g,
 // grid solved. solve(op, b, x) runs one linear solve. Returns the number of
 // nodes of this level's band (0: none).
 template <typename SolveFn>
-std::int64_t solve_with_bands(EnergyOperator& op, std::vector<double> rhs,
-                              const std::vector<Eigen::Vector3f>& points, int band_voxels,
-                              int x_level, std::vector<double>& x, Reporter& reporter,
+std::int64_t solve_with_bands(EnergyOperator& op,
+                              std::vector<double> rhs,
+                              const std::vector<Eigen::Vector3f>& points,
+                              int band_voxels,
+                              int x_level,
+                              std::vector<double>& x,
+                              Reporter& reporter,
                               SolveFn&& solve) {
   const GridGeometry& g = op.geometry();
   const auto t_band = Clock::now();
-  const std::shared_ptr<const ActiveNodes> band =
-      x_level > 0 ? worthwhile_band(g, points, band_voxels) : nullptr;
+  const std::shared_ptr<const ActiveNodes> band = x_level > 0 ? worthwhile_band(g, points, band_voxels) : nullptr;
   reporter.debug(format_message("recon: band construction ", seconds_since(t_band), " s"));
   if (!band) {
     prolongate_levels(g, x_level, x);
     solve(op, rhs, x);
     return 0;
   }
-  reporter.info(format_message("recon: band of ", band->count(), " nodes (",
-                               100.0 * band->count() / g.num_nodes(), "% of the ", g.dims.x(),
-                               "x", g.dims.y(), "x", g.dims.z(), " grid)"));
+  reporter.info(format_message("recon: band of ", band->count(), " nodes (", 100.0 * band->count() / g.num_nodes(),
+                               "% of the ", g.dims.x(), "x", g.dims.y(), "x", g.dims.z(), " grid)"));
   // The band's right-hand side in its compact layout, then the grid-sized one
   // is freed before any solver array exists (the peak memory).
   std::vector<double> band_rhs(band->storage_size()), band_x(band->storage_size());
@@ -147,8 +149,7 @@ std::int64_t solve_with_bands(EnergyOperator& op, std::vector<double> rhs,
     std::vector<double> coarse_rhs;
     restrict_to_coarse(g, rhs, coarse.geometry(), coarse_rhs);
     rhs = std::vector<double>{};
-    solve_with_bands(coarse, std::move(coarse_rhs), points, band_voxels, x_level - 1, x, reporter,
-                     solve);
+    solve_with_bands(coarse, std::move(coarse_rhs), points, band_voxels, x_level - 1, x, reporter, solve);
   }
   // The band's unknowns; its halo holds the coarse solution, fixed. The
   // grid-sized solution is made after the band's solver arrays are freed.
@@ -170,14 +171,18 @@ std::int64_t solve_with_bands(EnergyOperator& op, std::vector<double> rhs,
 void check_reconstructable(const PointCloud& points, const std::string& source) {
   points.check_consistent();
   if (points.size() < 4) {
-    throw InputError(source, "has " + std::to_string(points.size()) +
-                                 " points; a surface needs at least 4");
+    throw InputError(source, "has " + std::to_string(points.size()) + " points; a surface needs at least 4");
   }
   if (!points.has_normals()) {
     throw InputError(source,
                      "the points have no normals (nx ny nz); give --view-dir, --scanner-pos or "
                      "--scans to orient them");
   }
+  BoundingBox box;
+  for (const auto& p : points.positions) {
+    if (p.allFinite()) box.extend(p);
+  }
+  check_extent(box, source);
   for (const auto& n : points.normals) {
     if (n.allFinite() && n.squaredNorm() > 0.0f) return;
   }
@@ -186,21 +191,24 @@ void check_reconstructable(const PointCloud& points, const std::string& source) 
 
 GridGeometry make_domain(const BoundingBox& box, const ReconOptions& options, int levels) {
   const Eigen::Vector3d extent = box.extent().cast<double>();
-  const double longest = std::max(extent.maxCoeff(), 1e-12);
+  const double longest = extent.maxCoeff();
   const Eigen::Vector3d side = extent.array() + 2.0 * options.margin * longest;
   GridGeometry g;
   g.spacing = options.voxel_size > 0.0 ? options.voxel_size : side.maxCoeff() / options.resolution;
   for (int a = 0; a < 3; ++a) {
-    // At least a few nodes across every axis, also for flat point sets.
-    const int nodes = std::max(8, static_cast<int>(std::ceil(side[a] / g.spacing)) + 1);
+    // At least a few nodes across every axis, also for flat point sets; at
+    // most kMaxDomainNodes, counted in double so that a tiny voxel size
+    // cannot overflow (the memory check then refuses such a grid).
+    const double wanted = std::ceil(side[a] / g.spacing) + 1.0;
+    const int nodes = static_cast<int>(
+        std::clamp(std::isfinite(wanted) ? wanted : kMaxDomainNodes, 8.0, static_cast<double>(kMaxDomainNodes)));
     g.dims[a] = admissible_dims(nodes, levels);
   }
   g.origin = box.center().cast<double>() - 0.5 * g.spacing * (g.dims.cast<double>().array() - 1.0).matrix();
   return g;
 }
 
-ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& options,
-                                Reporter& reporter) {
+ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& options, Reporter& reporter) {
   options.validate();
   check_reconstructable(input, "input points");
 #ifdef _OPENMP
@@ -209,43 +217,39 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   ReconResult result;
   ReconStats& stats = result.stats;
 
-  // Unit orientations (weighted by confidence); points without one are dropped.
-  std::vector<Eigen::Vector3f> points, normals;
-  std::vector<float> weights;
-  for (std::size_t i = 0; i < input.size(); ++i) {
-    const Eigen::Vector3f& n = input.normals[i];
-    const float len = n.norm();
-    if (!input.positions[i].allFinite() || !std::isfinite(len) || len == 0.0f) {
-      ++stats.num_samples_dropped;
-      continue;
-    }
-    points.push_back(input.positions[i]);
-    normals.push_back(n / len);
-    if (options.use_confidence && input.has_confidence()) {
-      weights.push_back(std::max(0.0f, input.confidence[i]));
-    }
+  // Unit orientations (weighted by confidence) in the unit frame: every step
+  // below is independent of the input's units and position.
+  OrientedSamples samples = prepare_samples(input, options.use_confidence, "input points");
+  const std::vector<Eigen::Vector3f>& points = samples.points;
+  const std::vector<Eigen::Vector3f>& normals = samples.normals;
+  const std::vector<float>& weights = samples.weights;
+  stats.num_samples_dropped = samples.dropped_without_normal + samples.dropped_far;
+  if (samples.dropped_without_normal > 0) {
+    reporter.warn(
+        format_message("recon: ", samples.dropped_without_normal, " points without a usable normal were ignored"));
   }
-  if (stats.num_samples_dropped > 0) {
-    reporter.warn(format_message("recon: ", stats.num_samples_dropped,
-                                 " points without a usable normal were ignored"));
+  if (samples.dropped_far > 0) {
+    reporter.warn(format_message("recon: ", samples.dropped_far,
+                                 " far outlier points (more than the object's extent away from it) were ignored"));
   }
   stats.num_samples = points.size();
+  ReconOptions unit_options = options;
+  unit_options.voxel_size = options.voxel_size / samples.frame.scale;
 
   const auto t_field = Clock::now();
   reporter.begin("orientation field", 0);
   const BoundingBox box = bounding_box(points);
-  check_memory_budget(box, points, options);  // before anything grid-sized exists
-  const GridGeometry grid = make_domain(box, options);
+  check_memory_budget(box, points, unit_options);  // before anything grid-sized exists
+  const GridGeometry grid = make_domain(box, unit_options);
   stats.grid_dims = grid.dims;
-  stats.voxel_size = grid.spacing;
-  reporter.info(format_message("recon: grid ", grid.dims.x(), "x", grid.dims.y(), "x",
-                               grid.dims.z(), ", voxel ", grid.spacing, ", ", points.size(),
-                               " samples"));
+  stats.voxel_size = grid.spacing * samples.frame.scale;
+  reporter.info(format_message("recon: grid ", grid.dims.x(), "x", grid.dims.y(), "x", grid.dims.z(), ", voxel ",
+                               grid.spacing, ", ", points.size(), " samples"));
   // A f = -div F
   ScalarGrid rhs;
   if (options.uniform_flux) {
-    rhs = density_scaled_rhs(grid, points, normals, weights, options.filter_passes,
-                             options.direction_filter_passes, options.filter_passes);
+    rhs = density_scaled_rhs(grid, points, normals, weights, options.filter_passes, options.direction_filter_passes,
+                             options.filter_passes);
   } else {
     VectorGrid field = splat_normals(grid, points, normals, weights);
     box_filter(field, options.filter_passes);
@@ -270,14 +274,12 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
     stats.multigrid_levels = report.levels;
     stats.relative_residual = report.relative_residual;
     reporter.info(format_message("recon: ", report.iterations, " CG iterations, ", report.levels,
-                                 " multigrid levels, relative residual ",
-                                 report.relative_residual));
+                                 " multigrid levels, relative residual ", report.relative_residual));
     reporter.debug(format_message("recon: solver setup ", report.seconds_setup, " s, iterations ",
                                   report.seconds_iterations, " s"));
     if (!report.converged) {
-      reporter.warn(format_message("recon: the solver stopped at relative residual ",
-                                   report.relative_residual, " above the tolerance ",
-                                   so.tolerance, "; raise recon.solver.max_iterations"));
+      reporter.warn(format_message("recon: the solver stopped at relative residual ", report.relative_residual,
+                                   " above the tolerance ", so.tolerance, "; raise recon.solver.max_iterations"));
     }
   };
   if (options.energy == SmoothnessEnergy::kTotalVariation) {
@@ -289,13 +291,11 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
       reporter.throw_if_cancelled();
       SolverOptions so = solver;
       if (round + 1 < solver.tv_iterations) so.tolerance = std::max(solver.tolerance, 1e-3);
-      const EnergyOperator op(grid, SmoothnessEnergy::kTotalVariation, 0.0, tv_weights(f, eps),
-                              options.lambda * ell);
+      const EnergyOperator op(grid, SmoothnessEnergy::kTotalVariation, 0.0, tv_weights(f, eps), options.lambda * ell);
       run(op, rhs.values, f.values, so);
     }
   } else {
-    const double weight =
-        options.energy == SmoothnessEnergy::kMembrane ? options.lambda : options.lambda * ell * ell;
+    const double weight = options.energy == SmoothnessEnergy::kMembrane ? options.lambda : options.lambda * ell * ell;
     EnergyOperator op(grid, options.energy, weight);
     // The solve starts on the grid coarsened twice (see solve_with_bands).
     int x_level = solver.band_voxels > 0 ? 2 : 0;
@@ -320,11 +320,9 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
       x_level = levels;
       f.values.assign(start.num_nodes(), 0.0);
     }
-    stats.band_nodes =
-        solve_with_bands(op, std::move(rhs.values), points, solver.band_voxels, x_level, f.values, reporter,
-                         [&](const EnergyOperator& o, const std::vector<double>& b, std::vector<double>& x) {
-                           run(o, b, x, solver);
-                         });
+    stats.band_nodes = solve_with_bands(
+        op, std::move(rhs.values), points, solver.band_voxels, x_level, f.values, reporter,
+        [&](const EnergyOperator& o, const std::vector<double>& b, std::vector<double>& x) { run(o, b, x, solver); });
   }
   for (double v : f.values) {
     if (!std::isfinite(v)) throw NumericalError("recon", "the implicit function is not finite");
@@ -339,9 +337,8 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   result.mesh = extract_isosurface(f, stats.isovalue);
   stats.faces_before_trim = result.mesh.faces.size();
   if (options.trim.enabled) {
-    const TrimReport trim =
-        trim_far_from_samples(result.mesh, points, options.trim.distance_voxels * grid.spacing,
-                              options.trim.min_component_fraction);
+    const TrimReport trim = trim_far_from_samples(result.mesh, points, options.trim.distance_voxels * grid.spacing,
+                                                  options.trim.min_component_fraction);
     stats.faces_trimmed = trim.faces_removed_far + trim.faces_removed_small;
   }
   reporter.end();
@@ -349,9 +346,11 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   if (result.mesh.faces.empty()) {
     throw NumericalError("recon", "the isosurface is empty (the orientations may be inconsistent)");
   }
-  reporter.info(format_message("recon: isovalue ", stats.isovalue, ", ", result.mesh.num_vertices(),
-                               " vertices, ", result.mesh.num_faces(), " faces (",
-                               stats.faces_trimmed, " trimmed)"));
+  to_world(samples.frame, result.mesh);
+  f.geometry.origin = samples.frame.to_world(f.geometry.origin);
+  f.geometry.spacing *= samples.frame.scale;
+  reporter.info(format_message("recon: isovalue ", stats.isovalue, ", ", result.mesh.num_vertices(), " vertices, ",
+                               result.mesh.num_faces(), " faces (", stats.faces_trimmed, " trimmed)"));
   return result;
 }
 

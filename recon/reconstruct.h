@@ -18,9 +18,9 @@ struct ReconStats {
   std::size_t num_samples = 0;
   std::size_t num_samples_dropped = 0;  // without a usable orientation
   int multigrid_levels = 0;
-  int solver_iterations = 0;           // summed over all linear solves
-  double relative_residual = 0.0;      // of the final linear solve
-  std::int64_t band_nodes = 0;         // fine nodes solved in the band; 0 = every node
+  int solver_iterations = 0;       // summed over all linear solves
+  double relative_residual = 0.0;  // of the final linear solve
+  std::int64_t band_nodes = 0;     // fine nodes solved in the band; 0 = every node
   double isovalue = 0.0;
   std::size_t faces_before_trim = 0;
   std::size_t faces_trimmed = 0;
@@ -34,16 +34,20 @@ struct ReconResult {
 };
 
 // Throws InputError(source, reason) when the points cannot be reconstructed:
-// fewer than 4 points, no normals, all normals zero.
+// fewer than 4 points, no normals, all normals zero, an extent that is zero
+// or below numerical resolution.
 void check_reconstructable(const PointCloud& points, const std::string& source);
 
 // Throws ConfigError for bad options, InputError for unusable points,
 // NumericalError if the solve fails, Cancelled on request.
-ReconResult reconstruct_surface(const PointCloud& points, const ReconOptions& options,
-                                Reporter& reporter);
+ReconResult reconstruct_surface(const PointCloud& points, const ReconOptions& options, Reporter& reporter);
+
+// Nodes per axis beyond which a domain is not made larger: far more than
+// any machine holds, small enough that node counts stay exact in int64.
+inline constexpr int kMaxDomainNodes = 1 << 20;
 
 // The grid for the points' bounding box: margin, cubic cells, dims that
-// coarsen at least levels - 1 times.
+// coarsen at least levels - 1 times (at most about kMaxDomainNodes).
 GridGeometry make_domain(const BoundingBox& box, const ReconOptions& options, int levels = 5);
 
 }  // namespace hos::recon

@@ -1,5 +1,6 @@
 #include "recon/scans.h"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -13,9 +14,7 @@ Eigen::Vector3d RangeScanEntry::to_world(const Eigen::Vector3d& p) const {
   return rotation.conjugate() * p + translation;
 }
 
-Eigen::Vector3d RangeScanEntry::direction_to_scanner() const {
-  return rotation.conjugate() * Eigen::Vector3d::UnitZ();
-}
+Eigen::Vector3d RangeScanEntry::direction_to_scanner() const { return rotation.conjugate() * Eigen::Vector3d::UnitZ(); }
 
 std::vector<RangeScanEntry> read_stanford_conf(const fs::path& conf) {
   std::ifstream in(conf);
@@ -32,15 +31,17 @@ std::vector<RangeScanEntry> read_stanford_conf(const fs::path& conf) {
     std::string file;
     double t[3], q[4];
     if (!(s >> file >> t[0] >> t[1] >> t[2] >> q[0] >> q[1] >> q[2] >> q[3])) {
-      throw InputError(conf.string(), "line " + std::to_string(line_number) +
-                                          ": expected 'bmesh FILE tx ty tz qx qy qz qw'");
+      throw InputError(conf.string(),
+                       "line " + std::to_string(line_number) + ": expected 'bmesh FILE tx ty tz qx qy qz qw'");
+    }
+    if (!std::isfinite(t[0] + t[1] + t[2]) || !std::isfinite(q[0] + q[1] + q[2] + q[3])) {
+      throw InputError(conf.string(), "line " + std::to_string(line_number) + ": the pose holds a non-finite number");
     }
     entry.file = conf.parent_path() / file;
     entry.translation = Eigen::Vector3d(t[0], t[1], t[2]);
     const Eigen::Quaterniond rotation(q[3], q[0], q[1], q[2]);
     if (!(rotation.norm() > 0.5)) {
-      throw InputError(conf.string(), "line " + std::to_string(line_number) +
-                                          ": the quaternion is not a rotation");
+      throw InputError(conf.string(), "line " + std::to_string(line_number) + ": the quaternion is not a rotation");
     }
     entry.rotation = rotation.normalized();
     scans.push_back(entry);
@@ -58,11 +59,15 @@ PointCloud load_stanford_scans(const fs::path& conf, Reporter& reporter) {
     PlyReadReport read_report;
     PointCloud cloud = read_point_cloud_ply(scan.file, &read_report);
     if (read_report.num_skipped_nonfinite > 0) {
-      reporter.warn(format_message(scan.file.string(), ": skipped ",
-                                   read_report.num_skipped_nonfinite, " non-finite points"));
+      reporter.warn(
+          format_message(scan.file.string(), ": skipped ", read_report.num_skipped_nonfinite, " non-finite points"));
     }
     for (auto& p : cloud.positions) {
       p = scan.to_world(p.cast<double>()).cast<float>();
+      if (!p.allFinite()) {
+        throw InputError(conf.string(),
+                         scan.file.filename().string() + ": its pose moves points beyond the float range");
+      }
       centre += p.cast<double>();
     }
     total += cloud.size();
@@ -80,16 +85,15 @@ PointCloud load_stanford_scans(const fs::path& conf, Reporter& reporter) {
     scan_centre /= static_cast<double>(cloud.size());
     Eigen::Vector3d direction = scans[s].direction_to_scanner();
     if (direction.dot(scan_centre - centre) < 0.0) {
-      reporter.warn(format_message(scans[s].file.filename().string(),
-                                   ": the scanner direction points into the object; flipped"));
+      reporter.warn(
+          format_message(scans[s].file.filename().string(), ": the scanner direction points into the object; flipped"));
       direction = -direction;
     }
     const Eigen::Vector3f n = direction.cast<float>();
     all.positions.insert(all.positions.end(), cloud.positions.begin(), cloud.positions.end());
     all.normals.insert(all.normals.end(), cloud.size(), n);
   }
-  reporter.info(format_message("read ", scans.size(), " scans, ", all.size(), " points from ",
-                               conf.string()));
+  reporter.info(format_message("read ", scans.size(), " scans, ", all.size(), " points from ", conf.string()));
   return all;
 }
 

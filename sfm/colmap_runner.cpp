@@ -1,9 +1,12 @@
 #include "sfm/colmap_runner.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <deque>
+#include <filesystem>
 #include <regex>
 
+#include "core/disk_space.h"
 #include "core/error.h"
 #include "core/subprocess.h"
 
@@ -15,6 +18,18 @@ constexpr const char* kInstallHint =
     "$HOS_COLMAP to the colmap executable";
 constexpr std::size_t kTailLines = 12;
 constexpr const char* kDefaultColmap = "colmap";
+
+// The folder a COLMAP command writes into: its database's or output's.
+std::string folder_written_by(const ColmapStep& step) {
+  for (const char* flag : {"--database_path", "--output_path"}) {
+    const auto it = std::find(step.args.begin(), step.args.end(), flag);
+    if (it != step.args.end() && it + 1 != step.args.end()) {
+      const std::filesystem::path path(*(it + 1));
+      return std::string(flag) == "--database_path" ? path.parent_path().string() : path.string();
+    }
+  }
+  return ".";
+}
 
 }  // namespace
 
@@ -54,8 +69,8 @@ ColmapInfo locate_colmap(const std::string& configured) {
   const ProcessResult result = run_process(process);
   ColmapInfo info = parse_colmap_banner(banner);
   if (!result.ok() || info.version.empty()) {
-    throw StageError("sfm", path + " does not run as COLMAP (exit code " +
-                                std::to_string(result.exit_code) + "); " + kInstallHint);
+    throw StageError(
+        "sfm", path + " does not run as COLMAP (exit code " + std::to_string(result.exit_code) + "); " + kInstallHint);
   }
   info.executable = path;
   return info;
@@ -91,9 +106,11 @@ ColmapStepResult run_colmap_step(const ColmapInfo& colmap, const ColmapStep& ste
   reporter.debug(command_line);
 
   std::deque<std::string> tail;
+  std::string disk_full;  // SQLite's or the C library's words for a full disk
   std::int64_t shown = 0;
   process.on_line = [&](std::string_view line) {
     reporter.debug(line);
+    if (disk_full.empty() && says_disk_full(std::string(line))) disk_full = line;
     if (line.find_first_not_of(" =-") == std::string_view::npos) return;
     tail.emplace_back(line);
     if (tail.size() > kTailLines) tail.pop_front();
@@ -108,12 +125,17 @@ ColmapStepResult run_colmap_step(const ColmapInfo& colmap, const ColmapStep& ste
   const ProcessResult result = run_process(process);
   reporter.end();
   if (result.cancelled) throw Cancelled();
+  if (!disk_full.empty()) {
+    const std::string folder = folder_written_by(step);
+    throw OutputError(folder, "the disk is full: " + describe_disk(folder) + "; COLMAP " + step.command +
+                                  " said: " + disk_full + ". Free some space and run the same command again");
+  }
   ColmapStepResult out;
   out.seconds = result.wall_seconds;
   out.exit_code = result.exit_code;
   out.last_lines.assign(tail.begin(), tail.end());
-  reporter.debug(format_message("colmap ", step.command, " finished in ", result.wall_seconds,
-                                " s with exit code ", result.exit_code));
+  reporter.debug(format_message("colmap ", step.command, " finished in ", result.wall_seconds, " s with exit code ",
+                                result.exit_code));
   return out;
 }
 

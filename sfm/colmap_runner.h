@@ -37,10 +37,10 @@ ColmapInfo parse_colmap_banner(std::string_view banner);
 std::optional<std::int64_t> parse_colmap_progress(std::string_view line);
 
 struct ColmapStep {
-  std::string command;              // "feature_extractor", "mapper", ...
-  std::vector<std::string> args;    // "--database_path", "x", ...
-  std::string title;                // progress step name shown to the user
-  std::int64_t total = 0;           // work items for the progress bar (0 = unknown)
+  std::string command;            // "feature_extractor", "mapper", ...
+  std::vector<std::string> args;  // "--database_path", "x", ...
+  std::string title;              // progress step name shown to the user
+  std::int64_t total = 0;         // work items for the progress bar (0 = unknown)
 };
 
 struct ColmapStepResult {
@@ -51,7 +51,9 @@ struct ColmapStepResult {
 
 // Runs one COLMAP command headless (QT_QPA_PLATFORM=offscreen). Every output
 // line goes to reporter.debug (the stage log). Throws Cancelled when the user
-// stops the run; does not throw on a non-zero exit (the caller decides).
+// stops the run, OutputError naming the disk and the folder when COLMAP says
+// the disk is full (SQLite's "database or disk is full" is only in its
+// output); does not throw on another non-zero exit (the caller decides).
 ColmapStepResult run_colmap_step(const ColmapInfo& colmap, const ColmapStep& step, Reporter& reporter);
 
 // The last lines of output as one indented block, for error messages.

@@ -28,6 +28,29 @@ std::string join_skipped(const std::vector<SkippedInput>& skipped) {
   return out;
 }
 
+// COLMAP reads only 8 bits per channel; 16-bit PNG and TIFF photos (common
+// from raw development) and float TIFFs (taken as 0..1) are scaled down.
+cv::Mat to_8_bits(const cv::Mat& image) {
+  double scale = 1.0;
+  switch (image.depth()) {
+    case CV_16U:
+      scale = 255.0 / 65535.0;
+      break;
+    case CV_16S:
+      scale = 255.0 / 32767.0;
+      break;
+    case CV_32F:
+    case CV_64F:
+      scale = 255.0;
+      break;
+    default:
+      break;
+  }
+  cv::Mat out;
+  image.convertTo(out, CV_8U, scale);
+  return out;
+}
+
 }  // namespace
 
 const std::vector<std::string>& supported_image_extensions() {
@@ -39,19 +62,26 @@ bool ImageInputs::same_camera() const {
   if (images.empty()) return true;
   const StagedImage& first = images.front();
   return std::all_of(images.begin(), images.end(), [&](const StagedImage& image) {
-    return image.width == first.width && image.height == first.height &&
-           image.focal_length_mm == first.focal_length_mm;
+    return image.width == first.width && image.height == first.height && image.focal_length_mm == first.focal_length_mm;
   });
 }
 
 cv::Mat apply_exif_orientation(const cv::Mat& image, int orientation) {
   cv::Mat out;
   switch (orientation) {
-    case 2: cv::flip(image, out, 1); break;   // mirrored horizontally
-    case 3: cv::flip(image, out, -1); break;  // rotated 180
-    case 4: cv::flip(image, out, 0); break;   // mirrored vertically
-    case 5: cv::transpose(image, out); break;
-    case 6:                                    // needs a 90 degree clockwise turn
+    case 2:
+      cv::flip(image, out, 1);
+      break;  // mirrored horizontally
+    case 3:
+      cv::flip(image, out, -1);
+      break;  // rotated 180
+    case 4:
+      cv::flip(image, out, 0);
+      break;  // mirrored vertically
+    case 5:
+      cv::transpose(image, out);
+      break;
+    case 6:  // needs a 90 degree clockwise turn
       cv::transpose(image, out);
       cv::flip(out, out, 1);
       break;
@@ -63,13 +93,17 @@ cv::Mat apply_exif_orientation(const cv::Mat& image, int orientation) {
       cv::transpose(image, out);
       cv::flip(out, out, 0);
       break;
-    default: out = image; break;
+    default:
+      out = image;
+      break;
   }
   return out;
 }
 
-ImageInputs prepare_images(const fs::path& folder, const fs::path& staging_dir,
-                           const SfmOptions& options, Reporter& reporter) {
+ImageInputs prepare_images(const fs::path& folder,
+                           const fs::path& staging_dir,
+                           const SfmOptions& options,
+                           Reporter& reporter) {
   std::error_code ec;
   if (!fs::exists(folder, ec)) throw InputError(folder.string(), "photo folder does not exist");
   if (!fs::is_directory(folder, ec)) throw InputError(folder.string(), "is not a folder of photos");
@@ -78,7 +112,10 @@ ImageInputs prepare_images(const fs::path& folder, const fs::path& staging_dir,
   for (const auto& entry : fs::directory_iterator(folder, ec)) {
     const std::string name = entry.path().filename().string();
     if (name.empty() || name[0] == '.') continue;
-    if (entry.is_directory()) continue;
+    // An entry that cannot be examined (a symlink loop, a dangling link) is
+    // kept here and skipped below with the reason.
+    std::error_code entry_ec;
+    if (entry.is_directory(entry_ec)) continue;
     files.push_back(entry.path());
   }
   if (ec) throw InputError(folder.string(), "cannot list the folder: " + ec.message());
@@ -128,7 +165,7 @@ ImageInputs prepare_images(const fs::path& folder, const fs::path& staging_dir,
     // must not apply it a second time.
     cv::Mat image;
     try {
-      image = cv::imdecode(bytes, cv::IMREAD_COLOR | cv::IMREAD_IGNORE_ORIENTATION);
+      image = cv::imdecode(bytes, cv::IMREAD_COLOR | cv::IMREAD_ANYDEPTH | cv::IMREAD_IGNORE_ORIENTATION);
     } catch (const cv::Exception&) {
       image.release();
     }
@@ -137,14 +174,18 @@ ImageInputs prepare_images(const fs::path& folder, const fs::path& staging_dir,
       continue;
     }
     if (std::min(image.cols, image.rows) < options.min_image_size) {
-      skip("too small (" + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
-           "; sfm.min_image_size is " + std::to_string(options.min_image_size) + ")");
+      skip("too small (" + std::to_string(image.cols) + "x" + std::to_string(image.rows) + "; sfm.min_image_size is " +
+           std::to_string(options.min_image_size) + ")");
       continue;
     }
     StagedImage staged;
     staged.name = file.filename().string();
     staged.source = file;
     staged.focal_length_mm = exif.focal_length_mm;
+    if (image.depth() != CV_8U) {
+      image = to_8_bits(image);
+      staged.rewritten = true;
+    }
     if (exif.orientation != 1) {
       image = apply_exif_orientation(image, exif.orientation);
       staged.rewritten = true;

@@ -4,11 +4,10 @@
 #pragma once
 
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "core/reporter.h"
 #include "sfm/sfm_options.h"
@@ -21,16 +20,16 @@ struct SkippedInput {
 };
 
 struct StagedImage {
-  std::string name;                  // file name inside the staging folder (= original name)
-  std::filesystem::path source;      // the user's file
-  int width = 0;                     // size as staged (upright, downscaled)
+  std::string name;              // file name inside the staging folder (= original name)
+  std::filesystem::path source;  // the user's file
+  int width = 0;                 // size as staged (upright, downscaled)
   int height = 0;
   std::optional<double> focal_length_mm;  // from EXIF
-  bool rewritten = false;            // re-encoded (rotated or downscaled) rather than linked
+  bool rewritten = false;                 // re-encoded (rotated, downscaled or 16 to 8 bits) rather than linked
 };
 
 struct ImageInputs {
-  std::vector<StagedImage> images;   // sorted by name
+  std::vector<StagedImage> images;  // sorted by name
   std::vector<SkippedInput> skipped;
   // All photos share width, height and EXIF focal length: one camera fits.
   bool same_camera() const;
@@ -43,11 +42,14 @@ const std::vector<std::string>& supported_image_extensions();
 cv::Mat apply_exif_orientation(const cv::Mat& image, int orientation);
 
 // Checks every file at the top level of folder (hidden files are ignored),
-// warns about each skipped one with the reason, and stages the usable photos
+// warns about each skipped one with the reason (an entry that cannot be
+// read at all, such as a symlink loop, included), and stages the usable photos
+// (converted to 8 bits per channel when deeper)
 // into staging_dir (created). Throws InputError when the folder is missing or
 // fewer than 3 usable photos remain, listing what was skipped.
 ImageInputs prepare_images(const std::filesystem::path& folder,
-                           const std::filesystem::path& staging_dir, const SfmOptions& options,
+                           const std::filesystem::path& staging_dir,
+                           const SfmOptions& options,
                            Reporter& reporter);
 
 }  // namespace hos::sfm

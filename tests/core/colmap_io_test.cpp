@@ -7,40 +7,11 @@
 #include <fstream>
 
 #include "core/error.h"
+#include "tests/support/sparse_model_fixture.h"
 #include "tests/support/test_support.h"
 
 namespace hos {
 namespace {
-
-SparseModel small_model() {
-  SparseModel m;
-  m.cameras[1] = Camera::pinhole(1, 640, 480, 500.5, 501.25, 320, 240);
-  Camera distorted;
-  distorted.id = 2;
-  distorted.model = CameraModel::kOpenCV;
-  distorted.width = 800;
-  distorted.height = 600;
-  distorted.params = {700, 701, 400, 300, -0.1, 0.02, 0.001, -0.003};
-  m.cameras[2] = distorted;
-  for (int id : {3, 7}) {
-    ImageRecord im;
-    im.id = id;
-    im.camera_id = id == 3 ? 1 : 2;
-    im.name = "img_" + std::to_string(id) + ".jpg";
-    im.cam_from_world_rotation = Eigen::Quaterniond(0.9, 0.1 * id, -0.2, 0.3).normalized();
-    im.cam_from_world_translation = Eigen::Vector3d(0.5 * id, -1.0, 2.5);
-    im.keypoints = {{Eigen::Vector2d(10.5, 20.25), 11}, {Eigen::Vector2d(100, 200), -1}};
-    m.images[id] = im;
-  }
-  Point3D p;
-  p.id = 11;
-  p.xyz = Eigen::Vector3d(0.25, -1.5, 4.0);
-  p.color = {10, 200, 30};
-  p.error = 0.75;
-  p.track = {{3, 0}, {7, 0}};
-  m.points[11] = p;
-  return m;
-}
 
 void expect_same(const SparseModel& a, const SparseModel& b) {
   ASSERT_EQ(a.cameras.size(), b.cameras.size());
@@ -78,7 +49,7 @@ void expect_same(const SparseModel& a, const SparseModel& b) {
 
 TEST(ColmapIo, TextAndBinaryRoundTrips) {
   hos::testing::TempDir dir;
-  const SparseModel model = small_model();
+  const SparseModel model = hos::testing::small_sparse_model();
   write_colmap_model(model, dir / "txt", ColmapFormat::kText);
   write_colmap_model(model, dir / "bin", ColmapFormat::kBinary);
   expect_same(model, read_colmap_model_text(dir / "txt"));
@@ -93,16 +64,16 @@ TEST(ColmapIo, TextAndBinaryRoundTrips) {
 TEST(ColmapIo, AgreesWithTheRealColmap) {
   if (hos::testing::run_command("command -v colmap > /dev/null") != 0) GTEST_SKIP() << "colmap is not installed";
   hos::testing::TempDir dir;
-  const SparseModel model = small_model();
+  const SparseModel model = hos::testing::small_sparse_model();
   write_colmap_model(model, dir / "ours_txt", ColmapFormat::kText);
   write_colmap_model(model, dir / "ours_bin", ColmapFormat::kBinary);
   std::filesystem::create_directories(dir / "colmap_bin");
   std::filesystem::create_directories(dir / "colmap_txt");
   const auto convert = [&](const std::string& in, const std::string& out, const std::string& type) {
     return hos::testing::run_command("QT_QPA_PLATFORM=offscreen colmap model_converter --input_path " +
-                                    hos::testing::shell_quote((dir / in).string()) + " --output_path " +
-                                    hos::testing::shell_quote((dir / out).string()) + " --output_type " + type,
-                                dir / "colmap.log");
+                                         hos::testing::shell_quote((dir / in).string()) + " --output_path " +
+                                         hos::testing::shell_quote((dir / out).string()) + " --output_type " + type,
+                                     dir / "colmap.log");
   };
   // Our text read by COLMAP, written as COLMAP's binary, read by us.
   ASSERT_EQ(convert("ours_txt", "colmap_bin", "BIN"), 0);
@@ -114,7 +85,7 @@ TEST(ColmapIo, AgreesWithTheRealColmap) {
 
 TEST(ColmapIo, MissingOrBrokenFilesNameTheFile) {
   hos::testing::TempDir dir;
-  write_colmap_model(small_model(), dir / "m", ColmapFormat::kBinary);
+  write_colmap_model(hos::testing::small_sparse_model(), dir / "m", ColmapFormat::kBinary);
   std::filesystem::remove(dir / "m" / "points3D.bin");
   try {
     read_colmap_model(dir / "m");
@@ -124,7 +95,7 @@ TEST(ColmapIo, MissingOrBrokenFilesNameTheFile) {
   }
   EXPECT_THROW(read_colmap_model(dir / "nothing_here"), InputError);
   // Truncated binary file.
-  write_colmap_model(small_model(), dir / "t", ColmapFormat::kBinary);
+  write_colmap_model(hos::testing::small_sparse_model(), dir / "t", ColmapFormat::kBinary);
   std::filesystem::resize_file(dir / "t" / "images.bin", 30);
   try {
     read_colmap_model(dir / "t");
@@ -133,7 +104,7 @@ TEST(ColmapIo, MissingOrBrokenFilesNameTheFile) {
     EXPECT_NE(std::string(e.what()).find("images.bin"), std::string::npos);
   }
   // Malformed text line.
-  write_colmap_model(small_model(), dir / "x", ColmapFormat::kText);
+  write_colmap_model(hos::testing::small_sparse_model(), dir / "x", ColmapFormat::kText);
   std::ofstream(dir / "x" / "cameras.txt") << "1 PINHOLE 640 480 500 500\n";
   try {
     read_colmap_model(dir / "x");

@@ -73,5 +73,32 @@ TEST(OptionSet, BadValuesNameTheAllowedRange) {
   EXPECT_EQ(e.resolution, 128) << "a rejected value must not be applied";
 }
 
+TEST(OptionSet, MalformedYamlIsAConfigurationError) {
+  testing::TempDir dir;
+  std::ofstream(dir / "bad.yaml") << "recon:\n  lambda: [1, 2\n";
+  try {
+    load_yaml_file((dir / "bad.yaml").string());
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {  // exit 2 like every other configuration error
+    EXPECT_NE(std::string(e.what()).find("bad.yaml"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("line"), std::string::npos);
+  }
+}
+
+TEST(OptionSet, DuplicateKeysAreRefusedNamingBothLines) {
+  testing::TempDir dir;
+  std::ofstream(dir / "twice.yaml") << "recon:\n  lambda: 0.5\n  resolution: 64\n  lambda: 0.7\n";
+  try {
+    load_yaml_file((dir / "twice.yaml").string());
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("lambda"), std::string::npos) << what;
+    EXPECT_NE(what.find("lines 2 and 4"), std::string::npos) << what;
+  }
+  std::ofstream(dir / "sections.yaml") << "recon:\n  lambda: 0.5\nmvs: {}\nrecon:\n  resolution: 64\n";
+  EXPECT_THROW(load_yaml_file((dir / "sections.yaml").string()), ConfigError);
+}
+
 }  // namespace
 }  // namespace hos

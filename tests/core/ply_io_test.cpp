@@ -56,8 +56,10 @@ TEST_P(PlyFormats, MeshRoundTrip) {
   EXPECT_EQ(b.colors[3], a.colors[3]);
 }
 
-INSTANTIATE_TEST_SUITE_P(AllFormats, PlyFormats,
-                         ::testing::Values(PlyFormat::kAscii, PlyFormat::kBinaryLittleEndian,
+INSTANTIATE_TEST_SUITE_P(AllFormats,
+                         PlyFormats,
+                         ::testing::Values(PlyFormat::kAscii,
+                                           PlyFormat::kBinaryLittleEndian,
                                            PlyFormat::kBinaryBigEndian));
 
 std::string error_of(const std::filesystem::path& path) {
@@ -136,6 +138,21 @@ TEST(PlyIo, NonFiniteCoordinatesAreSkippedAndCounted) {
     EXPECT_EQ(b.normals[k].z(), static_cast<float>(i));
     EXPECT_EQ(b.colors[k][0], i % 256);
   }
+}
+
+TEST(PlyIo, UnusableConfidencesReadAsZeroAndCounted) {
+  testing::TempDir dir;
+  std::ofstream(dir / "conf.ply") << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                                     "property float z\nproperty float confidence\nend_header\n"
+                                     "0 0 0 nan\n1 0 0 -1\n0 1 0 inf\n0 0 1 2\n";
+  PlyReadReport report;
+  const PointCloud c = read_point_cloud_ply(dir / "conf.ply", &report);
+  ASSERT_EQ(c.confidence.size(), 4u);
+  EXPECT_EQ(report.num_invalid_confidence, 3u);
+  EXPECT_EQ(c.confidence[0], 0.0f);
+  EXPECT_EQ(c.confidence[1], 0.0f);
+  EXPECT_EQ(c.confidence[2], 0.0f);
+  EXPECT_EQ(c.confidence[3], 2.0f);
 }
 
 TEST(PlyIo, ReadsPolygonsAndForeignPropertyNames) {

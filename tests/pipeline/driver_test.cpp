@@ -5,7 +5,10 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <cstdlib>
@@ -13,7 +16,10 @@
 #include <thread>
 
 #include "core/error.h"
+#include "pipeline/output_checks.h"
 #include "pipeline/pipeline_config.h"
+#include "pipeline/workspace_lock.h"
+#include "tests/support/message_log.h"
 #include "tests/support/test_support.h"
 
 namespace hos::pipeline {
@@ -37,7 +43,7 @@ while [ $# -gt 0 ]; do
   shift
 done
 echo "$stage" >> "$HOS_FAKE_CALLS"
-if [ "$HOS_FAKE_SLEEP" = "$stage" ]; then exec sleep 30; fi
+if [ "$HOS_FAKE_SLEEP" = "$stage" ]; then echo $$ > "$HOS_FAKE_CALLS.pid"; exec sleep 30; fi
 if [ "$HOS_FAKE_FAIL" = "$stage" ]; then echo "$stage: failing on purpose" >&2; exit "$HOS_FAKE_EXIT"; fi
 case "$stage" in
   sfm)
@@ -252,6 +258,141 @@ TEST_F(DriverTest, SummaryTableListsEveryStage) {
   EXPECT_THAT(lines[1], HasSubstr("up to date"));
   EXPECT_THAT(lines[1], HasSubstr("3/4 images registered"));
   EXPECT_THAT(lines.back(), HasSubstr("out.glb"));
+}
+
+// ---- reliability (issue #14) -------------------------------------------------
+
+// Waits until file exists and is not empty (the fake stage has started).
+bool wait_for_file(const fs::path& file, double seconds) {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < until) {
+    if (!testing::read_text(file).empty()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return false;
+}
+
+// A process that exited (or a zombie waiting for its reaper) is gone.
+bool process_gone(pid_t pid) {
+  if (::kill(pid, 0) != 0) return true;
+  const std::string stat = testing::read_text("/proc/" + std::to_string(pid) + "/stat");
+  const auto paren = stat.rfind(')');
+  return paren != std::string::npos && paren + 2 < stat.size() && stat[paren + 2] == 'Z';
+}
+
+TEST_F(DriverTest, SecondRunOnTheSameWorkspaceIsRefusedNamingTheFirst) {
+  ::setenv("HOS_FAKE_SLEEP", "sfm", 1);
+  CancellingReporter first_reporter;
+  std::thread first([&] { EXPECT_THROW(run_pipeline(options_, first_reporter), Cancelled); });
+  const bool started = wait_for_file(dir_ / "calls.txt.pid", 10.0);
+  try {
+    run_pipeline(options_, null_reporter());
+    ADD_FAILURE() << "the second run was not refused";
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("in use by another hos-pipeline (pid " + std::to_string(::getpid()) + ")"));
+  }
+  first_reporter.cancel = true;
+  first.join();
+  EXPECT_TRUE(started);
+  EXPECT_EQ(calls(), std::vector<std::string>{"sfm"});  // the second run started nothing
+}
+
+TEST_F(DriverTest, LockOfAKilledRunIsTakenOverWithAWarning) {
+  fs::create_directories(workspace());
+  std::ofstream(WorkspaceLock::file_in(workspace())) << "pid 999999";  // no flock: its owner died
+  testing::MessageLog log;
+  EXPECT_THAT(run(log), ElementsAre("sfm", "mvs", "recon", "texture"));
+  EXPECT_THAT(log.warnings(), HasSubstr("taking over the workspace lock"));
+  EXPECT_THAT(log.warnings(), HasSubstr("pid 999999"));
+  EXPECT_TRUE(testing::read_text(WorkspaceLock::file_in(workspace())).empty());  // released cleanly
+}
+
+TEST_F(DriverTest, KilledDriverLeavesNoOrphanStage) {
+  ::setenv("HOS_FAKE_SLEEP", "mvs", 1);
+  const pid_t driver = ::fork();
+  ASSERT_GE(driver, 0);
+  if (driver == 0) {
+    try {
+      run_pipeline(options_, null_reporter());
+    } catch (...) {
+    }
+    ::_exit(0);
+  }
+  ASSERT_TRUE(wait_for_file(dir_ / "calls.txt.pid", 20.0));
+  const pid_t stage = std::stoi(testing::read_text(dir_ / "calls.txt.pid"));
+  ::kill(driver, SIGKILL);
+  ::waitpid(driver, nullptr, 0);
+  bool gone = false;
+  for (int i = 0; i < 150 && !(gone = process_gone(stage)); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (!gone) ::kill(stage, SIGKILL);
+  EXPECT_TRUE(gone) << "the stage (pid " << stage << ") outlived the killed driver";
+}
+
+TEST_F(DriverTest, UnwritableOutputIsRefusedBeforeTheFirstStage) {
+  // A folder no file can be created in, even by root: a read-only
+  // pseudo-filesystem stands in for a read-only folder.
+  options_.output = "/proc/hos-test-out.glb";
+  options_.workspace = dir_ / "ws";
+  try {
+    run();
+    FAIL() << "no error";
+  } catch (const OutputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("cannot create a file in /proc"));
+  }
+  EXPECT_TRUE(calls().empty());
+}
+
+TEST_F(DriverTest, FailedFinalCopyIsAnOutputErrorWithTheReason) {
+  // The model is a folder: copying it fails as a full disk would, after
+  // the temporary was created.
+  fs::create_directories(dir_ / "model_folder.glb");
+  try {
+    copy_result(dir_ / "model_folder.glb", dir_ / "final.glb");
+    FAIL() << "no error";
+  } catch (const OutputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("final.glb"));
+    EXPECT_THAT(e.what(), HasSubstr("the disk mounted at"));
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "final.glb"));
+}
+
+TEST_F(DriverTest, LowDiskSpaceIsWarnedBeforeTheStage) {
+  testing::MessageLog log;
+  warn_if_low_space(dir_.path(), std::uintmax_t{1} << 62, "mvs", log);
+  EXPECT_THAT(log.warnings(), HasSubstr("the mvs stage may need about"));
+  EXPECT_THAT(log.warnings(), HasSubstr("the disk mounted at"));
+  testing::MessageLog quiet;
+  warn_if_low_space(dir_.path(), 1, "mvs", quiet);
+  EXPECT_TRUE(quiet.warnings().empty());
+}
+
+TEST_F(DriverTest, OutputInsideThePhotoFolderStillResumes) {
+  options_.output = options_.photos / "model.glb";
+  EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "texture"));
+  EXPECT_TRUE(run().empty());
+  std::ofstream(options_.photos / "e.jpg") << "e";  // a real new photo still counts
+  EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "texture"));
+}
+
+TEST_F(DriverTest, DamagedIntermediateNamesForceFrom) {
+  run();
+  std::ofstream(workspace() / "mvs" / "points.ply") << "damaged";
+  ::setenv("HOS_FAKE_FAIL", "recon", 1);  // the stage rejects the damaged file
+  ::setenv("HOS_FAKE_EXIT", "3", 1);
+  try {
+    run();
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("--force --from mvs"));
+  }
+}
+
+TEST_F(DriverTest, FromWithoutAWorkspaceCreatesNone) {
+  options_.from = "recon";
+  EXPECT_THROW(run(), InputError);
+  EXPECT_FALSE(fs::exists(workspace()));
 }
 
 }  // namespace

@@ -1,11 +1,13 @@
 // The hos-recon executable: a good run, and bad inputs with their exit codes.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
+#include <limits>
 
-#include "synth/shapes.h"
 #include "core/exit_codes.h"
 #include "core/ply_io.h"
+#include "synth/shapes.h"
 #include "tests/recon/shape_samples.h"
 #include "tests/support/test_support.h"
 
@@ -16,8 +18,7 @@ using hos::testing::run_command;
 using hos::testing::shell_quote;
 
 int run_recon(const std::string& args, const hos::testing::TempDir& dir) {
-  return run_command(shell_quote((hos::testing::bin_dir() / "hos-recon").string()) +
-                         " --progress none " + args,
+  return run_command(shell_quote((hos::testing::bin_dir() / "hos-recon").string()) + " --progress none " + args,
                      dir / "log.txt");
 }
 
@@ -29,8 +30,8 @@ std::string log_of(const hos::testing::TempDir& dir) {
 TEST(HosRecon, ReconstructsASphereFile) {
   hos::testing::TempDir dir;
   write_point_cloud_ply(dir / "points.ply", synth::sample_sphere(20000, 1.0, 0.002, 1));
-  ASSERT_EQ(run_recon("--input " + (dir / "points.ply").string() + " --output " +
-                          (dir / "mesh.ply").string() + " --resolution 32",
+  ASSERT_EQ(run_recon("--input " + (dir / "points.ply").string() + " --output " + (dir / "mesh.ply").string() +
+                          " --resolution 32",
                       dir),
             kExitSuccess)
       << log_of(dir);
@@ -52,10 +53,9 @@ TEST(HosRecon, BadInputsGetAClearMessageAndExitCode) {
   EXPECT_NE(log_of(dir).find("no normals"), std::string::npos);
   // The same points oriented from a scanner position inside reconstruct
   // (inward normals, so the surface is still found).
-  EXPECT_EQ(run_recon("--input " + (dir / "unoriented.ply").string() + out +
-                          " --resolution 16 --scanner-pos 0,0,0",
-                      dir),
-            kExitSuccess)
+  EXPECT_EQ(
+      run_recon("--input " + (dir / "unoriented.ply").string() + out + " --resolution 16 --scanner-pos 0,0,0", dir),
+      kExitSuccess)
       << log_of(dir);
 
   PointCloud one;
@@ -69,8 +69,7 @@ TEST(HosRecon, BadInputsGetAClearMessageAndExitCode) {
   EXPECT_NE(log_of(dir).find("garbage.ply"), std::string::npos);
 
   EXPECT_EQ(run_recon("--input a.ply", dir), kExitUsage);
-  EXPECT_EQ(run_recon("--input " + (dir / "one.ply").string() + out + " --set recon.lamda=1", dir),
-            kExitUsage);
+  EXPECT_EQ(run_recon("--input " + (dir / "one.ply").string() + out + " --set recon.lamda=1", dir), kExitUsage);
   EXPECT_NE(log_of(dir).find("lambda"), std::string::npos) << "closest valid key";
 
   // A grid beyond the memory budget is refused up front, naming what fits.
@@ -82,6 +81,34 @@ TEST(HosRecon, BadInputsGetAClearMessageAndExitCode) {
   EXPECT_NE(log_of(dir).find("largest resolution that fits"), std::string::npos) << log_of(dir);
   EXPECT_FALSE(std::filesystem::exists(dir / "big.ply"));
   EXPECT_FALSE(std::filesystem::exists(dir / "mesh.ply.tmp"));
+}
+
+TEST(HosRecon, OutputThatIsAFolderIsRefusedBeforeTheSolve) {
+  hos::testing::TempDir dir;
+  write_point_cloud_ply(dir / "sphere.ply", testing::sample_sphere(2000, 1.0, 0.0, 3));
+  std::filesystem::create_directories(dir / "mesh.ply");
+  EXPECT_EQ(run_recon("--input " + (dir / "sphere.ply").string() + " --output " + (dir / "mesh.ply").string() +
+                          " --resolution 16",
+                      dir),
+            kExitOutputFailed);
+  EXPECT_NE(log_of(dir).find("is a folder"), std::string::npos) << log_of(dir);
+  EXPECT_EQ(log_of(dir).find("CG iterations"), std::string::npos) << "detected only after the solve";
+}
+
+TEST(HosRecon, UnusableConfidencesAreCountedInAWarning) {
+  hos::testing::TempDir dir;
+  PointCloud points = testing::sample_sphere(4000, 1.0, 0.0, 4);
+  points.confidence.assign(points.size(), 1.0f);
+  points.confidence[0] = std::numeric_limits<float>::quiet_NaN();
+  points.confidence[1] = -2.0f;
+  write_point_cloud_ply(dir / "points.ply", points);
+  EXPECT_EQ(run_recon("--input " + (dir / "points.ply").string() + " --output " + (dir / "mesh.ply").string() +
+                          " --resolution 16",
+                      dir),
+            kExitSuccess)
+      << log_of(dir);
+  EXPECT_NE(log_of(dir).find("'confidence' is NaN, infinite or negative at 2 points"), std::string::npos)
+      << log_of(dir);
 }
 
 }  // namespace

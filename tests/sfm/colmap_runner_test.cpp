@@ -1,9 +1,18 @@
 #include "sfm/colmap_runner.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <fstream>
+
+#include "core/error.h"
+#include "tests/support/test_support.h"
 
 namespace hos::sfm {
 namespace {
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
 
 TEST(ColmapRunner, ParsesBanner) {
   const ColmapInfo cpu = parse_colmap_banner(
@@ -30,8 +39,25 @@ TEST(ColmapRunner, ParsesProgressLines) {
   EXPECT_FALSE(parse_colmap_progress("").has_value());
 }
 
-TEST(ColmapRunner, TailIsIndented) {
-  EXPECT_EQ(format_tail({"a", "b"}), "\n    a\n    b");
+TEST(ColmapRunner, TailIsIndented) { EXPECT_EQ(format_tail({"a", "b"}), "\n    a\n    b"); }
+
+TEST(ColmapRunner, FullDiskNamesTheDiskAndFolderAsAnOutputError) {
+  // A stand-in for COLMAP that fails the way SQLite does on a full disk.
+  testing::TempDir dir;
+  const fs::path fake = dir / "colmap";
+  std::ofstream(fake) << "#!/bin/sh\necho 'E1202 sqlite3.cc: SQLite error: database or disk is full'\nexit 1\n";
+  ::chmod(fake.c_str(), 0755);
+  ColmapInfo colmap;
+  colmap.executable = fake.string();
+  const ColmapStep step{"feature_extractor", {"--database_path", (dir / "ws" / "database.db").string()}, "features", 0};
+  try {
+    run_colmap_step(colmap, step, null_reporter());
+    FAIL() << "no error";
+  } catch (const OutputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr((dir / "ws").string()));
+    EXPECT_THAT(e.what(), HasSubstr("the disk is full: the disk mounted at"));
+    EXPECT_THAT(e.what(), HasSubstr("database or disk is full"));
+  }
 }
 
 }  // namespace

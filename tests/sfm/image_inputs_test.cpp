@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/error.h"
@@ -22,8 +23,7 @@ void write_bytes(const fs::path& path, const std::vector<std::uint8_t>& bytes) {
 
 void write_good_jpegs(const fs::path& folder, int count, int width = 120, int height = 90) {
   for (int i = 0; i < count; ++i) {
-    cv::imwrite((folder / ("good" + std::to_string(i) + ".jpg")).string(),
-                testing::gradient_image(width, height));
+    cv::imwrite((folder / ("good" + std::to_string(i) + ".jpg")).string(), testing::gradient_image(width, height));
   }
 }
 
@@ -163,6 +163,46 @@ TEST(ImageInputs, OrientationTableMatchesExifDefinition) {
   EXPECT_EQ(corners(apply_exif_orientation(m, 6)), (std::vector<int>{3, 0, 5, 2}));
   EXPECT_EQ(corners(apply_exif_orientation(m, 7)), (std::vector<int>{5, 2, 3, 0}));
   EXPECT_EQ(corners(apply_exif_orientation(m, 8)), (std::vector<int>{2, 5, 0, 3}));
+}
+
+TEST(ImageInputs, SixteenBitPhotosAreStagedAsEightBits) {
+  hos::testing::TempDir dir;
+  fs::create_directories(dir / "photos");
+  write_good_jpegs(dir / "photos", 2);
+  cv::Mat deep;
+  testing::gradient_image(120, 90).convertTo(deep, CV_16U, 257.0);  // 8 -> 16 bits, same picture
+  ASSERT_TRUE(cv::imwrite((dir / "photos" / "deep.png").string(), deep));
+  ASSERT_TRUE(cv::imwrite((dir / "photos" / "deep.tif").string(), deep));
+  const ImageInputs inputs = prepare_images(dir / "photos", dir / "staged", SfmOptions{}, null_reporter());
+  ASSERT_EQ(inputs.images.size(), 4u);
+  for (const char* name : {"deep.png", "deep.tif"}) {
+    const cv::Mat staged = cv::imread((dir / "staged" / name).string(), cv::IMREAD_UNCHANGED);
+    ASSERT_FALSE(staged.empty()) << name;
+    EXPECT_EQ(staged.depth(), CV_8U) << name << " was staged with more than 8 bits (COLMAP cannot read it)";
+    // The same picture: within one grey level of the 8-bit original.
+    cv::Mat original = testing::gradient_image(120, 90), diff;
+    cv::absdiff(staged, original, diff);
+    double max_diff = 0.0;
+    cv::minMaxLoc(diff.reshape(1), nullptr, &max_diff);
+    EXPECT_LE(max_diff, 1.0) << name;
+  }
+}
+
+TEST(ImageInputs, SymlinkLoopIsSkippedWithAWarning) {
+  hos::testing::TempDir dir;
+  fs::create_directories(dir / "photos");
+  write_good_jpegs(dir / "photos", 3);
+  fs::create_symlink("loop.jpg", dir / "photos" / "loop.jpg");  // points at itself
+  fs::create_symlink(dir / "photos" / "b_link", dir / "photos" / "a_link");
+  fs::create_symlink(dir / "photos" / "a_link", dir / "photos" / "b_link");
+  RecordingReporter reporter;
+  const ImageInputs inputs = prepare_images(dir / "photos", dir / "staged", SfmOptions{}, reporter);
+  EXPECT_EQ(inputs.images.size(), 3u);
+  EXPECT_EQ(inputs.skipped.size(), 3u);
+  std::string warnings;
+  for (const auto& w : reporter.warnings) warnings += w + "\n";
+  EXPECT_THAT(warnings, HasSubstr("loop.jpg"));
+  EXPECT_THAT(warnings, HasSubstr("a_link"));
 }
 
 }  // namespace

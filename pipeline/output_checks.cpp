@@ -1,0 +1,92 @@
+#include "pipeline/output_checks.h"
+
+#include <cmath>
+#include <system_error>
+
+#include "core/atomic_file.h"
+#include "core/disk_space.h"
+#include "core/error.h"
+
+namespace hos::pipeline {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr std::uintmax_t kScratchBytes = 64ull << 20;  // logs, reports, small files
+
+std::uintmax_t size_of(const fs::path& path) {
+  std::error_code ec;
+  if (fs::is_regular_file(path, ec)) return fs::file_size(path, ec);
+  std::uintmax_t total = 0;
+  for (auto it = fs::recursive_directory_iterator(path, fs::directory_options::skip_permission_denied, ec);
+       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    if (it->is_regular_file(ec)) total += it->file_size(ec);
+  }
+  return total;
+}
+
+std::string megabytes(std::uintmax_t bytes) {
+  return std::to_string(std::llround(static_cast<double>(bytes) / (1024.0 * 1024.0))) + " MB";
+}
+
+// Lexically normalised absolute path, for comparing locations.
+fs::path normalised(const fs::path& p) {
+  std::error_code ec;
+  const fs::path canonical = fs::weakly_canonical(p, ec);
+  return (ec ? fs::absolute(p) : canonical).lexically_normal();
+}
+
+bool is_inside(const fs::path& path, const fs::path& folder) {
+  const fs::path rel = normalised(path).lexically_relative(normalised(folder));
+  return !rel.empty() && *rel.begin() != "..";
+}
+
+}  // namespace
+
+std::uintmax_t estimated_stage_bytes(const std::string& stage, const fs::path& photos, const StagePaths& paths) {
+  // sfm: the feature database and the undistorted copies (about the photos'
+  // size each); mvs: dense points, at most about the images' size; recon: a
+  // mesh about the size of the points; texture: atlas images and mesh.
+  if (stage == "sfm") return 2 * size_of(photos) + kScratchBytes;
+  if (stage == "mvs") return size_of(paths.undistorted) + kScratchBytes;
+  if (stage == "recon") return size_of(paths.points) + kScratchBytes;
+  if (stage == "texture") return size_of(paths.mesh) + size_of(paths.undistorted / "images") / 2 + kScratchBytes;
+  return kScratchBytes;
+}
+
+void warn_if_low_space(const fs::path& folder, std::uintmax_t needed, const std::string& stage, Reporter& reporter) {
+  const DiskSpace disk = disk_space(folder);
+  if (!disk.known || disk.free_bytes >= needed) return;
+  reporter.warn("the disk mounted at " + disk.mount_point.string() + " has " + megabytes(disk.free_bytes) +
+                " free; the " + stage + " stage may need about " + megabytes(needed) + " in " + folder.string());
+}
+
+void copy_result(const fs::path& model, const fs::path& output) {
+  write_atomically(output, [&](const fs::path& tmp) {
+    std::error_code ec;
+    fs::copy_file(model, tmp, ec);
+    if (ec) {
+      throw OutputError(
+          output.string(),
+          ec.message() + " (" + describe_disk(output.has_parent_path() ? output.parent_path() : ".") + ")");
+    }
+  });
+}
+
+std::vector<fs::path> pipeline_files_in_photos(const fs::path& photos,
+                                               const fs::path& output,
+                                               const fs::path& workspace) {
+  std::vector<fs::path> inside;
+  for (const fs::path& p : {output, workspace}) {
+    if (is_inside(p, photos)) inside.push_back(normalised(p));
+  }
+  return inside;
+}
+
+std::string damaged_intermediate_hint(const std::string& producer) {
+  return "if the " + producer +
+         " stage's result in the workspace was damaged or edited, re-create it with --force "
+         "--from " +
+         producer;
+}
+
+}  // namespace hos::pipeline
