@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "recon/grid_transfer.h"
 
 namespace hos::recon {
 namespace {

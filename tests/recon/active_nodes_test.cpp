@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "recon/energy_operator.h"
+#include "recon/grid_transfer.h"
 
 namespace hos::recon {
 namespace {
