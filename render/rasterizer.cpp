@@ -14,6 +14,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "render/scan_triangle.h"
+
 namespace hos::render {
 namespace {
 
@@ -158,34 +160,24 @@ SampleBuffer rasterize(const std::vector<ScreenTriangle>& tris, int width, int h
       const Eigen::Vector2d &a = t.p[0], &b = t.p[1], &c = t.p[2];
       const double area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
       if (std::abs(area) < 1e-12) continue;
-      const int xs = static_cast<int>(std::max(0.0, std::ceil(t.xmin - 0.5)));
-      const int xe = static_cast<int>(std::min(width - 1.0, std::floor(t.xmax - 0.5)));
-      const int ys = static_cast<int>(std::max<double>(y0, std::ceil(t.ymin - 0.5)));
-      const int ye = static_cast<int>(std::min<double>(y1 - 1, std::floor(t.ymax - 0.5)));
-      const double inv_area = 1.0 / area;
-      for (int y = ys; y <= ye; ++y) {
-        const double py = y + 0.5;
-        for (int x = xs; x <= xe; ++x) {
-          const double px = x + 0.5;
-          // Edge functions; the same sign as the area means inside. Ties on
-          // a shared edge go to both triangles; the z test decides.
-          const double w0 = ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) * inv_area;
-          const double w1 = ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) * inv_area;
-          const double w2 = 1.0 - w0 - w1;
-          if (w0 < 0 || w1 < 0 || w2 < 0) continue;
-          // Perspective-correct: 1/z and attribute/z are affine in screen space.
-          const double iz = w0 * t.inv_z[0] + w1 * t.inv_z[1] + w2 * t.inv_z[2];
-          if (!(iz > 0)) continue;
-          const float z = static_cast<float>(1.0 / iz);
-          const std::size_t idx = static_cast<std::size_t>(y) * width + x;
-          if (z >= buf.z[idx]) continue;
-          buf.z[idx] = z;
-          buf.face[idx] = t.face;
-          buf.object[idx] = t.object;
-          buf.bary[idx] = ((w0 * t.inv_z[0] * t.bary[0] + w1 * t.inv_z[1] * t.bary[1] +
-                            w2 * t.inv_z[2] * t.bary[2]) / iz).cast<float>();
-        }
-      }
+      const PixelRange range{
+          static_cast<int>(std::max(0.0, std::ceil(t.xmin - 0.5))),
+          static_cast<int>(std::min(width - 1.0, std::floor(t.xmax - 0.5))),
+          static_cast<int>(std::max<double>(y0, std::ceil(t.ymin - 0.5))),
+          static_cast<int>(std::min<double>(y1 - 1, std::floor(t.ymax - 0.5)))};
+      scan_triangle(a, b, c, 1.0 / area, range, [&](int x, int y, double w0, double w1, double w2) {
+        // Perspective-correct: 1/z and attribute/z are affine in screen space.
+        const double iz = w0 * t.inv_z[0] + w1 * t.inv_z[1] + w2 * t.inv_z[2];
+        if (!(iz > 0)) return;
+        const float z = static_cast<float>(1.0 / iz);
+        const std::size_t idx = static_cast<std::size_t>(y) * width + x;
+        if (z >= buf.z[idx]) return;
+        buf.z[idx] = z;
+        buf.face[idx] = t.face;
+        buf.object[idx] = t.object;
+        buf.bary[idx] = ((w0 * t.inv_z[0] * t.bary[0] + w1 * t.inv_z[1] * t.bary[1] +
+                          w2 * t.inv_z[2] * t.bary[2]) / iz).cast<float>();
+      });
     }
   }
   return buf;
