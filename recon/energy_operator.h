@@ -25,8 +25,11 @@ namespace hos::recon {
 class EnergyOperator {
  public:
   // tv_node_weights: empty, or one weight per node (energy (2)), scaled by tv_weight.
-  EnergyOperator(const GridGeometry& geometry, SmoothnessEnergy energy, double hessian_weight,
-                 std::vector<double> tv_node_weights = {}, double tv_weight = 0.0);
+  EnergyOperator(const GridGeometry& geometry,
+                 SmoothnessEnergy energy,
+                 double hessian_weight,
+                 std::vector<double> tv_node_weights = {},
+                 double tv_weight = 0.0);
 
   const GridGeometry& geometry() const { return geometry_; }
   // The nodes whose rows apply, residual and jacobi compute (every node by

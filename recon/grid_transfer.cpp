@@ -20,8 +20,12 @@ AxisWeights axis_weights(int j) {
 }  // namespace
 
 template <typename T>
-void restrict_to_coarse(const GridGeometry& fine, const ActiveNodes& fine_nodes, const T* r,
-                        const GridGeometry& /*coarse*/, const ActiveNodes& coarse_active, T* rc) {
+void restrict_to_coarse(const GridGeometry& fine,
+                        const ActiveNodes& fine_nodes,
+                        const T* r,
+                        const GridGeometry& /*coarse*/,
+                        const ActiveNodes& coarse_active,
+                        T* rc) {
   const int nx = fine.dims.x();
 #pragma omp parallel if (worth_threads(8 * coarse_active.count()))
   {
@@ -54,8 +58,12 @@ namespace {
 
 // prolongate_add on the fine nodes of these spans.
 template <typename T>
-void prolongate_add_spans(const GridGeometry& coarse, const ActiveNodes& coarse_nodes, const T* ec,
-                          const std::vector<NodeSpan>& spans, std::int64_t count, T* x) {
+void prolongate_add_spans(const GridGeometry& coarse,
+                          const ActiveNodes& coarse_nodes,
+                          const T* ec,
+                          const std::vector<NodeSpan>& spans,
+                          std::int64_t count,
+                          T* x) {
   const Eigen::Vector3i dc = coarse.dims;
 #pragma omp parallel if (worth_threads(count))
   {
@@ -85,7 +93,8 @@ void prolongate_add_spans(const GridGeometry& coarse, const ActiveNodes& coarse_
       }
       T* dst = x + (span.first - span.begin);  // dst[i]: node i of the span
       for (int i = span.begin; i < span.end; ++i) {
-        dst[i] += static_cast<T>(i % 2 == 1 ? line[(i - 1) / 2 + 1] : 0.5 * (line[i / 2] + line[i / 2 + 1]));
+        dst[i] += static_cast<T>(i % 2 == 1 ? line[(i - 1) / 2 + 1]
+                                            : 0.5 * (line[i / 2] + line[i / 2 + 1]));
       }
     }
   }
@@ -94,35 +103,63 @@ void prolongate_add_spans(const GridGeometry& coarse, const ActiveNodes& coarse_
 }  // namespace
 
 template <typename T>
-void prolongate_add(const GridGeometry& coarse, const ActiveNodes& coarse_nodes, const T* ec,
-                    const GridGeometry& /*fine*/, const ActiveNodes& fine_active, T* x) {
+void prolongate_add(const GridGeometry& coarse,
+                    const ActiveNodes& coarse_nodes,
+                    const T* ec,
+                    const GridGeometry& /*fine*/,
+                    const ActiveNodes& fine_active,
+                    T* x) {
   prolongate_add_spans(coarse, coarse_nodes, ec, fine_active.spans(), fine_active.count(), x);
 }
 
-void prolongate_add_to_stored(const GridGeometry& coarse, const std::vector<double>& ec,
-                              const ActiveNodes& fine_nodes, double* x) {
+void prolongate_add_to_stored(const GridGeometry& coarse,
+                              const std::vector<double>& ec,
+                              const ActiveNodes& fine_nodes,
+                              double* x) {
   prolongate_add_spans(coarse, ActiveNodes::all(coarse), ec.data(), fine_nodes.stored_spans(),
                        fine_nodes.storage_size(), x);
 }
 
-template void restrict_to_coarse<float>(const GridGeometry&, const ActiveNodes&, const float*,
-                                       const GridGeometry&, const ActiveNodes&, float*);
-template void restrict_to_coarse<double>(const GridGeometry&, const ActiveNodes&, const double*,
-                                        const GridGeometry&, const ActiveNodes&, double*);
-template void prolongate_add<float>(const GridGeometry&, const ActiveNodes&, const float*,
-                                    const GridGeometry&, const ActiveNodes&, float*);
-template void prolongate_add<double>(const GridGeometry&, const ActiveNodes&, const double*,
-                                     const GridGeometry&, const ActiveNodes&, double*);
+template void restrict_to_coarse<float>(const GridGeometry&,
+                                        const ActiveNodes&,
+                                        const float*,
+                                        const GridGeometry&,
+                                        const ActiveNodes&,
+                                        float*);
+template void restrict_to_coarse<double>(const GridGeometry&,
+                                         const ActiveNodes&,
+                                         const double*,
+                                         const GridGeometry&,
+                                         const ActiveNodes&,
+                                         double*);
+template void prolongate_add<float>(const GridGeometry&,
+                                    const ActiveNodes&,
+                                    const float*,
+                                    const GridGeometry&,
+                                    const ActiveNodes&,
+                                    float*);
+template void prolongate_add<double>(const GridGeometry&,
+                                     const ActiveNodes&,
+                                     const double*,
+                                     const GridGeometry&,
+                                     const ActiveNodes&,
+                                     double*);
 
-void restrict_to_coarse(const GridGeometry& fine, const std::vector<double>& r,
-                        const GridGeometry& coarse, std::vector<double>& rc) {
+void restrict_to_coarse(const GridGeometry& fine,
+                        const std::vector<double>& r,
+                        const GridGeometry& coarse,
+                        std::vector<double>& rc) {
   assign_large(rc, coarse.num_nodes());
-  restrict_to_coarse(fine, ActiveNodes::all(fine), r.data(), coarse, ActiveNodes::all(coarse), rc.data());
+  restrict_to_coarse(fine, ActiveNodes::all(fine), r.data(), coarse, ActiveNodes::all(coarse),
+                     rc.data());
 }
 
-void prolongate_add(const GridGeometry& coarse, const std::vector<double>& ec,
-                    const GridGeometry& fine, std::vector<double>& x) {
-  prolongate_add(coarse, ActiveNodes::all(coarse), ec.data(), fine, ActiveNodes::all(fine), x.data());
+void prolongate_add(const GridGeometry& coarse,
+                    const std::vector<double>& ec,
+                    const GridGeometry& fine,
+                    std::vector<double>& x) {
+  prolongate_add(coarse, ActiveNodes::all(coarse), ec.data(), fine, ActiveNodes::all(fine),
+                 x.data());
 }
 
 }  // namespace hos::recon

@@ -41,7 +41,8 @@ constexpr double kChebyshevRatio = 10.0;
 
 }  // namespace
 
-MultigridPreconditioner::MultigridPreconditioner(const EnergyOperator& fine, int max_levels,
+MultigridPreconditioner::MultigridPreconditioner(const EnergyOperator& fine,
+                                                 int max_levels,
                                                  int smoothing_steps)
     : smoothing_steps_(smoothing_steps) {
   std::vector<EnergyOperator> ops{fine};
@@ -51,8 +52,8 @@ MultigridPreconditioner::MultigridPreconditioner(const EnergyOperator& fine, int
   }
   for (auto& op : ops) {
     const std::size_t n = static_cast<std::size_t>(op.active().storage_size());
-    Level level{std::move(op), ZeroedArray<float>(n), ZeroedArray<float>(n), ZeroedArray<float>(n),
-                ZeroedArray<float>(n), ZeroedArray<float>(n)};
+    Level level{std::move(op),         ZeroedArray<float>(n), ZeroedArray<float>(n),
+                ZeroedArray<float>(n), ZeroedArray<float>(n), ZeroedArray<float>(n)};
     level.op.l1_diagonals(level.inv_l1.data());
     for_each_active_range(level.op.active(), [&](std::int64_t first, std::int64_t last) {
       for (std::int64_t i = first; i < last; ++i) level.inv_l1[i] = 1.0f / level.inv_l1[i];
@@ -88,7 +89,8 @@ void MultigridPreconditioner::smooth(const Level& l, int degree, bool from_zero)
       continue;
     }
     const double rho_next = 1.0 / (2.0 * sigma - rho);
-    const float keep = static_cast<float>(rho_next * rho), a = static_cast<float>(2.0 * rho_next / delta);
+    const float keep = static_cast<float>(rho_next * rho),
+                a = static_cast<float>(2.0 * rho_next / delta);
     rho = rho_next;
     for_each_active_range(active, [&](std::int64_t first, std::int64_t last) {
       for (std::int64_t i = first; i < last; ++i) {
@@ -123,10 +125,11 @@ void MultigridPreconditioner::v_cycle(int level) const {
   smooth(l, smoothing_steps_, true);
   l.op.residual(l.b.data(), l.x.data(), l.scratch.data());
   const Level& c = levels_[level + 1];
-  restrict_to_coarse(l.op.geometry(), l.op.active(), l.scratch.data(), c.op.geometry(), c.op.active(),
-                     c.b.data());
+  restrict_to_coarse(l.op.geometry(), l.op.active(), l.scratch.data(), c.op.geometry(),
+                     c.op.active(), c.b.data());
   v_cycle(level + 1);
-  prolongate_add(c.op.geometry(), c.op.active(), c.x.data(), l.op.geometry(), l.op.active(), l.x.data());
+  prolongate_add(c.op.geometry(), c.op.active(), c.x.data(), l.op.geometry(), l.op.active(),
+                 l.x.data());
   smooth(l, smoothing_steps_, false);
 }
 
@@ -141,8 +144,10 @@ void MultigridPreconditioner::apply(const double* r, double* z) const {
   });
 }
 
-SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<double>& b,
-                                std::vector<double>& x, const SolverOptions& options,
+SolveReport solve_linear_system(const EnergyOperator& op,
+                                const std::vector<double>& b,
+                                std::vector<double>& x,
+                                const SolverOptions& options,
                                 Reporter& reporter) {
   using Clock = std::chrono::steady_clock;
   const auto seconds_since = [](Clock::time_point t) {
@@ -152,8 +157,8 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
   SolveReport report;
   const std::size_t n = b.size();
   if (static_cast<std::int64_t>(n) != op.active().storage_size()) {
-    throw std::invalid_argument("solve_linear_system: the right-hand side has " + std::to_string(n) +
-                                " values, the operator's layout " +
+    throw std::invalid_argument("solve_linear_system: the right-hand side has " +
+                                std::to_string(n) + " values, the operator's layout " +
                                 std::to_string(op.active().storage_size()));
   }
   x.resize(n, 0.0);
@@ -209,7 +214,8 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
     }
   }
   precondition(r, z);
-  for_active([&](std::int64_t first, std::int64_t last) { std::copy(z + first, z + last, p + first); });
+  for_active(
+      [&](std::int64_t first, std::int64_t last) { std::copy(z + first, z + last, p + first); });
   double rz = dot(op, r, z);
   report.relative_residual = std::sqrt(dot(op, r, r)) / b_norm;
   for (int it = 0; it < options.max_iterations && report.relative_residual > options.tolerance;

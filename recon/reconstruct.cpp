@@ -73,9 +73,13 @@ void prolongate_levels(const GridGeometry& g, int levels, std::vector<double>& x
 // coarsened up to twice. guess receives that coarse solution prolongated to
 // the grid coarsened guess_level times (a starting point for the solve
 // there); guess_level is lowered when the grid coarsens fewer times.
-double coarse_isovalue(const EnergyOperator& fine, const std::vector<double>& rhs,
-                       const std::vector<Eigen::Vector3f>& points, const SolverOptions& solver,
-                       Reporter& reporter, int& guess_level, std::vector<double>& guess) {
+double coarse_isovalue(const EnergyOperator& fine,
+                       const std::vector<double>& rhs,
+                       const std::vector<Eigen::Vector3f>& points,
+                       const SolverOptions& solver,
+                       Reporter& reporter,
+                       int& guess_level,
+                       std::vector<double>& guess) {
   std::vector<EnergyOperator> ops{fine};
   std::vector<double> coarse_rhs;
   while (ops.size() < 3 && ops.back().geometry().can_coarsen(3)) {
@@ -91,8 +95,8 @@ double coarse_isovalue(const EnergyOperator& fine, const std::vector<double>& rh
   so.tolerance = std::max(solver.tolerance, 1e-4);
   const SolveReport report = solve_linear_system(ops.back(), coarse_rhs, x, so, reporter);
   reporter.debug(format_message("recon: coarse unscreened solve, ", report.iterations,
-                                " CG iterations, ", report.seconds_setup + report.seconds_iterations,
-                                " s"));
+                                " CG iterations, ",
+                                report.seconds_setup + report.seconds_iterations, " s"));
   ScalarGrid coarse(ops.back().geometry());
   coarse.values = x;
   const double iso = mean_at_samples(coarse, points);
@@ -122,9 +126,13 @@ std::shared_ptr<const ActiveNodes> worthwhile_band(const GridGeometry& g,
 // grid solved. solve(op, b, x) runs one linear solve. Returns the number of
 // nodes of this level's band (0: none).
 template <typename SolveFn>
-std::int64_t solve_with_bands(EnergyOperator& op, std::vector<double> rhs,
-                              const std::vector<Eigen::Vector3f>& points, int band_voxels,
-                              int x_level, std::vector<double>& x, Reporter& reporter,
+std::int64_t solve_with_bands(EnergyOperator& op,
+                              std::vector<double> rhs,
+                              const std::vector<Eigen::Vector3f>& points,
+                              int band_voxels,
+                              int x_level,
+                              std::vector<double>& x,
+                              Reporter& reporter,
                               SolveFn&& solve) {
   const GridGeometry& g = op.geometry();
   const auto t_band = Clock::now();
@@ -137,8 +145,8 @@ std::int64_t solve_with_bands(EnergyOperator& op, std::vector<double> rhs,
     return 0;
   }
   reporter.info(format_message("recon: band of ", band->count(), " nodes (",
-                               100.0 * band->count() / g.num_nodes(), "% of the ", g.dims.x(),
-                               "x", g.dims.y(), "x", g.dims.z(), " grid)"));
+                               100.0 * band->count() / g.num_nodes(), "% of the ", g.dims.x(), "x",
+                               g.dims.y(), "x", g.dims.z(), " grid)"));
   // The band's right-hand side in its compact layout, then the grid-sized one
   // is freed before any solver array exists (the peak memory).
   std::vector<double> band_rhs(band->storage_size()), band_x(band->storage_size());
@@ -162,7 +170,8 @@ std::int64_t solve_with_bands(EnergyOperator& op, std::vector<double> rhs,
   t_transfer = Clock::now();
   prolongate_levels(g, 1, x);
   band->scatter_active(band_x.data(), x.data());
-  reporter.debug(format_message("recon: band result to the grid ", seconds_since(t_transfer), " s"));
+  reporter.debug(
+      format_message("recon: band result to the grid ", seconds_since(t_transfer), " s"));
   return band->count();
 }
 
@@ -174,7 +183,9 @@ struct OrientedSamples {
 };
 
 // Unit orientations (weighted by confidence); points without one are dropped.
-OrientedSamples usable_samples(const PointCloud& input, const ReconOptions& options, ReconStats& stats,
+OrientedSamples usable_samples(const PointCloud& input,
+                               const ReconOptions& options,
+                               ReconStats& stats,
                                Reporter& reporter) {
   OrientedSamples out;
   for (std::size_t i = 0; i < input.size(); ++i) {
@@ -199,7 +210,8 @@ OrientedSamples usable_samples(const PointCloud& input, const ReconOptions& opti
 }
 
 // The right-hand side of A f = -div F for the orientation field F (sec. 4.1).
-ScalarGrid orientation_rhs(const GridGeometry& grid, const OrientedSamples& samples,
+ScalarGrid orientation_rhs(const GridGeometry& grid,
+                           const OrientedSamples& samples,
                            const ReconOptions& options) {
   if (options.uniform_flux) {
     return density_scaled_rhs(grid, samples.points, samples.normals, samples.weights,
@@ -215,15 +227,18 @@ ScalarGrid orientation_rhs(const GridGeometry& grid, const OrientedSamples& samp
 }
 
 // One linear solve, its figures added to stats and reported.
-void solve_and_report(const EnergyOperator& op, const std::vector<double>& b, std::vector<double>& x,
-                      const SolverOptions& so, ReconStats& stats, Reporter& reporter) {
+void solve_and_report(const EnergyOperator& op,
+                      const std::vector<double>& b,
+                      std::vector<double>& x,
+                      const SolverOptions& so,
+                      ReconStats& stats,
+                      Reporter& reporter) {
   const SolveReport report = solve_linear_system(op, b, x, so, reporter);
   stats.solver_iterations += report.iterations;
   stats.multigrid_levels = report.levels;
   stats.relative_residual = report.relative_residual;
   reporter.info(format_message("recon: ", report.iterations, " CG iterations, ", report.levels,
-                               " multigrid levels, relative residual ",
-                               report.relative_residual));
+                               " multigrid levels, relative residual ", report.relative_residual));
   reporter.debug(format_message("recon: solver setup ", report.seconds_setup, " s, iterations ",
                                 report.seconds_iterations, " s"));
   if (!report.converged) {
@@ -235,12 +250,15 @@ void solve_and_report(const EnergyOperator& op, const std::vector<double>& b, st
 
 // Energy (2): iteratively reweighted least squares; each round minimises the
 // quadratic majoriser |grad f|^2 / (2 |grad f_old|) of the TV term exactly.
-void solve_total_variation(const GridGeometry& grid, const std::vector<double>& rhs,
-                           const ReconOptions& options, ScalarGrid& f, ReconStats& stats,
+void solve_total_variation(const GridGeometry& grid,
+                           const std::vector<double>& rhs,
+                           const ReconOptions& options,
+                           ScalarGrid& f,
+                           ReconStats& stats,
                            Reporter& reporter) {
   const SolverOptions& solver = options.solver;
-  solve_and_report(EnergyOperator(grid, SmoothnessEnergy::kTotalVariation, 0.0), rhs, f.values, solver,
-                   stats, reporter);
+  solve_and_report(EnergyOperator(grid, SmoothnessEnergy::kTotalVariation, 0.0), rhs, f.values,
+                   solver, stats, reporter);
   const double eps = 0.01 / ((1.0 + options.filter_passes) * grid.spacing);
   for (int round = 0; round < solver.tv_iterations; ++round) {
     reporter.throw_if_cancelled();
@@ -256,26 +274,34 @@ void solve_total_variation(const GridGeometry& grid, const std::vector<double>& 
 // pinning is the isovalue (eq. 12) of the unscreened solution, estimated on a
 // grid coarsened up to x_level times, whose prolongation (in x) also starts
 // the solve.
-void add_screening(EnergyOperator& op, std::vector<double>& rhs,
-                   const std::vector<Eigen::Vector3f>& points, const ReconOptions& options,
-                   int& x_level, std::vector<double>& x, Reporter& reporter) {
+void add_screening(EnergyOperator& op,
+                   std::vector<double>& rhs,
+                   const std::vector<Eigen::Vector3f>& points,
+                   const ReconOptions& options,
+                   int& x_level,
+                   std::vector<double>& x,
+                   Reporter& reporter) {
   const GridGeometry& grid = op.geometry();
   const double target = coarse_isovalue(op, rhs, points, options.solver, reporter, x_level, x);
   const auto t_screening = Clock::now();
   op.set_screening(std::make_shared<const std::vector<Eigen::Vector3f>>(points), 1.0);
   // Weighted so that at a typical surface node the term is screening
   // times the Laplacian's scale 1 / h^2, at any resolution and density.
-  op.scale_screening(options.screening /
-                     (grid.spacing * grid.spacing * std::max(op.screening().mean_row_sum(), 1e-12)));
+  op.scale_screening(options.screening / (grid.spacing * grid.spacing *
+                                          std::max(op.screening().mean_row_sum(), 1e-12)));
   op.screening().add_target(target, rhs);
   reporter.debug(format_message("recon: screening term ", seconds_since(t_screening), " s"));
 }
 
 // Energies (1), (3), (4): one solve (screened when options.screening > 0),
 // restricted to a band around the samples where that pays.
-void solve_quadratic(const GridGeometry& grid, std::vector<double> rhs,
-                     const std::vector<Eigen::Vector3f>& points, const ReconOptions& options,
-                     ScalarGrid& f, ReconStats& stats, Reporter& reporter) {
+void solve_quadratic(const GridGeometry& grid,
+                     std::vector<double> rhs,
+                     const std::vector<Eigen::Vector3f>& points,
+                     const ReconOptions& options,
+                     ScalarGrid& f,
+                     ReconStats& stats,
+                     Reporter& reporter) {
   const SolverOptions& solver = options.solver;
   const double ell = reference_length(grid);
   const double weight =
@@ -293,25 +319,27 @@ void solve_quadratic(const GridGeometry& grid, std::vector<double> rhs,
     x_level = levels;
     f.values.assign(start.num_nodes(), 0.0);
   }
-  stats.band_nodes =
-      solve_with_bands(op, std::move(rhs), points, solver.band_voxels, x_level, f.values, reporter,
-                       [&](const EnergyOperator& o, const std::vector<double>& b, std::vector<double>& x) {
-                         solve_and_report(o, b, x, solver, stats, reporter);
-                       });
+  stats.band_nodes = solve_with_bands(
+      op, std::move(rhs), points, solver.band_voxels, x_level, f.values, reporter,
+      [&](const EnergyOperator& o, const std::vector<double>& b, std::vector<double>& x) {
+        solve_and_report(o, b, x, solver, stats, reporter);
+      });
 }
 
 // Isovalue: mean of f at the samples (eq. 12), then the isosurface (sec. 4.4),
 // trimmed away from the samples.
-void extract_surface(const ScalarGrid& f, const std::vector<Eigen::Vector3f>& points,
-                     const ReconOptions& options, ReconResult& result) {
+void extract_surface(const ScalarGrid& f,
+                     const std::vector<Eigen::Vector3f>& points,
+                     const ReconOptions& options,
+                     ReconResult& result) {
   ReconStats& stats = result.stats;
   stats.isovalue = mean_at_samples(f, points);
   result.mesh = extract_isosurface(f, stats.isovalue);
   stats.faces_before_trim = result.mesh.faces.size();
   if (options.trim.enabled) {
-    const TrimReport trim =
-        trim_far_from_samples(result.mesh, points, options.trim.distance_voxels * f.geometry.spacing,
-                              options.trim.min_component_fraction);
+    const TrimReport trim = trim_far_from_samples(result.mesh, points,
+                                                  options.trim.distance_voxels * f.geometry.spacing,
+                                                  options.trim.min_component_fraction);
     stats.faces_trimmed = trim.faces_removed_far + trim.faces_removed_small;
   }
 }
@@ -321,8 +349,8 @@ void extract_surface(const ScalarGrid& f, const std::vector<Eigen::Vector3f>& po
 void check_reconstructable(const PointCloud& points, const std::string& source) {
   points.check_consistent();
   if (points.size() < 4) {
-    throw InputError(source, "has " + std::to_string(points.size()) +
-                                 " points; a surface needs at least 4");
+    throw InputError(
+        source, "has " + std::to_string(points.size()) + " points; a surface needs at least 4");
   }
   if (!points.has_normals()) {
     throw InputError(source,
@@ -346,11 +374,13 @@ GridGeometry make_domain(const BoundingBox& box, const ReconOptions& options, in
     const int nodes = std::max(8, static_cast<int>(std::ceil(side[a] / g.spacing)) + 1);
     g.dims[a] = admissible_dims(nodes, levels);
   }
-  g.origin = box.center().cast<double>() - 0.5 * g.spacing * (g.dims.cast<double>().array() - 1.0).matrix();
+  g.origin = box.center().cast<double>() -
+             0.5 * g.spacing * (g.dims.cast<double>().array() - 1.0).matrix();
   return g;
 }
 
-ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& options,
+ReconResult reconstruct_surface(const PointCloud& input,
+                                const ReconOptions& options,
                                 Reporter& reporter) {
   options.validate();
   check_reconstructable(input, "input points");

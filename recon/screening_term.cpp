@@ -20,7 +20,8 @@ struct Sample {
 // corners, and every corner's compact index is found by a forward walk.
 struct CellSamples {
   std::vector<Sample> samples;
-  std::vector<std::size_t> first_of_cell;  // samples of cell q: [first_of_cell[q], first_of_cell[q + 1])
+  std::vector<std::size_t>
+      first_of_cell;  // samples of cell q: [first_of_cell[q], first_of_cell[q + 1])
 
   std::size_t num_cells() const { return first_of_cell.size() - 1; }
   std::int64_t cell_key(std::size_t q) const { return samples[first_of_cell[q]].cell; }
@@ -76,7 +77,8 @@ std::vector<std::int64_t> touched_nodes(const GridGeometry& g, const CellSamples
 }
 
 // Compact node index (in nodes) of every cell's 8 corners, -1 outside the grid.
-std::vector<std::array<std::int64_t, 8>> cell_corners(const GridGeometry& g, const CellSamples& cells,
+std::vector<std::array<std::int64_t, 8>> cell_corners(const GridGeometry& g,
+                                                      const CellSamples& cells,
                                                       const std::vector<std::int64_t>& nodes) {
   std::vector<std::array<std::int64_t, 8>> cell_nodes(cells.num_cells());
 #pragma omp parallel for schedule(static, 1)
@@ -95,14 +97,18 @@ std::vector<std::array<std::int64_t, 8>> cell_corners(const GridGeometry& g, con
 
 // Each touched node's 27 coefficients of weight * S^T S (offsets (-1..1)^3,
 // x fastest), contiguous in node order.
-std::vector<float> accumulate_coefficients(const GridGeometry& g, const CellSamples& cells,
-                                           const std::vector<std::array<std::int64_t, 8>>& cell_nodes,
-                                           std::size_t num_nodes, double weight) {
+std::vector<float> accumulate_coefficients(
+    const GridGeometry& g,
+    const CellSamples& cells,
+    const std::vector<std::array<std::int64_t, 8>>& cell_nodes,
+    std::size_t num_nodes,
+    double weight) {
   const Eigen::Vector3i d = g.dims;
   const std::size_t num_cells = cells.num_cells();
   // The cells of one plane of cells (one z) write node planes z and z + 1
   // only: planes of one parity run in parallel without write conflicts.
-  std::vector<std::size_t> first_of_plane;  // cells of plane p: [first_of_plane[p], first_of_plane[p + 1])
+  std::vector<std::size_t>
+      first_of_plane;  // cells of plane p: [first_of_plane[p], first_of_plane[p + 1])
   const std::int64_t cells_per_plane = std::int64_t{d.x() + 3} * (d.y() + 3);
   for (std::size_t q = 0; q < num_cells; ++q) {
     if (q == 0 || cells.cell_key(q) / cells_per_plane != cells.cell_key(q - 1) / cells_per_plane) {
@@ -142,12 +148,14 @@ std::vector<float> accumulate_coefficients(const GridGeometry& g, const CellSamp
 
 }  // namespace
 
-ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vector3f>& points,
+ScreeningTerm::ScreeningTerm(const GridGeometry& g,
+                             const std::vector<Eigen::Vector3f>& points,
                              double weight)
     : geometry_(g), weight_(weight) {
   const CellSamples cells = sort_by_cell(g, points);
   const std::vector<std::int64_t> nodes = touched_nodes(g, cells);
-  coefficients_ = accumulate_coefficients(g, cells, cell_corners(g, cells, nodes), nodes.size(), weight);
+  coefficients_ =
+      accumulate_coefficients(g, cells, cell_corners(g, cells, nodes), nodes.size(), weight);
   index_runs(nodes);
 }
 
@@ -181,7 +189,8 @@ void ScreeningTerm::index_runs(const std::vector<std::int64_t>& nodes) {
 
 std::shared_ptr<const ScreeningTerm> ScreeningTerm::coarsened(
     const std::vector<Eigen::Vector3f>& points) const {
-  if (!coarser_) coarser_ = std::make_shared<const ScreeningTerm>(geometry_.coarsened(), points, weight_ / 8.0);
+  if (!coarser_)
+    coarser_ = std::make_shared<const ScreeningTerm>(geometry_.coarsened(), points, weight_ / 8.0);
   return coarser_;
 }
 

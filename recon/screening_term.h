@@ -23,7 +23,8 @@ namespace hos::recon {
 class ScreeningTerm {
  public:
   ScreeningTerm() = default;
-  ScreeningTerm(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+  ScreeningTerm(const GridGeometry& geometry,
+                const std::vector<Eigen::Vector3f>& points,
                 double weight);
   bool empty() const { return runs_.empty(); }
   double weight() const { return weight_; }
@@ -46,8 +47,8 @@ class ScreeningTerm {
   // begin <= i < end; x_rows[(dy + 1) + 3 (dz + 1)][i'] is x at node
   // (i', j + dy, k + dz), or null for a row outside the grid.
   template <typename T>
-  void add_row(std::int64_t row, int begin, int end, const std::array<const T*, 9>& x_rows,
-               T* y_row) const;
+  void add_row(
+      std::int64_t row, int begin, int end, const std::array<const T*, 9>& x_rows, T* y_row) const;
 
  private:
   GridGeometry geometry_;
@@ -56,9 +57,9 @@ class ScreeningTerm {
   // meets are found without a search), each node's 27 coefficients (offsets
   // (-1..1)^3, x fastest) contiguous.
   struct Run {
-    int j, k, begin, end;     // grid row and nodes begin <= i < end
+    int j, k, begin, end;       // grid row and nodes begin <= i < end
     std::int64_t coefficients;  // index of the run's first coefficient
-    bool interior;            // all 27 neighbours of every node inside the grid
+    bool interior;              // all 27 neighbours of every node inside the grid
   };
   // Splits the touched nodes (ascending) into runs_ and indexes them per row.
   void index_runs(const std::vector<std::int64_t>& nodes);
@@ -72,7 +73,8 @@ class ScreeningTerm {
 
 // Defined here so that the operator's row sweep inlines them.
 template <typename T>
-void ScreeningTerm::add_row_sums(std::int64_t row, int begin, int end, double scale, T* y_row) const {
+void ScreeningTerm::add_row_sums(
+    std::int64_t row, int begin, int end, double scale, T* y_row) const {
   if (runs_.empty()) return;
   for (std::int64_t e = row_begin_[row]; e < row_begin_[row + 1]; ++e) {
     const Run& run = runs_[e];
@@ -87,8 +89,8 @@ void ScreeningTerm::add_row_sums(std::int64_t row, int begin, int end, double sc
 }
 
 template <typename T>
-void ScreeningTerm::add_row(std::int64_t row, int begin, int end, const std::array<const T*, 9>& x_rows,
-                            T* y_row) const {
+void ScreeningTerm::add_row(
+    std::int64_t row, int begin, int end, const std::array<const T*, 9>& x_rows, T* y_row) const {
   const int nx = geometry_.dims.x();
   for (std::int64_t e = row_begin_[row]; e < row_begin_[row + 1]; ++e) {
     const Run& run = runs_[e];

@@ -41,13 +41,13 @@ const std::array<float, 256>& srgb_decode_table() {
 
 // A triangle after near-plane clipping: pixel-space (scaled) positions, 1/z,
 // (double: a clipped vertex near the camera projects far outside the image,
-// and float edge functions lose the interior's precision), and the barycentrics of its corners in the ORIGINAL face, so interpolation
-// stays in terms of the original vertices' attributes.
+// and float edge functions lose the interior's precision), and the barycentrics of its corners in
+// the ORIGINAL face, so interpolation stays in terms of the original vertices' attributes.
 struct ScreenTriangle {
   std::array<Eigen::Vector2d, 3> p;
   std::array<double, 3> inv_z;
   std::array<Eigen::Vector3d, 3> bary;
-  int face = 0;    // global face index
+  int face = 0;  // global face index
   int object = 0;
   double xmin, xmax, ymin, ymax;
 };
@@ -61,14 +61,18 @@ struct CameraFrame {
 // The visible surface at each sample of a (width*scale) x (height*scale) grid.
 struct SampleBuffer {
   int width = 0, height = 0;
-  std::vector<float> z;      // camera z, +inf when empty
-  std::vector<int> face;     // -1 when empty
+  std::vector<float> z;   // camera z, +inf when empty
+  std::vector<int> face;  // -1 when empty
   std::vector<int> object;
   std::vector<Eigen::Vector3f> bary;  // in the original face
 };
 
-void clip_and_project(const std::array<Eigen::Vector3f, 3>& cam, const CameraFrame& frame, float scale,
-                      int face, int object, std::vector<ScreenTriangle>& out) {
+void clip_and_project(const std::array<Eigen::Vector3f, 3>& cam,
+                      const CameraFrame& frame,
+                      float scale,
+                      int face,
+                      int object,
+                      std::vector<ScreenTriangle>& out) {
   struct ClipVertex {
     Eigen::Vector3d x;
     Eigen::Vector3d b;
@@ -113,8 +117,11 @@ void clip_and_project(const std::array<Eigen::Vector3f, 3>& cam, const CameraFra
 }
 
 std::vector<ScreenTriangle> setup_triangles(const std::vector<RenderObject>& objects,
-                                            const CameraFrame& frame, float scale, bool cull_back_faces,
-                                            int width, int height) {
+                                            const CameraFrame& frame,
+                                            float scale,
+                                            bool cull_back_faces,
+                                            int width,
+                                            int height) {
   std::vector<ScreenTriangle> tris;
   int face_offset = 0;
   for (int o = 0; o < static_cast<int>(objects.size()); ++o) {
@@ -160,11 +167,10 @@ SampleBuffer rasterize(const std::vector<ScreenTriangle>& tris, int width, int h
       const Eigen::Vector2d &a = t.p[0], &b = t.p[1], &c = t.p[2];
       const double area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
       if (std::abs(area) < 1e-12) continue;
-      const PixelRange range{
-          static_cast<int>(std::max(0.0, std::ceil(t.xmin - 0.5))),
-          static_cast<int>(std::min(width - 1.0, std::floor(t.xmax - 0.5))),
-          static_cast<int>(std::max<double>(y0, std::ceil(t.ymin - 0.5))),
-          static_cast<int>(std::min<double>(y1 - 1, std::floor(t.ymax - 0.5)))};
+      const PixelRange range{static_cast<int>(std::max(0.0, std::ceil(t.xmin - 0.5))),
+                             static_cast<int>(std::min(width - 1.0, std::floor(t.xmax - 0.5))),
+                             static_cast<int>(std::max<double>(y0, std::ceil(t.ymin - 0.5))),
+                             static_cast<int>(std::min<double>(y1 - 1, std::floor(t.ymax - 0.5)))};
       scan_triangle(a, b, c, 1.0 / area, range, [&](int x, int y, double w0, double w1, double w2) {
         // Perspective-correct: 1/z and attribute/z are affine in screen space.
         const double iz = w0 * t.inv_z[0] + w1 * t.inv_z[1] + w2 * t.inv_z[2];
@@ -176,7 +182,9 @@ SampleBuffer rasterize(const std::vector<ScreenTriangle>& tris, int width, int h
         buf.face[idx] = t.face;
         buf.object[idx] = t.object;
         buf.bary[idx] = ((w0 * t.inv_z[0] * t.bary[0] + w1 * t.inv_z[1] * t.bary[1] +
-                          w2 * t.inv_z[2] * t.bary[2]) / iz).cast<float>();
+                          w2 * t.inv_z[2] * t.bary[2]) /
+                         iz)
+                            .cast<float>();
       });
     }
   }
@@ -205,7 +213,9 @@ Eigen::Vector3f sample_texture(const cv::Mat& tex, const Eigen::Vector2f& uv) {
          fy * ((1 - fx) * texel(x0, y0 + 1) + fx * texel(x0 + 1, y0 + 1));
 }
 
-Eigen::Vector3f albedo_at(const RenderObject& obj, int f, const Eigen::Vector3f& b,
+Eigen::Vector3f albedo_at(const RenderObject& obj,
+                          int f,
+                          const Eigen::Vector3f& b,
                           const Eigen::Vector3f& x_world) {
   const Material& m = obj.material;
   const Eigen::Vector3i& F = obj.mesh.faces[f];
@@ -231,7 +241,8 @@ Eigen::Vector3f albedo_at(const RenderObject& obj, int f, const Eigen::Vector3f&
 Eigen::Vector3f normal_at(const TriangleMesh& mesh, int f, const Eigen::Vector3f& b) {
   const Eigen::Vector3i& F = mesh.faces[f];
   if (!mesh.normals.empty()) {
-    const Eigen::Vector3f n = b[0] * mesh.normals[F[0]] + b[1] * mesh.normals[F[1]] + b[2] * mesh.normals[F[2]];
+    const Eigen::Vector3f n =
+        b[0] * mesh.normals[F[0]] + b[1] * mesh.normals[F[1]] + b[2] * mesh.normals[F[2]];
     if (n.squaredNorm() > 1e-20f) return n.normalized();
   }
   const Eigen::Vector3f n =
@@ -239,10 +250,13 @@ Eigen::Vector3f normal_at(const TriangleMesh& mesh, int f, const Eigen::Vector3f
   return n.squaredNorm() > 0 ? n.normalized() : Eigen::Vector3f::UnitZ();
 }
 
-void validate_inputs(const std::vector<RenderObject>& objects, const Camera& camera,
+void validate_inputs(const std::vector<RenderObject>& objects,
+                     const Camera& camera,
                      const RenderOptions& options) {
-  if (camera.width <= 0 || camera.height <= 0) throw std::invalid_argument("render_view: empty camera");
-  if (options.supersampling < 1) throw std::invalid_argument("render_view: supersampling must be >= 1");
+  if (camera.width <= 0 || camera.height <= 0)
+    throw std::invalid_argument("render_view: empty camera");
+  if (options.supersampling < 1)
+    throw std::invalid_argument("render_view: supersampling must be >= 1");
   for (const RenderObject& o : objects) {
     const Material& m = o.material;
     if (m.textures.empty()) continue;
@@ -261,8 +275,10 @@ void validate_inputs(const std::vector<RenderObject>& objects, const Camera& cam
 
 }  // namespace
 
-RenderedView render_view(const std::vector<RenderObject>& objects, const Camera& camera,
-                         const ImageRecord& pose, const RenderOptions& options) {
+RenderedView render_view(const std::vector<RenderObject>& objects,
+                         const Camera& camera,
+                         const ImageRecord& pose,
+                         const RenderOptions& options) {
   validate_inputs(objects, camera, options);
   const int W = camera.width, H = camera.height, s = options.supersampling;
   CameraFrame frame;
@@ -317,7 +333,8 @@ RenderedView render_view(const std::vector<RenderObject>& objects, const Camera&
       view.face_id.at<int>(y, x) = centre.face[i];
       view.object_id.at<int>(y, x) = centre.object[i];
       const int o = centre.object[i];
-      const Eigen::Vector3f n = normal_at(objects[o].mesh, lookup.local(o, centre.face[i]), centre.bary[i]);
+      const Eigen::Vector3f n =
+          normal_at(objects[o].mesh, lookup.local(o, centre.face[i]), centre.bary[i]);
       view.normal.at<cv::Vec3f>(y, x) = cv::Vec3f(n.x(), n.y(), n.z());
     }
   }
@@ -326,7 +343,8 @@ RenderedView render_view(const std::vector<RenderObject>& objects, const Camera&
   SampleBuffer super;
   const SampleBuffer* samples = &centre;
   if (s > 1) {
-    super = rasterize(setup_triangles(objects, frame, static_cast<float>(s), options.cull_back_faces, W * s, H * s),
+    super = rasterize(setup_triangles(objects, frame, static_cast<float>(s),
+                                      options.cull_back_faces, W * s, H * s),
                       W * s, H * s);
     samples = &super;
   }
@@ -338,8 +356,11 @@ RenderedView render_view(const std::vector<RenderObject>& objects, const Camera&
       Eigen::Vector3f sum = Eigen::Vector3f::Zero();
       for (int sy = 0; sy < s; ++sy) {
         for (int sx = 0; sx < s; ++sx) {
-          const std::size_t i = static_cast<std::size_t>(y * s + sy) * samples->width + (x * s + sx);
-          sum += samples->face[i] < 0 ? background : shade(samples->object[i], samples->face[i], samples->bary[i]);
+          const std::size_t i =
+              static_cast<std::size_t>(y * s + sy) * samples->width + (x * s + sx);
+          sum += samples->face[i] < 0
+                     ? background
+                     : shade(samples->object[i], samples->face[i], samples->bary[i]);
         }
       }
       sum /= static_cast<float>(s * s);

@@ -8,7 +8,9 @@
 
 namespace hos::texture {
 
-std::vector<int> pack_shelves(std::vector<Rect>& rects, int page_width, int page_height,
+std::vector<int> pack_shelves(std::vector<Rect>& rects,
+                              int page_width,
+                              int page_height,
                               int* num_pages) {
   std::vector<int> order(rects.size());
   std::iota(order.begin(), order.end(), 0);
@@ -49,16 +51,20 @@ namespace {
 constexpr int kFlatCell = 4;  // texels per side of a flat face's patch
 
 struct ChartFrame {
-  Eigen::Vector2d min;   // bounding box of the projection, photo pixels
-  double scale = 1.0;    // texels per photo pixel
+  Eigen::Vector2d min;                  // bounding box of the projection, photo pixels
+  double scale = 1.0;                   // texels per photo pixel
   std::vector<Eigen::Vector2d> pixels;  // projected chart vertices
 };
 
 // Marks texels whose centre lies in the triangle (texel coordinates) and
 // calls fill(x, y, barycentric) for each.
 template <typename Fill>
-void raster_triangle(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
-                     int width, int height, Fill&& fill) {
+void raster_triangle(const Eigen::Vector2d& a,
+                     const Eigen::Vector2d& b,
+                     const Eigen::Vector2d& c,
+                     int width,
+                     int height,
+                     Fill&& fill) {
   const double area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
   if (std::abs(area) < 1e-12) return;
   const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}) - 0.5)));
@@ -115,7 +121,8 @@ cv::Vec3b to_bgr(const Eigen::Vector3f& rgb) {
 }
 
 // Every chart's vertices projected into its view (photo pixels).
-std::vector<ChartFrame> project_charts(const TriangleMesh& mesh, const std::vector<Chart>& charts,
+std::vector<ChartFrame> project_charts(const TriangleMesh& mesh,
+                                       const std::vector<Chart>& charts,
                                        const std::vector<TextureView>& views) {
   std::vector<ChartFrame> frames(charts.size());
   for (std::size_t c = 0; c < charts.size(); ++c) {
@@ -189,7 +196,10 @@ Packing pack_charts(std::vector<ChartFrame>& frames, int num_flat, const Texture
 
 // Black pages cropped in height to what the packing uses, and their
 // (empty) masks of filled texels.
-void allocate_pages(const Packing& packing, int page_size, Atlas& atlas, std::vector<cv::Mat>& filled) {
+void allocate_pages(const Packing& packing,
+                    int page_size,
+                    Atlas& atlas,
+                    std::vector<cv::Mat>& filled) {
   std::vector<int> used_height(packing.num_pages, 1);
   for (std::size_t i = 0; i < packing.rects.size(); ++i) {
     const Rect& r = packing.rects[i];
@@ -241,7 +251,9 @@ struct AtlasSources {
 };
 
 // The seam edges of local face local_face of chart c (at most 3).
-int find_seam_edges(const AtlasSources& src, int c, std::size_t local_face,
+int find_seam_edges(const AtlasSources& src,
+                    int c,
+                    std::size_t local_face,
                     std::array<SeamEdge, 3>& seams) {
   const std::vector<Chart>& charts = src.charts;
   const Eigen::Vector3i& face = charts[c].local_faces[local_face];
@@ -263,7 +275,8 @@ int find_seam_edges(const AtlasSources& src, int c, std::size_t local_face,
     SeamEdge seam{k, other, Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
     for (int cc = 0; cc < 3; ++cc) {
       const int v = charts[other].vertices[other_face[cc]];
-      if (v == charts[c].vertices[face[k]]) seam.offset_a = src.leveling.offsets[other][other_face[cc]];
+      if (v == charts[c].vertices[face[k]])
+        seam.offset_a = src.leveling.offsets[other][other_face[cc]];
       if (v == charts[c].vertices[face[(k + 1) % 3]]) {
         seam.offset_b = src.leveling.offsets[other][other_face[cc]];
       }
@@ -276,17 +289,24 @@ int find_seam_edges(const AtlasSources& src, int c, std::size_t local_face,
 // Local blending: the texel's colour rgb mixed with the nearest seam's view
 // at the same surface point, half-and-half on the seam, own view only
 // blend_width texels away from it.
-Eigen::Vector3f blend_across_seams(const AtlasSources& src, int c, const Eigen::Vector3i& face,
-                                   const std::vector<Eigen::Vector2d>& texel, const Eigen::Vector2d& centre,
-                                   const Eigen::Vector3d& w, const std::array<SeamEdge, 3>& seams, int num_seams,
-                                   double blend_width, const Eigen::Vector3f& rgb) {
+Eigen::Vector3f blend_across_seams(const AtlasSources& src,
+                                   int c,
+                                   const Eigen::Vector3i& face,
+                                   const std::vector<Eigen::Vector2d>& texel,
+                                   const Eigen::Vector2d& centre,
+                                   const Eigen::Vector3d& w,
+                                   const std::array<SeamEdge, 3>& seams,
+                                   int num_seams,
+                                   double blend_width,
+                                   const Eigen::Vector3f& rgb) {
   double best = blend_width;
   const SeamEdge* nearest = nullptr;
   double along = 0.0;
   for (int k = 0; k < num_seams; ++k) {
     const Eigen::Vector2d& a = texel[face[seams[k].corner]];
     const Eigen::Vector2d& b = texel[face[(seams[k].corner + 1) % 3]];
-    const double t = std::clamp((centre - a).dot(b - a) / std::max(1e-12, (b - a).squaredNorm()), 0.0, 1.0);
+    const double t =
+        std::clamp((centre - a).dot(b - a) / std::max(1e-12, (b - a).squaredNorm()), 0.0, 1.0);
     const double d = (centre - (a + t * (b - a))).norm();
     if (d < best) {
       best = d;
@@ -304,7 +324,8 @@ Eigen::Vector3f blend_across_seams(const AtlasSources& src, int c, const Eigen::
   if (p.z() <= 0.0) return rgb;
   const Eigen::Vector3f other =
       src.gains[other_view].cwiseProduct(sample_rgb(src.views[other_view].image, p.x(), p.y())) +
-      static_cast<float>(1.0 - along) * nearest->offset_a + static_cast<float>(along) * nearest->offset_b;
+      static_cast<float>(1.0 - along) * nearest->offset_a +
+      static_cast<float>(along) * nearest->offset_b;
   const float t = static_cast<float>(0.5 * (1.0 - best / blend_width));
   return (1.0f - t) * rgb + t * other;
 }
@@ -312,8 +333,15 @@ Eigen::Vector3f blend_across_seams(const AtlasSources& src, int c, const Eigen::
 // Fills chart c's rectangle r of image (and mask) from its view: the photo
 // times the gain plus the leveling offset, blended across seams. Writes the
 // chart's UVs.
-void fill_chart(const AtlasSources& src, int c, const ChartFrame& frame, const Rect& r, int pad,
-                double blend_width, cv::Mat& image, cv::Mat& mask, std::vector<Eigen::Vector2f>& uvs) {
+void fill_chart(const AtlasSources& src,
+                int c,
+                const ChartFrame& frame,
+                const Rect& r,
+                int pad,
+                double blend_width,
+                cv::Mat& image,
+                cv::Mat& mask,
+                std::vector<Eigen::Vector2f>& uvs) {
   const Chart& chart = src.charts[c];
   const TextureView& view = src.views[chart.view];
   const Eigen::Vector3f gain = src.gains[chart.view];
@@ -348,8 +376,11 @@ void fill_chart(const AtlasSources& src, int c, const ChartFrame& frame, const R
 }
 
 // The flat-coloured patches of faces that no view sees.
-void place_flat_faces(const std::vector<FlatFace>& flat_faces, const Packing& packing, int num_charts,
-                      Atlas& atlas, std::vector<cv::Mat>& filled) {
+void place_flat_faces(const std::vector<FlatFace>& flat_faces,
+                      const Packing& packing,
+                      int num_charts,
+                      Atlas& atlas,
+                      std::vector<cv::Mat>& filled) {
   const int num_flat = static_cast<int>(flat_faces.size());
   atlas.flat_page.resize(num_flat);
   atlas.flat_uvs.resize(num_flat);
@@ -367,11 +398,16 @@ void place_flat_faces(const std::vector<FlatFace>& flat_faces, const Packing& pa
 
 }  // namespace
 
-Atlas build_atlas(const TriangleMesh& mesh, const MeshTopology& topology,
-                  const FaceViewCandidates& candidates, const std::vector<Chart>& charts,
-                  const std::vector<TextureView>& views, const std::vector<Eigen::Vector3f>& gains,
-                  const SeamLeveling& leveling, const std::vector<FlatFace>& flat_faces,
-                  const TextureOptions& options, Reporter& reporter) {
+Atlas build_atlas(const TriangleMesh& mesh,
+                  const MeshTopology& topology,
+                  const FaceViewCandidates& candidates,
+                  const std::vector<Chart>& charts,
+                  const std::vector<TextureView>& views,
+                  const std::vector<Eigen::Vector3f>& gains,
+                  const SeamLeveling& leveling,
+                  const std::vector<FlatFace>& flat_faces,
+                  const TextureOptions& options,
+                  Reporter& reporter) {
   const int num_charts = static_cast<int>(charts.size());
   std::vector<ChartFrame> frames = project_charts(mesh, charts, views);
   const Packing packing = pack_charts(frames, static_cast<int>(flat_faces.size()), options);
@@ -384,21 +420,23 @@ Atlas build_atlas(const TriangleMesh& mesh, const MeshTopology& topology,
   atlas.chart_page.resize(num_charts);
   atlas.chart_uvs.resize(num_charts);
   const FaceCharts face_charts = chart_of_faces(mesh.faces.size(), charts);
-  const AtlasSources sources{mesh, topology, candidates, charts, views, gains, leveling, face_charts};
+  const AtlasSources sources{mesh,  topology, candidates, charts,
+                             views, gains,    leveling,   face_charts};
   const double blend_width = options.local_blending ? options.seam_blend_texels : 0.0;
   reporter.begin("atlas", num_charts);
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < num_charts; ++c) {
     const int page = packing.page_of[c];
     atlas.chart_page[c] = page;
-    fill_chart(sources, c, frames[c], packing.rects[c], options.padding, blend_width, atlas.pages[page],
-               filled[page], atlas.chart_uvs[c]);
+    fill_chart(sources, c, frames[c], packing.rects[c], options.padding, blend_width,
+               atlas.pages[page], filled[page], atlas.chart_uvs[c]);
     reporter.advance();
   }
   reporter.end();
 
   place_flat_faces(flat_faces, packing, num_charts, atlas, filled);
-  for (int p = 0; p < packing.num_pages; ++p) dilate(atlas.pages[p], filled[p], options.padding + 1);
+  for (int p = 0; p < packing.num_pages; ++p)
+    dilate(atlas.pages[p], filled[p], options.padding + 1);
   return atlas;
 }
 

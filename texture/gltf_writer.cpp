@@ -30,8 +30,13 @@ int add_buffer_view(tinygltf::Model& model, const void* data, std::size_t size, 
   return static_cast<int>(model.bufferViews.size()) - 1;
 }
 
-int add_accessor(tinygltf::Model& model, int buffer_view, int component_type, int type,
-                 std::size_t count, std::vector<double> min = {}, std::vector<double> max = {}) {
+int add_accessor(tinygltf::Model& model,
+                 int buffer_view,
+                 int component_type,
+                 int type,
+                 std::size_t count,
+                 std::vector<double> min = {},
+                 std::vector<double> max = {}) {
   tinygltf::Accessor accessor;
   accessor.bufferView = buffer_view;
   accessor.byteOffset = 0;
@@ -59,8 +64,12 @@ struct VertexAccessors {
   int position = -1, normal = -1, uv = -1;
 };
 
-int add_float_accessor(tinygltf::Model& model, const std::vector<float>& values, int type, std::size_t count,
-                       std::vector<double> min = {}, std::vector<double> max = {}) {
+int add_float_accessor(tinygltf::Model& model,
+                       const std::vector<float>& values,
+                       int type,
+                       std::size_t count,
+                       std::vector<double> min = {},
+                       std::vector<double> max = {}) {
   return add_accessor(
       model, add_buffer_view(model, values.data(), values.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER),
       TINYGLTF_COMPONENT_TYPE_FLOAT, type, count, std::move(min), std::move(max));
@@ -85,7 +94,8 @@ VertexAccessors add_vertex_attributes(tinygltf::Model& model, const TexturedMesh
   out.position = add_float_accessor(model, flat, TINYGLTF_TYPE_VEC3, n, lo, hi);
   flat.clear();
   for (const auto& v : mesh.normals) {
-    const Eigen::Vector3f u = v.norm() > 0.0f ? Eigen::Vector3f(v.normalized()) : Eigen::Vector3f(0, 0, 1);
+    const Eigen::Vector3f u =
+        v.norm() > 0.0f ? Eigen::Vector3f(v.normalized()) : Eigen::Vector3f(0, 0, 1);
     flat.insert(flat.end(), {u.x(), u.y(), u.z()});
   }
   out.normal = add_float_accessor(model, flat, TINYGLTF_TYPE_VEC3, n);
@@ -106,8 +116,11 @@ void add_sampler(tinygltf::Model& model) {
 
 // The page's atlas encoded into the buffer, its texture (sampler 0) and
 // material; returns the material's index.
-int add_page_material(tinygltf::Model& model, const cv::Mat& atlas, std::size_t page,
-                      const GltfWriteOptions& options, const std::filesystem::path& path) {
+int add_page_material(tinygltf::Model& model,
+                      const cv::Mat& atlas,
+                      std::size_t page,
+                      const GltfWriteOptions& options,
+                      const std::filesystem::path& path) {
   const bool jpeg = options.image_format == "jpeg";
   std::vector<unsigned char> encoded;
   std::vector<int> params;
@@ -127,7 +140,8 @@ int add_page_material(tinygltf::Model& model, const cv::Mat& atlas, std::size_t 
 
   tinygltf::Material material;
   material.name = "atlas" + std::to_string(page);
-  material.pbrMetallicRoughness.baseColorTexture.index = static_cast<int>(model.textures.size()) - 1;
+  material.pbrMetallicRoughness.baseColorTexture.index =
+      static_cast<int>(model.textures.size()) - 1;
   material.pbrMetallicRoughness.metallicFactor = 0.0;
   material.pbrMetallicRoughness.roughnessFactor = 1.0;
   model.materials.push_back(material);
@@ -135,15 +149,19 @@ int add_page_material(tinygltf::Model& model, const cv::Mat& atlas, std::size_t 
 }
 
 // The triangles of one page with their material.
-tinygltf::Primitive page_primitive(tinygltf::Model& model, const std::vector<std::uint32_t>& indices,
-                                   std::size_t num_vertices, const VertexAccessors& vertices, int material) {
+tinygltf::Primitive page_primitive(tinygltf::Model& model,
+                                   const std::vector<std::uint32_t>& indices,
+                                   std::size_t num_vertices,
+                                   const VertexAccessors& vertices,
+                                   int material) {
   for (std::uint32_t index : indices) {
     if (index >= num_vertices) throw std::invalid_argument("write_glb: index out of range");
   }
-  const int index_accessor = add_accessor(
-      model,
-      add_buffer_view(model, indices.data(), indices.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
-      TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, indices.size());
+  const int index_accessor =
+      add_accessor(model,
+                   add_buffer_view(model, indices.data(), indices.size() * 4,
+                                   TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+                   TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, indices.size());
   tinygltf::Primitive primitive;
   primitive.attributes["POSITION"] = vertices.position;
   primitive.attributes["NORMAL"] = vertices.normal;
@@ -156,7 +174,9 @@ tinygltf::Primitive page_primitive(tinygltf::Model& model, const std::vector<std
 
 // The single root node (carrying the root matrix unless it is the identity)
 // and the default scene; a mesh without primitives is left out.
-void add_scene(tinygltf::Model& model, tinygltf::Mesh gltf_mesh, const Eigen::Matrix4d& root_matrix) {
+void add_scene(tinygltf::Model& model,
+               tinygltf::Mesh gltf_mesh,
+               const Eigen::Matrix4d& root_matrix) {
   gltf_mesh.name = "textured_mesh";
   const bool has_mesh = !gltf_mesh.primitives.empty();
   if (has_mesh) model.meshes.push_back(std::move(gltf_mesh));
@@ -189,7 +209,8 @@ void serialize(tinygltf::Model& model, const std::filesystem::path& path) {
 
 }  // namespace
 
-void write_glb(const std::filesystem::path& path, const TexturedMesh& mesh,
+void write_glb(const std::filesystem::path& path,
+               const TexturedMesh& mesh,
                const GltfWriteOptions& options) {
   check_mesh(mesh);
   tinygltf::Model model;

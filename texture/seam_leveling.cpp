@@ -21,13 +21,15 @@ std::vector<int> chart_vertex_offsets(const std::vector<Chart>& charts) {
 
 // Colour f of every chart vertex in its chart's view, from lightly blurred
 // views (a vertex sample alone is noisy), times the view's gain.
-std::vector<Eigen::Vector3f> chart_vertex_colors(const TriangleMesh& mesh, const std::vector<Chart>& charts,
+std::vector<Eigen::Vector3f> chart_vertex_colors(const TriangleMesh& mesh,
+                                                 const std::vector<Chart>& charts,
                                                  const std::vector<TextureView>& views,
                                                  const std::vector<Eigen::Vector3f>& gains,
                                                  const std::vector<int>& first) {
   std::vector<Eigen::Vector3f> f(first.back());
   std::vector<std::vector<int>> charts_of_view(views.size());
-  for (std::size_t c = 0; c < charts.size(); ++c) charts_of_view[charts[c].view].push_back(static_cast<int>(c));
+  for (std::size_t c = 0; c < charts.size(); ++c)
+    charts_of_view[charts[c].view].push_back(static_cast<int>(c));
 #pragma omp parallel for schedule(dynamic)
   for (int v = 0; v < static_cast<int>(views.size()); ++v) {
     if (charts_of_view[v].empty()) continue;
@@ -35,7 +37,8 @@ std::vector<Eigen::Vector3f> chart_vertex_colors(const TriangleMesh& mesh, const
     cv::GaussianBlur(views[v].image, blurred, cv::Size(5, 5), 1.0);
     for (int c : charts_of_view[v]) {
       for (std::size_t i = 0; i < charts[c].vertices.size(); ++i) {
-        const Eigen::Vector3d p = views[v].project(mesh.vertices[charts[c].vertices[i]].cast<double>());
+        const Eigen::Vector3d p =
+            views[v].project(mesh.vertices[charts[c].vertices[i]].cast<double>());
         f[first[c] + i] = gains[v].cwiseProduct(sample_rgb(blurred, p.x(), p.y()));
       }
     }
@@ -44,7 +47,8 @@ std::vector<Eigen::Vector3f> chart_vertex_colors(const TriangleMesh& mesh, const
 }
 
 // The chart copies (global indices) of every mesh vertex.
-std::vector<std::vector<int>> chart_copies(std::size_t num_vertices, const std::vector<Chart>& charts,
+std::vector<std::vector<int>> chart_copies(std::size_t num_vertices,
+                                           const std::vector<Chart>& charts,
                                            const std::vector<int>& first) {
   std::vector<std::vector<int>> copies(num_vertices);
   for (std::size_t c = 0; c < charts.size(); ++c) {
@@ -76,7 +80,8 @@ void add_difference(std::vector<Eigen::Triplet<double>>& triplets, int i, int j,
 // The matrix of the leveling energy: the seam terms, the chart edges' terms
 // weighted 1 / lambda, and a tiny pull towards zero.
 Eigen::SparseMatrix<double> leveling_matrix(const std::vector<std::vector<int>>& copies,
-                                            const std::vector<Chart>& charts, const std::vector<int>& first,
+                                            const std::vector<Chart>& charts,
+                                            const std::vector<int>& first,
                                             const TextureOptions& options) {
   const int n = first.back();
   std::vector<Eigen::Triplet<double>> triplets;
@@ -99,8 +104,11 @@ Eigen::SparseMatrix<double> leveling_matrix(const std::vector<std::vector<int>>&
 
 // The offsets g minimizing the leveling energy, per channel by conjugate
 // gradients; returns the most iterations of a channel.
-int solve_offsets(const Eigen::SparseMatrix<double>& A, const std::vector<std::vector<int>>& copies,
-                  const std::vector<Eigen::Vector3f>& f, std::vector<Eigen::Vector3f>& g, Reporter& reporter) {
+int solve_offsets(const Eigen::SparseMatrix<double>& A,
+                  const std::vector<std::vector<int>>& copies,
+                  const std::vector<Eigen::Vector3f>& f,
+                  std::vector<Eigen::Vector3f>& g,
+                  Reporter& reporter) {
   const int n = static_cast<int>(f.size());
   // Lower only: Eigen parallelizes the Lower|Upper product with OpenMP, whose
   // per-iteration synchronization costs more than it gains on a busy machine.
@@ -119,7 +127,8 @@ int solve_offsets(const Eigen::SparseMatrix<double>& A, const std::vector<std::v
       rhs[j] += d;
     });
     const Eigen::VectorXd x = solver.solve(rhs);
-    if (!x.allFinite()) throw NumericalError("texture", "seam leveling produced non-finite offsets");
+    if (!x.allFinite())
+      throw NumericalError("texture", "seam leveling produced non-finite offsets");
     iterations = std::max(iterations, static_cast<int>(solver.iterations()));
     for (int i = 0; i < n; ++i) g[i][channel] = static_cast<float>(x[i]);
   }
@@ -128,9 +137,12 @@ int solve_offsets(const Eigen::SparseMatrix<double>& A, const std::vector<std::v
 
 }  // namespace
 
-SeamLeveling level_seams(const TriangleMesh& mesh, const std::vector<Chart>& charts,
-                         const std::vector<TextureView>& views, const std::vector<Eigen::Vector3f>& gains,
-                         const TextureOptions& options, Reporter& reporter) {
+SeamLeveling level_seams(const TriangleMesh& mesh,
+                         const std::vector<Chart>& charts,
+                         const std::vector<TextureView>& views,
+                         const std::vector<Eigen::Vector3f>& gains,
+                         const TextureOptions& options,
+                         Reporter& reporter) {
   reporter.begin("seam leveling", 0);
   SeamLeveling result;
   const std::vector<int> first = chart_vertex_offsets(charts);
@@ -143,7 +155,8 @@ SeamLeveling level_seams(const TriangleMesh& mesh, const std::vector<Chart>& cha
 
   std::vector<Eigen::Vector3f> g(n, Eigen::Vector3f::Zero());
   if (options.global_leveling && result.num_seam_vertices > 0) {
-    result.solver_iterations = solve_offsets(leveling_matrix(copies, charts, first, options), copies, f, g, reporter);
+    result.solver_iterations =
+        solve_offsets(leveling_matrix(copies, charts, first, options), copies, f, g, reporter);
   }
 
   // Mean colour jump between chart copies, before and after leveling.

@@ -23,7 +23,8 @@ std::vector<Eigen::Vector3f> project_vertices(const TriangleMesh& mesh, const Te
 constexpr float kNearZ = 1e-6f;
 
 // The nearest face at every pixel centre of the camera's image.
-DepthBuffer rasterize(const TriangleMesh& mesh, const std::vector<Eigen::Vector3f>& projected,
+DepthBuffer rasterize(const TriangleMesh& mesh,
+                      const std::vector<Eigen::Vector3f>& projected,
                       const Camera& camera) {
   const int width = camera.width;
   const int height = camera.height;
@@ -46,20 +47,23 @@ DepthBuffer rasterize(const TriangleMesh& mesh, const std::vector<Eigen::Vector3
         std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}) - 0.5f))),
         std::min(height - 1, static_cast<int>(std::ceil(std::max({a.y(), b.y(), c.y()}) - 0.5f)))};
     const float iza = 1.0f / a.z(), izb = 1.0f / b.z(), izc = 1.0f / c.z();
-    render::scan_triangle(a, b, c, 1.0f / area, range, [&](int x, int y, float wa, float wb, float wc) {
-      // 1/z is affine in screen space.
-      const float z = 1.0f / (wa * iza + wb * izb + wc * izc);
-      float& depth = buffer.depth.at<float>(y, x);
-      if (z < depth) {
-        depth = z;
-        buffer.face_id.at<int>(y, x) = f;
-      }
-    });
+    render::scan_triangle(a, b, c, 1.0f / area, range,
+                          [&](int x, int y, float wa, float wb, float wc) {
+                            // 1/z is affine in screen space.
+                            const float z = 1.0f / (wa * iza + wb * izb + wc * izc);
+                            float& depth = buffer.depth.at<float>(y, x);
+                            if (z < depth) {
+                              depth = z;
+                              buffer.face_id.at<int>(y, x) = f;
+                            }
+                          });
   }
   return buffer;
 }
 
-bool passes_depth_test(const DepthBuffer& buffer, const Eigen::Vector3f& p, int face,
+bool passes_depth_test(const DepthBuffer& buffer,
+                       const Eigen::Vector3f& p,
+                       int face,
                        float tolerance) {
   const int x = static_cast<int>(std::floor(p.x()));
   const int y = static_cast<int>(std::floor(p.y()));
@@ -75,9 +79,11 @@ DepthBuffer rasterize_depth(const TriangleMesh& mesh, const TextureView& view) {
   return rasterize(mesh, project_vertices(mesh, view), view.camera);
 }
 
-FaceViewCandidates compute_visibility(const TriangleMesh& mesh, const MeshTopology& topology,
+FaceViewCandidates compute_visibility(const TriangleMesh& mesh,
+                                      const MeshTopology& topology,
                                       const std::vector<TextureView>& views,
-                                      const TextureOptions& options, Reporter& reporter) {
+                                      const TextureOptions& options,
+                                      Reporter& reporter) {
   const int num_faces = static_cast<int>(mesh.faces.size());
   const int num_views = static_cast<int>(views.size());
   const float cos_max = static_cast<float>(std::cos(options.max_view_angle_deg * M_PI / 180.0));
