@@ -2,7 +2,7 @@
 # Runs clang-tidy (.clang-tidy) over every hos source in the build's
 # compile_commands.json; exits non-zero on any finding. Build first
 # (scripts/build.sh). Extra arguments go to run-clang-tidy, e.g. a regex that
-# selects files: scripts/tidy.sh 'recon/'.
+# selects files below the folders: scripts/tidy.sh 'energy_operator\.cpp'.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${HOS_BUILD_DIR:-$root/build}"
@@ -20,6 +20,6 @@ fi
 # Our folders only: not the build tree's generated files nor system headers.
 folders="core|render|synth|eval|recon|mvs|texture|sfm|pipeline|apps|tests|bench|examples"
 files="^$root/($folders)/"
-if [ $# -gt 0 ]; then files="^$root/($folders)/.*($1)"; shift; fi
+if [ $# -gt 0 ]; then files="^$root/($folders)/(.*/)?($1)"; shift; fi
 "$runner" -clang-tidy-binary "$tidy" -p "$build" -j "$jobs" -quiet \
   -header-filter="^$root/($folders)/" "$files" "$@"
