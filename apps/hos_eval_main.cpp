@@ -47,16 +47,14 @@ hos::TriangleMesh read_surface(const std::string& path) {
 json to_json(const hos::eval::Similarity3& s) {
   json j;
   j["scale"] = s.scale;
-  j["rotation"] = {{s.R(0, 0), s.R(0, 1), s.R(0, 2)},
-                   {s.R(1, 0), s.R(1, 1), s.R(1, 2)},
-                   {s.R(2, 0), s.R(2, 1), s.R(2, 2)}};
+  j["rotation"] = {
+      {s.R(0, 0), s.R(0, 1), s.R(0, 2)}, {s.R(1, 0), s.R(1, 1), s.R(1, 2)}, {s.R(2, 0), s.R(2, 1), s.R(2, 2)}};
   j["translation"] = {s.t.x(), s.t.y(), s.t.z()};
   return j;
 }
 
 json to_json(const hos::eval::DistanceStats& d) {
-  return {{"mean", d.mean}, {"median", d.median}, {"p90", d.p90},
-          {"rms", d.rms},   {"max", d.max},       {"count", d.count}};
+  return {{"mean", d.mean}, {"median", d.median}, {"p90", d.p90}, {"rms", d.rms}, {"max", d.max}, {"count", d.count}};
 }
 
 std::vector<double> parse_thresholds(const std::string& text) {
@@ -84,13 +82,12 @@ struct Output {
   // Adds --json to a subcommand.
   void add_json(CLI::App* sub) {
     json_options.push_back(
-        sub->add_option("--json", json_path, "write JSON to FILE (or stdout when no FILE)")
-            ->expected(0, 1));
+        sub->add_option("--json", json_path, "write JSON to FILE (or stdout when no FILE)")->expected(0, 1));
   }
 
   void emit(const json& j, const std::string& table) const {
-    const bool json_requested = std::any_of(json_options.begin(), json_options.end(),
-                                            [](CLI::Option* o) { return o->count() > 0; });
+    const bool json_requested =
+        std::any_of(json_options.begin(), json_options.end(), [](CLI::Option* o) { return o->count() > 0; });
     if (json_requested && json_path.empty()) {
       std::cerr << table;
       std::cout << j.dump(2) << "\n";
@@ -123,8 +120,7 @@ std::string fmt(double x, int precision = 6) {
 struct AlignFlags {
   std::string recovered_model, truth_model;
   void add(CLI::App* app) {
-    app->add_option("--align-model", recovered_model,
-                    "sparse model the result's coordinates belong to");
+    app->add_option("--align-model", recovered_model, "sparse model the result's coordinates belong to");
     app->add_option("--truth-model", truth_model, "ground-truth sparse model (same image names)");
   }
   std::optional<hos::eval::ModelAlignment> compute() const {
@@ -163,18 +159,15 @@ struct MeshCommand {
   AlignFlags align;
 
   void add(CLI::App& app, Output& output) {
-    cmd =
-        app.add_subcommand("mesh", "accuracy, completeness, Chamfer, F-score against a true mesh");
+    cmd = app.add_subcommand("mesh", "accuracy, completeness, Chamfer, F-score against a true mesh");
     cmd->add_option("--result", result_path, "result mesh or points (.ply, .glb)")->required();
     cmd->add_option("--truth", truth_path, "true mesh (.ply)")->required();
-    cmd->add_option("--thresholds", thresholds_text,
-                    "F-score thresholds as fractions of the truth's bbox diagonal");
+    cmd->add_option("--thresholds", thresholds_text, "F-score thresholds as fractions of the truth's bbox diagonal");
     cmd->add_option("--samples", distance_options.num_samples, "surface samples per mesh");
     cmd->add_option("--seed", distance_options.seed, "sampling seed");
     cmd->add_option("--visible-in", visible_model,
                     "truth-frame sparse model: compare only with the true surface its cameras see");
-    cmd->add_option("--min-views", visible_min_views,
-                    "views that must see a true face (with --visible-in)");
+    cmd->add_option("--min-views", visible_min_views, "views that must see a true face (with --visible-in)");
     align.add(cmd);
     output.add_json(cmd);
   }
@@ -183,8 +176,7 @@ struct MeshCommand {
   void keep_visible_truth(hos::TriangleMesh& truth, Report& r, hos::Reporter& reporter) const {
 #if HOS_EVAL_HAS_RENDER
     const std::size_t all_faces = truth.num_faces();
-    truth = hos::eval::visible_part(truth, hos::read_colmap_model(visible_model), visible_min_views,
-                                    reporter);
+    truth = hos::eval::visible_part(truth, hos::read_colmap_model(visible_model), visible_min_views, reporter);
     r.j["truth_faces_visible"] = truth.num_faces();
     r.table += row("true faces seen by >= " + std::to_string(visible_min_views) + " views",
                    std::to_string(truth.num_faces()) + " of " + std::to_string(all_faces));
@@ -205,8 +197,7 @@ struct MeshCommand {
       r.j["alignment"] = alignment_json(*alignment, r.table);
       hos::eval::transform_mesh(result, alignment->truth_from_recovered);
     }
-    const hos::eval::SurfaceComparison c =
-        hos::eval::compare_surfaces(result, truth, distance_options, reporter);
+    const hos::eval::SurfaceComparison c = hos::eval::compare_surfaces(result, truth, distance_options, reporter);
     r.j["truth_diagonal"] = c.truth_diagonal;
     r.j["result_is_points"] = c.result_is_points;
     r.j["accuracy"] = to_json(c.accuracy);
@@ -216,12 +207,10 @@ struct MeshCommand {
     r.j["f_score_threshold"] = c.primary().fraction;
     r.j["thresholds"] = json::array();
     r.table += row("truth bbox diagonal", fmt(c.truth_diagonal));
-    r.table +=
-        row("accuracy mean/median/p90",
-            fmt(c.accuracy.mean) + " / " + fmt(c.accuracy.median) + " / " + fmt(c.accuracy.p90));
-    r.table += row("completeness mean/median/p90", fmt(c.completeness.mean) + " / " +
-                                                       fmt(c.completeness.median) + " / " +
-                                                       fmt(c.completeness.p90));
+    r.table += row("accuracy mean/median/p90",
+                   fmt(c.accuracy.mean) + " / " + fmt(c.accuracy.median) + " / " + fmt(c.accuracy.p90));
+    r.table += row("completeness mean/median/p90",
+                   fmt(c.completeness.mean) + " / " + fmt(c.completeness.median) + " / " + fmt(c.completeness.p90));
     r.table += row("chamfer", fmt(c.chamfer));
     for (const auto& s : c.scores) {
       r.j["thresholds"].push_back({{"fraction", s.fraction},
@@ -242,8 +231,7 @@ struct CurvatureCommand {
   std::string mesh_path, points_path;
 
   void add(CLI::App& app, Output& output) {
-    cmd =
-        app.add_subcommand("curvature", "Table 1 figures: triangles, RMS point distance, |H|, |K|");
+    cmd = app.add_subcommand("curvature", "Table 1 figures: triangles, RMS point distance, |H|, |K|");
     cmd->add_option("--mesh", mesh_path, "mesh (.ply, .glb)")->required();
     cmd->add_option("--points", points_path, "input points (.ply) for the RMS distance");
     output.add_json(cmd);
@@ -256,21 +244,18 @@ struct CurvatureCommand {
     const hos::eval::CurvatureStats s =
         hos::eval::compute_curvature_stats(mesh, points_path.empty() ? nullptr : &points, reporter);
     Report r;
-    r.j = {
-        {"triangles", s.triangles},
-        {"vertices_measured", s.vertices_measured},
-        {"mean_abs_mean_curvature", s.mean_abs_h},
-        {"max_abs_mean_curvature", s.max_abs_h},
-        {"mean_abs_gaussian_curvature", s.mean_abs_k},
-        {"max_abs_gaussian_curvature", s.max_abs_k},
-        {"p99_abs_mean_curvature", s.p99_abs_h},
-        {"p99_abs_gaussian_curvature", s.p99_abs_k},
-        {"rms_point_distance", s.rms_point_distance ? json(*s.rms_point_distance) : json(nullptr)}};
-    r.table += "curvature: " + mesh_path +
-               " (cotangent Laplacian H, angle-defect K, mixed Voronoi areas)\n";
+    r.j = {{"triangles", s.triangles},
+           {"vertices_measured", s.vertices_measured},
+           {"mean_abs_mean_curvature", s.mean_abs_h},
+           {"max_abs_mean_curvature", s.max_abs_h},
+           {"mean_abs_gaussian_curvature", s.mean_abs_k},
+           {"max_abs_gaussian_curvature", s.max_abs_k},
+           {"p99_abs_mean_curvature", s.p99_abs_h},
+           {"p99_abs_gaussian_curvature", s.p99_abs_k},
+           {"rms_point_distance", s.rms_point_distance ? json(*s.rms_point_distance) : json(nullptr)}};
+    r.table += "curvature: " + mesh_path + " (cotangent Laplacian H, angle-defect K, mixed Voronoi areas)\n";
     r.table += row("triangles", std::to_string(s.triangles));
-    r.table +=
-        row("RMS points -> surface", s.rms_point_distance ? fmt(*s.rms_point_distance) : "-");
+    r.table += row("RMS points -> surface", s.rms_point_distance ? fmt(*s.rms_point_distance) : "-");
     r.table += row("avg / max |H|", fmt(s.mean_abs_h) + " / " + fmt(s.max_abs_h));
     r.table += row("avg / max |K|", fmt(s.mean_abs_k) + " / " + fmt(s.max_abs_k));
     r.table += row("p99 |H| / |K|", fmt(s.p99_abs_h) + " / " + fmt(s.p99_abs_k));
@@ -284,8 +269,7 @@ struct SanityCommand {
   std::string mesh_path;
 
   void add(CLI::App& app, Output& output) {
-    cmd = app.add_subcommand("sanity",
-                             "watertight, manifold, oriented, components, Euler characteristic");
+    cmd = app.add_subcommand("sanity", "watertight, manifold, oriented, components, Euler characteristic");
     cmd->add_option("--mesh", mesh_path, "mesh (.ply, .glb)")->required();
     output.add_json(cmd);
   }
@@ -328,34 +312,32 @@ struct CamerasCommand {
   }
 
   Report run(hos::Reporter& /*reporter*/) const {
-    const hos::eval::CameraPoseComparison c = hos::eval::compare_camera_poses(
-        hos::read_colmap_model(model), hos::read_colmap_model(truth));
+    const hos::eval::CameraPoseComparison c =
+        hos::eval::compare_camera_poses(hos::read_colmap_model(model), hos::read_colmap_model(truth));
     Report r;
     r.j["alignment"] = to_json(c.truth_from_recovered);
     r.j["scene_size"] = c.scene_size;
     r.j["images_recovered"] = c.num_recovered;
     r.j["images_truth"] = c.num_truth;
     r.j["images_matched"] = c.cameras.size();
-    r.j["center_error"] = {{"mean", c.mean_center_error},
-                           {"median", c.median_center_error},
-                           {"max", c.max_center_error}};
+    r.j["center_error"] = {
+        {"mean", c.mean_center_error}, {"median", c.median_center_error}, {"max", c.max_center_error}};
     r.j["rotation_error_deg"] = {{"mean", c.mean_rotation_error_deg},
                                  {"median", c.median_rotation_error_deg},
                                  {"max", c.max_rotation_error_deg}};
     r.j["cameras"] = json::array();
     for (const auto& e : c.cameras) {
-      r.j["cameras"].push_back({{"name", e.name},
-                                {"center_error", e.center_error},
-                                {"rotation_error_deg", e.rotation_error_deg}});
+      r.j["cameras"].push_back(
+          {{"name", e.name}, {"center_error", e.center_error}, {"rotation_error_deg", e.rotation_error_deg}});
     }
     r.table += "cameras: " + model + " vs " + truth + "\n";
-    r.table += row("matched / recovered / truth", std::to_string(c.cameras.size()) + " / " +
-                                                      std::to_string(c.num_recovered) + " / " +
-                                                      std::to_string(c.num_truth));
+    r.table +=
+        row("matched / recovered / truth", std::to_string(c.cameras.size()) + " / " + std::to_string(c.num_recovered) +
+                                               " / " + std::to_string(c.num_truth));
     r.table += row("alignment scale", fmt(c.truth_from_recovered.scale));
-    r.table += row("centre error mean/median/max",
-                   fmt(c.mean_center_error) + " / " + fmt(c.median_center_error) + " / " +
-                       fmt(c.max_center_error) + " (x scene size " + fmt(c.scene_size) + ")");
+    r.table +=
+        row("centre error mean/median/max", fmt(c.mean_center_error) + " / " + fmt(c.median_center_error) + " / " +
+                                                fmt(c.max_center_error) + " (x scene size " + fmt(c.scene_size) + ")");
     r.table += row("rotation error mean/median/max", fmt(c.mean_rotation_error_deg) + " / " +
                                                          fmt(c.median_rotation_error_deg) + " / " +
                                                          fmt(c.max_rotation_error_deg) + " deg");
@@ -370,8 +352,7 @@ struct RenderCommand {
   AlignFlags align;
 
   void add(CLI::App& app, Output& output) {
-    cmd = app.add_subcommand("render",
-                             "PSNR/SSIM of a textured .glb re-rendered from a model's cameras");
+    cmd = app.add_subcommand("render", "PSNR/SSIM of a textured .glb re-rendered from a model's cameras");
     cmd->add_option("--glb", glb_path, "textured mesh (.glb)")->required();
     cmd->add_option("--model", model, "sparse model whose cameras render (PINHOLE)")->required();
     cmd->add_option("--images", images_dir, "folder of the model's photos")->required();
@@ -389,17 +370,15 @@ struct RenderCommand {
       r.j["alignment"] = alignment_json(*alignment, r.table);
       hos::eval::transform_mesh(object.mesh, alignment->truth_from_recovered);
     }
-    const hos::eval::RenderComparison c = hos::eval::compare_renders(
-        object, hos::read_colmap_model(model), images_dir, reporter, save_dir);
+    const hos::eval::RenderComparison c =
+        hos::eval::compare_renders(object, hos::read_colmap_model(model), images_dir, reporter, save_dir);
     r.j["mean_psnr"] = number(c.mean_psnr);
     r.j["mean_ssim"] = c.mean_ssim;
     r.j["skipped_views"] = c.skipped_views;
     r.j["views"] = json::array();
     for (const auto& v : c.views) {
-      r.j["views"].push_back({{"name", v.name},
-                              {"mask_pixels", v.mask_pixels},
-                              {"psnr", number(v.psnr)},
-                              {"ssim", v.ssim}});
+      r.j["views"].push_back(
+          {{"name", v.name}, {"mask_pixels", v.mask_pixels}, {"psnr", number(v.psnr)}, {"ssim", v.ssim}});
       r.table += row(v.name, "PSNR " + fmt(v.psnr, 4) + " dB  SSIM " + fmt(v.ssim, 4));
     }
     r.table += row("mean", "PSNR " + fmt(c.mean_psnr, 4) + " dB  SSIM " + fmt(c.mean_ssim, 4));

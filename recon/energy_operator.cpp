@@ -14,14 +14,7 @@ namespace {
 // all taps. nx < 0: every i + ox[t] is inside the row; otherwise taps beyond
 // [0, nx) read ghost nodes (zero) and are skipped.
 template <typename T>
-void add_taps(int count,
-              const int* ox,
-              const T* c,
-              const T* src,
-              int begin,
-              int end,
-              int nx,
-              T* __restrict row) {
+void add_taps(int count, const int* ox, const T* c, const T* src, int begin, int end, int nx, T* __restrict row) {
   if (nx >= 0) {
     for (int t = 0; t < count; ++t) {
       const int i0 = std::max(begin, -ox[t]), i1 = std::min(end, nx - ox[t]);
@@ -78,8 +71,7 @@ EnergyOperator::EnergyOperator(const GridGeometry& geometry,
 
 void EnergyOperator::set_active(std::shared_ptr<const ActiveNodes> active) {
   if (!tv_node_weights_.empty() && !active->is_all()) {
-    throw std::invalid_argument(
-        "EnergyOperator: the total-variation term covers the whole grid only");
+    throw std::invalid_argument("EnergyOperator: the total-variation term covers the whole grid only");
   }
   active_ = std::move(active);
 }
@@ -94,8 +86,7 @@ void EnergyOperator::for_each_span(const T* x, SpanFn&& span_fn) const {
   // (4): 13 rows of 1, 3 or 5 taps instead of 25 passes).
   std::vector<std::array<T, 5>> row_coefficients(stencil_rows_.size());
   for (std::size_t r = 0; r < stencil_rows_.size(); ++r) {
-    for (int q = 0; q < stencil_rows_[r].count; ++q)
-      row_coefficients[r][q] = static_cast<T>(stencil_rows_[r].c[q]);
+    for (int q = 0; q < stencil_rows_[r].count; ++q) row_coefficients[r][q] = static_cast<T>(stencil_rows_[r].c[q]);
   }
   const bool tv = !tv_node_weights_.empty();
   const double tv_scale = tv_weight_ / (g.spacing * g.spacing);
@@ -122,8 +113,7 @@ void EnergyOperator::for_each_span(const T* x, SpanFn&& span_fn) const {
         const StencilRow& taps = stencil_rows_[r];
         const T* src = x_row(taps.dy, taps.dz);
         if (!src) continue;
-        add_taps(taps.count, taps.ox.data(), row_coefficients[r].data(), src, b, e, inner ? -1 : nx,
-                 row);
+        add_taps(taps.count, taps.ox.data(), row_coefficients[r].data(), src, b, e, inner ? -1 : nx, row);
       }
       // Storage index of node i of this span: start + i.
       const std::int64_t start = span.first - b;
@@ -164,9 +154,7 @@ void EnergyOperator::apply(const std::vector<double>& x, std::vector<double>& y)
 
 template <typename T>
 void EnergyOperator::apply(const T* x, T* y) const {
-  for_each_span(x, [&](std::int64_t start, int b, int e, const T* ax) {
-    std::copy(ax + b, ax + e, y + start + b);
-  });
+  for_each_span(x, [&](std::int64_t start, int b, int e, const T* ax) { std::copy(ax + b, ax + e, y + start + b); });
 }
 
 template <typename T>
@@ -191,10 +179,7 @@ template void EnergyOperator::apply<double>(const double*, double*) const;
 template void EnergyOperator::residual<float>(const float*, const float*, float*) const;
 template void EnergyOperator::residual<double>(const double*, const double*, double*) const;
 template void EnergyOperator::jacobi<float>(const float*, const float*, const float*, float*) const;
-template void EnergyOperator::jacobi<double>(const double*,
-                                             const double*,
-                                             const double*,
-                                             double*) const;
+template void EnergyOperator::jacobi<double>(const double*, const double*, const double*, double*) const;
 
 void EnergyOperator::scale_screening(double factor) {
   auto scaled = std::make_shared<ScreeningTerm>(*screening_);
@@ -202,8 +187,7 @@ void EnergyOperator::scale_screening(double factor) {
   screening_ = std::move(scaled);
 }
 
-void EnergyOperator::set_screening(std::shared_ptr<const std::vector<Eigen::Vector3f>> points,
-                                   double weight) {
+void EnergyOperator::set_screening(std::shared_ptr<const std::vector<Eigen::Vector3f>> points, double weight) {
   screening_points_ = std::move(points);
   screening_ = screening_points_ && weight > 0.0
                    ? std::make_shared<const ScreeningTerm>(geometry_, *screening_points_, weight)
@@ -234,10 +218,8 @@ void EnergyOperator::l1_diagonals(T* l1) const {
   const int ny = geometry_.dims.y();
   for_each_active_span(*active_, [&](const NodeSpan& span) {
     const std::int64_t start = span.first - span.begin;  // node i at start + i
-    for (int i = span.begin; i < span.end; ++i)
-      l1[start + i] = static_cast<T>(l1_diagonal(start + i));
-    screening_->add_row_sums(std::int64_t{span.k} * ny + span.j, span.begin, span.end, 1.0,
-                             l1 + start);
+    for (int i = span.begin; i < span.end; ++i) l1[start + i] = static_cast<T>(l1_diagonal(start + i));
+    screening_->add_row_sums(std::int64_t{span.k} * ny + span.j, span.begin, span.end, 1.0, l1 + start);
   });
 }
 

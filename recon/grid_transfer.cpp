@@ -93,8 +93,7 @@ void prolongate_add_spans(const GridGeometry& coarse,
       }
       T* dst = x + (span.first - span.begin);  // dst[i]: node i of the span
       for (int i = span.begin; i < span.end; ++i) {
-        dst[i] += static_cast<T>(i % 2 == 1 ? line[(i - 1) / 2 + 1]
-                                            : 0.5 * (line[i / 2] + line[i / 2 + 1]));
+        dst[i] += static_cast<T>(i % 2 == 1 ? line[(i - 1) / 2 + 1] : 0.5 * (line[i / 2] + line[i / 2 + 1]));
       }
     }
   }
@@ -120,46 +119,28 @@ void prolongate_add_to_stored(const GridGeometry& coarse,
                        fine_nodes.storage_size(), x);
 }
 
-template void restrict_to_coarse<float>(const GridGeometry&,
-                                        const ActiveNodes&,
-                                        const float*,
-                                        const GridGeometry&,
-                                        const ActiveNodes&,
-                                        float*);
-template void restrict_to_coarse<double>(const GridGeometry&,
-                                         const ActiveNodes&,
-                                         const double*,
-                                         const GridGeometry&,
-                                         const ActiveNodes&,
-                                         double*);
-template void prolongate_add<float>(const GridGeometry&,
-                                    const ActiveNodes&,
-                                    const float*,
-                                    const GridGeometry&,
-                                    const ActiveNodes&,
-                                    float*);
-template void prolongate_add<double>(const GridGeometry&,
-                                     const ActiveNodes&,
-                                     const double*,
-                                     const GridGeometry&,
-                                     const ActiveNodes&,
-                                     double*);
+template void restrict_to_coarse<float>(
+    const GridGeometry&, const ActiveNodes&, const float*, const GridGeometry&, const ActiveNodes&, float*);
+template void restrict_to_coarse<double>(
+    const GridGeometry&, const ActiveNodes&, const double*, const GridGeometry&, const ActiveNodes&, double*);
+template void prolongate_add<float>(
+    const GridGeometry&, const ActiveNodes&, const float*, const GridGeometry&, const ActiveNodes&, float*);
+template void prolongate_add<double>(
+    const GridGeometry&, const ActiveNodes&, const double*, const GridGeometry&, const ActiveNodes&, double*);
 
 void restrict_to_coarse(const GridGeometry& fine,
                         const std::vector<double>& r,
                         const GridGeometry& coarse,
                         std::vector<double>& rc) {
   assign_large(rc, coarse.num_nodes());
-  restrict_to_coarse(fine, ActiveNodes::all(fine), r.data(), coarse, ActiveNodes::all(coarse),
-                     rc.data());
+  restrict_to_coarse(fine, ActiveNodes::all(fine), r.data(), coarse, ActiveNodes::all(coarse), rc.data());
 }
 
 void prolongate_add(const GridGeometry& coarse,
                     const std::vector<double>& ec,
                     const GridGeometry& fine,
                     std::vector<double>& x) {
-  prolongate_add(coarse, ActiveNodes::all(coarse), ec.data(), fine, ActiveNodes::all(fine),
-                 x.data());
+  prolongate_add(coarse, ActiveNodes::all(coarse), ec.data(), fine, ActiveNodes::all(fine), x.data());
 }
 
 }  // namespace hos::recon

@@ -41,13 +41,10 @@ constexpr double kChebyshevRatio = 10.0;
 
 }  // namespace
 
-MultigridPreconditioner::MultigridPreconditioner(const EnergyOperator& fine,
-                                                 int max_levels,
-                                                 int smoothing_steps)
+MultigridPreconditioner::MultigridPreconditioner(const EnergyOperator& fine, int max_levels, int smoothing_steps)
     : smoothing_steps_(smoothing_steps) {
   std::vector<EnergyOperator> ops{fine};
-  while ((max_levels <= 0 || static_cast<int>(ops.size()) < max_levels) &&
-         ops.back().geometry().can_coarsen(3)) {
+  while ((max_levels <= 0 || static_cast<int>(ops.size()) < max_levels) && ops.back().geometry().can_coarsen(3)) {
     ops.push_back(ops.back().coarsened());
   }
   for (auto& op : ops) {
@@ -89,8 +86,7 @@ void MultigridPreconditioner::smooth(const Level& l, int degree, bool from_zero)
       continue;
     }
     const double rho_next = 1.0 / (2.0 * sigma - rho);
-    const float keep = static_cast<float>(rho_next * rho),
-                a = static_cast<float>(2.0 * rho_next / delta);
+    const float keep = static_cast<float>(rho_next * rho), a = static_cast<float>(2.0 * rho_next / delta);
     rho = rho_next;
     for_each_active_range(active, [&](std::int64_t first, std::int64_t last) {
       for (std::int64_t i = first; i < last; ++i) {
@@ -125,11 +121,9 @@ void MultigridPreconditioner::v_cycle(int level) const {
   smooth(l, smoothing_steps_, true);
   l.op.residual(l.b.data(), l.x.data(), l.scratch.data());
   const Level& c = levels_[level + 1];
-  restrict_to_coarse(l.op.geometry(), l.op.active(), l.scratch.data(), c.op.geometry(),
-                     c.op.active(), c.b.data());
+  restrict_to_coarse(l.op.geometry(), l.op.active(), l.scratch.data(), c.op.geometry(), c.op.active(), c.b.data());
   v_cycle(level + 1);
-  prolongate_add(c.op.geometry(), c.op.active(), c.x.data(), l.op.geometry(), l.op.active(),
-                 l.x.data());
+  prolongate_add(c.op.geometry(), c.op.active(), c.x.data(), l.op.geometry(), l.op.active(), l.x.data());
   smooth(l, smoothing_steps_, false);
 }
 
@@ -157,13 +151,11 @@ SolveReport solve_linear_system(const EnergyOperator& op,
   SolveReport report;
   const std::size_t n = b.size();
   if (static_cast<std::int64_t>(n) != op.active().storage_size()) {
-    throw std::invalid_argument("solve_linear_system: the right-hand side has " +
-                                std::to_string(n) + " values, the operator's layout " +
-                                std::to_string(op.active().storage_size()));
+    throw std::invalid_argument("solve_linear_system: the right-hand side has " + std::to_string(n) +
+                                " values, the operator's layout " + std::to_string(op.active().storage_size()));
   }
   x.resize(n, 0.0);
-  const MultigridPreconditioner multigrid(op, options.multigrid ? options.max_levels : 1,
-                                          options.smoothing_steps);
+  const MultigridPreconditioner multigrid(op, options.multigrid ? options.max_levels : 1, options.smoothing_steps);
   report.levels = multigrid.num_levels();
   ZeroedArray<double> inv_l1;
   if (!options.multigrid) {
@@ -214,18 +206,16 @@ SolveReport solve_linear_system(const EnergyOperator& op,
     }
   }
   precondition(r, z);
-  for_active(
-      [&](std::int64_t first, std::int64_t last) { std::copy(z + first, z + last, p + first); });
+  for_active([&](std::int64_t first, std::int64_t last) { std::copy(z + first, z + last, p + first); });
   double rz = dot(op, r, z);
   report.relative_residual = std::sqrt(dot(op, r, r)) / b_norm;
-  for (int it = 0; it < options.max_iterations && report.relative_residual > options.tolerance;
-       ++it) {
+  for (int it = 0; it < options.max_iterations && report.relative_residual > options.tolerance; ++it) {
     reporter.throw_if_cancelled();
     op.apply(p, ap);
     const double pap = dot(op, p, ap);
     if (!(pap > 0.0) || !std::isfinite(pap)) {
-      throw NumericalError("recon", "conjugate gradients lost positive definiteness (p'Ap = " +
-                                        std::to_string(pap) + ")");
+      throw NumericalError("recon",
+                           "conjugate gradients lost positive definiteness (p'Ap = " + std::to_string(pap) + ")");
     }
     const double alpha = rz / pap;
     axpy(op, alpha, p, x.data());
@@ -236,8 +226,7 @@ SolveReport solve_linear_system(const EnergyOperator& op,
     if (!std::isfinite(report.relative_residual)) {
       throw NumericalError("recon", "the solver diverged (residual is not finite)");
     }
-    reporter.debug(format_message("recon: CG iteration ", it + 1, " relative residual ",
-                                  report.relative_residual));
+    reporter.debug(format_message("recon: CG iteration ", it + 1, " relative residual ", report.relative_residual));
     if (report.relative_residual <= options.tolerance) break;
     // Flexible (Polak-Ribiere) beta = r' (z_new - z_old) / r_old' z_old: it
     // keeps CG convergent with the slightly nonlinear single-precision V-cycle.

@@ -22,14 +22,10 @@ namespace hos::recon {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // The reference length that makes lambda resolution independent (see ReconOptions).
-double reference_length(const GridGeometry& g) {
-  return g.spacing * static_cast<double>(g.dims.maxCoeff() + 1) / 50.0;
-}
+double reference_length(const GridGeometry& g) { return g.spacing * static_cast<double>(g.dims.maxCoeff() + 1) / 50.0; }
 
 // Per-node IRLS weights 1 / sqrt(|grad f|^2 + eps^2) of the TV energy (2).
 std::vector<double> tv_weights(const ScalarGrid& f, double eps) {
@@ -85,8 +81,7 @@ double coarse_isovalue(const EnergyOperator& fine,
   while (ops.size() < 3 && ops.back().geometry().can_coarsen(3)) {
     ops.push_back(ops.back().coarsened());
     std::vector<double> rc;
-    restrict_to_coarse(ops[ops.size() - 2].geometry(), ops.size() == 2 ? rhs : coarse_rhs,
-                       ops.back().geometry(), rc);
+    restrict_to_coarse(ops[ops.size() - 2].geometry(), ops.size() == 2 ? rhs : coarse_rhs, ops.back().geometry(), rc);
     coarse_rhs = std::move(rc);
   }
   if (ops.size() == 1) coarse_rhs = rhs;
@@ -94,8 +89,7 @@ double coarse_isovalue(const EnergyOperator& fine,
   SolverOptions so = solver;
   so.tolerance = std::max(solver.tolerance, 1e-4);
   const SolveReport report = solve_linear_system(ops.back(), coarse_rhs, x, so, reporter);
-  reporter.debug(format_message("recon: coarse unscreened solve, ", report.iterations,
-                                " CG iterations, ",
+  reporter.debug(format_message("recon: coarse unscreened solve, ", report.iterations, " CG iterations, ",
                                 report.seconds_setup + report.seconds_iterations, " s"));
   ScalarGrid coarse(ops.back().geometry());
   coarse.values = x;
@@ -136,17 +130,15 @@ std::int64_t solve_with_bands(EnergyOperator& op,
                               SolveFn&& solve) {
   const GridGeometry& g = op.geometry();
   const auto t_band = Clock::now();
-  const std::shared_ptr<const ActiveNodes> band =
-      x_level > 0 ? worthwhile_band(g, points, band_voxels) : nullptr;
+  const std::shared_ptr<const ActiveNodes> band = x_level > 0 ? worthwhile_band(g, points, band_voxels) : nullptr;
   reporter.debug(format_message("recon: band construction ", seconds_since(t_band), " s"));
   if (!band) {
     prolongate_levels(g, x_level, x);
     solve(op, rhs, x);
     return 0;
   }
-  reporter.info(format_message("recon: band of ", band->count(), " nodes (",
-                               100.0 * band->count() / g.num_nodes(), "% of the ", g.dims.x(), "x",
-                               g.dims.y(), "x", g.dims.z(), " grid)"));
+  reporter.info(format_message("recon: band of ", band->count(), " nodes (", 100.0 * band->count() / g.num_nodes(),
+                               "% of the ", g.dims.x(), "x", g.dims.y(), "x", g.dims.z(), " grid)"));
   // The band's right-hand side in its compact layout, then the grid-sized one
   // is freed before any solver array exists (the peak memory).
   std::vector<double> band_rhs(band->storage_size()), band_x(band->storage_size());
@@ -156,8 +148,7 @@ std::int64_t solve_with_bands(EnergyOperator& op,
     std::vector<double> coarse_rhs;
     restrict_to_coarse(g, rhs, coarse.geometry(), coarse_rhs);
     rhs = std::vector<double>{};
-    solve_with_bands(coarse, std::move(coarse_rhs), points, band_voxels, x_level - 1, x, reporter,
-                     solve);
+    solve_with_bands(coarse, std::move(coarse_rhs), points, band_voxels, x_level - 1, x, reporter, solve);
   }
   // The band's unknowns; its halo holds the coarse solution, fixed. The
   // grid-sized solution is made after the band's solver arrays are freed.
@@ -170,8 +161,7 @@ std::int64_t solve_with_bands(EnergyOperator& op,
   t_transfer = Clock::now();
   prolongate_levels(g, 1, x);
   band->scatter_active(band_x.data(), x.data());
-  reporter.debug(
-      format_message("recon: band result to the grid ", seconds_since(t_transfer), " s"));
+  reporter.debug(format_message("recon: band result to the grid ", seconds_since(t_transfer), " s"));
   return band->count();
 }
 
@@ -202,21 +192,17 @@ OrientedSamples usable_samples(const PointCloud& input,
     }
   }
   if (stats.num_samples_dropped > 0) {
-    reporter.warn(format_message("recon: ", stats.num_samples_dropped,
-                                 " points without a usable normal were ignored"));
+    reporter.warn(format_message("recon: ", stats.num_samples_dropped, " points without a usable normal were ignored"));
   }
   stats.num_samples = out.points.size();
   return out;
 }
 
 // The right-hand side of A f = -div F for the orientation field F (sec. 4.1).
-ScalarGrid orientation_rhs(const GridGeometry& grid,
-                           const OrientedSamples& samples,
-                           const ReconOptions& options) {
+ScalarGrid orientation_rhs(const GridGeometry& grid, const OrientedSamples& samples, const ReconOptions& options) {
   if (options.uniform_flux) {
-    return density_scaled_rhs(grid, samples.points, samples.normals, samples.weights,
-                              options.filter_passes, options.direction_filter_passes,
-                              options.filter_passes);
+    return density_scaled_rhs(grid, samples.points, samples.normals, samples.weights, options.filter_passes,
+                              options.direction_filter_passes, options.filter_passes);
   }
   VectorGrid field = splat_normals(grid, samples.points, samples.normals, samples.weights);
   box_filter(field, options.filter_passes);
@@ -239,12 +225,11 @@ void solve_and_report(const EnergyOperator& op,
   stats.relative_residual = report.relative_residual;
   reporter.info(format_message("recon: ", report.iterations, " CG iterations, ", report.levels,
                                " multigrid levels, relative residual ", report.relative_residual));
-  reporter.debug(format_message("recon: solver setup ", report.seconds_setup, " s, iterations ",
-                                report.seconds_iterations, " s"));
+  reporter.debug(
+      format_message("recon: solver setup ", report.seconds_setup, " s, iterations ", report.seconds_iterations, " s"));
   if (!report.converged) {
-    reporter.warn(format_message("recon: the solver stopped at relative residual ",
-                                 report.relative_residual, " above the tolerance ", so.tolerance,
-                                 "; raise recon.solver.max_iterations"));
+    reporter.warn(format_message("recon: the solver stopped at relative residual ", report.relative_residual,
+                                 " above the tolerance ", so.tolerance, "; raise recon.solver.max_iterations"));
   }
 }
 
@@ -257,8 +242,8 @@ void solve_total_variation(const GridGeometry& grid,
                            ReconStats& stats,
                            Reporter& reporter) {
   const SolverOptions& solver = options.solver;
-  solve_and_report(EnergyOperator(grid, SmoothnessEnergy::kTotalVariation, 0.0), rhs, f.values,
-                   solver, stats, reporter);
+  solve_and_report(EnergyOperator(grid, SmoothnessEnergy::kTotalVariation, 0.0), rhs, f.values, solver, stats,
+                   reporter);
   const double eps = 0.01 / ((1.0 + options.filter_passes) * grid.spacing);
   for (int round = 0; round < solver.tv_iterations; ++round) {
     reporter.throw_if_cancelled();
@@ -287,8 +272,8 @@ void add_screening(EnergyOperator& op,
   op.set_screening(std::make_shared<const std::vector<Eigen::Vector3f>>(points), 1.0);
   // Weighted so that at a typical surface node the term is screening
   // times the Laplacian's scale 1 / h^2, at any resolution and density.
-  op.scale_screening(options.screening / (grid.spacing * grid.spacing *
-                                          std::max(op.screening().mean_row_sum(), 1e-12)));
+  op.scale_screening(options.screening /
+                     (grid.spacing * grid.spacing * std::max(op.screening().mean_row_sum(), 1e-12)));
   op.screening().add_target(target, rhs);
   reporter.debug(format_message("recon: screening term ", seconds_since(t_screening), " s"));
 }
@@ -304,8 +289,7 @@ void solve_quadratic(const GridGeometry& grid,
                      Reporter& reporter) {
   const SolverOptions& solver = options.solver;
   const double ell = reference_length(grid);
-  const double weight =
-      options.energy == SmoothnessEnergy::kMembrane ? options.lambda : options.lambda * ell * ell;
+  const double weight = options.energy == SmoothnessEnergy::kMembrane ? options.lambda : options.lambda * ell * ell;
   EnergyOperator op(grid, options.energy, weight);
   // The solve starts on the grid coarsened twice (see solve_with_bands).
   int x_level = solver.band_voxels > 0 ? 2 : 0;
@@ -319,11 +303,11 @@ void solve_quadratic(const GridGeometry& grid,
     x_level = levels;
     f.values.assign(start.num_nodes(), 0.0);
   }
-  stats.band_nodes = solve_with_bands(
-      op, std::move(rhs), points, solver.band_voxels, x_level, f.values, reporter,
-      [&](const EnergyOperator& o, const std::vector<double>& b, std::vector<double>& x) {
-        solve_and_report(o, b, x, solver, stats, reporter);
-      });
+  stats.band_nodes =
+      solve_with_bands(op, std::move(rhs), points, solver.band_voxels, x_level, f.values, reporter,
+                       [&](const EnergyOperator& o, const std::vector<double>& b, std::vector<double>& x) {
+                         solve_and_report(o, b, x, solver, stats, reporter);
+                       });
 }
 
 // Isovalue: mean of f at the samples (eq. 12), then the isosurface (sec. 4.4),
@@ -337,9 +321,8 @@ void extract_surface(const ScalarGrid& f,
   result.mesh = extract_isosurface(f, stats.isovalue);
   stats.faces_before_trim = result.mesh.faces.size();
   if (options.trim.enabled) {
-    const TrimReport trim = trim_far_from_samples(result.mesh, points,
-                                                  options.trim.distance_voxels * f.geometry.spacing,
-                                                  options.trim.min_component_fraction);
+    const TrimReport trim = trim_far_from_samples(
+        result.mesh, points, options.trim.distance_voxels * f.geometry.spacing, options.trim.min_component_fraction);
     stats.faces_trimmed = trim.faces_removed_far + trim.faces_removed_small;
   }
 }
@@ -349,8 +332,7 @@ void extract_surface(const ScalarGrid& f,
 void check_reconstructable(const PointCloud& points, const std::string& source) {
   points.check_consistent();
   if (points.size() < 4) {
-    throw InputError(
-        source, "has " + std::to_string(points.size()) + " points; a surface needs at least 4");
+    throw InputError(source, "has " + std::to_string(points.size()) + " points; a surface needs at least 4");
   }
   if (!points.has_normals()) {
     throw InputError(source,
@@ -374,14 +356,11 @@ GridGeometry make_domain(const BoundingBox& box, const ReconOptions& options, in
     const int nodes = std::max(8, static_cast<int>(std::ceil(side[a] / g.spacing)) + 1);
     g.dims[a] = admissible_dims(nodes, levels);
   }
-  g.origin = box.center().cast<double>() -
-             0.5 * g.spacing * (g.dims.cast<double>().array() - 1.0).matrix();
+  g.origin = box.center().cast<double>() - 0.5 * g.spacing * (g.dims.cast<double>().array() - 1.0).matrix();
   return g;
 }
 
-ReconResult reconstruct_surface(const PointCloud& input,
-                                const ReconOptions& options,
-                                Reporter& reporter) {
+ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& options, Reporter& reporter) {
   options.validate();
   check_reconstructable(input, "input points");
 #ifdef _OPENMP
@@ -399,9 +378,8 @@ ReconResult reconstruct_surface(const PointCloud& input,
   const GridGeometry grid = make_domain(box, options);
   stats.grid_dims = grid.dims;
   stats.voxel_size = grid.spacing;
-  reporter.info(format_message("recon: grid ", grid.dims.x(), "x", grid.dims.y(), "x",
-                               grid.dims.z(), ", voxel ", grid.spacing, ", ", points.size(),
-                               " samples"));
+  reporter.info(format_message("recon: grid ", grid.dims.x(), "x", grid.dims.y(), "x", grid.dims.z(), ", voxel ",
+                               grid.spacing, ", ", points.size(), " samples"));
   ScalarGrid rhs = orientation_rhs(grid, samples, options);
   reporter.end();
   stats.seconds_field = seconds_since(t_field);
@@ -430,9 +408,8 @@ ReconResult reconstruct_surface(const PointCloud& input,
   if (result.mesh.faces.empty()) {
     throw NumericalError("recon", "the isosurface is empty (the orientations may be inconsistent)");
   }
-  reporter.info(format_message("recon: isovalue ", stats.isovalue, ", ", result.mesh.num_vertices(),
-                               " vertices, ", result.mesh.num_faces(), " faces (",
-                               stats.faces_trimmed, " trimmed)"));
+  reporter.info(format_message("recon: isovalue ", stats.isovalue, ", ", result.mesh.num_vertices(), " vertices, ",
+                               result.mesh.num_faces(), " faces (", stats.faces_trimmed, " trimmed)"));
   return result;
 }
 

@@ -20,8 +20,7 @@ struct Sample {
 // corners, and every corner's compact index is found by a forward walk.
 struct CellSamples {
   std::vector<Sample> samples;
-  std::vector<std::size_t>
-      first_of_cell;  // samples of cell q: [first_of_cell[q], first_of_cell[q + 1])
+  std::vector<std::size_t> first_of_cell;  // samples of cell q: [first_of_cell[q], first_of_cell[q + 1])
 
   std::size_t num_cells() const { return first_of_cell.size() - 1; }
   std::int64_t cell_key(std::size_t q) const { return samples[first_of_cell[q]].cell; }
@@ -38,8 +37,7 @@ CellSamples sort_by_cell(const GridGeometry& g, const std::vector<Eigen::Vector3
     // Clamped to [-2, d]: a clamped cell has every corner outside the grid
     // along that axis, so cells that share a key touch the same nodes.
     const Eigen::Vector3i c = st.corner.cwiseMax(-2).cwiseMin(d);
-    samples[s] = {(std::int64_t{c.z() + 2} * (d.y() + 3) + c.y() + 2) * (d.x() + 3) + c.x() + 2, s,
-                  st.corner, st.frac};
+    samples[s] = {(std::int64_t{c.z() + 2} * (d.y() + 3) + c.y() + 2) * (d.x() + 3) + c.x() + 2, s, st.corner, st.frac};
   }
   __gnu_parallel::sort(samples.begin(), samples.end(), [](const Sample& a, const Sample& b) {
     return a.cell < b.cell || (a.cell == b.cell && a.input < b.input);
@@ -53,8 +51,8 @@ CellSamples sort_by_cell(const GridGeometry& g, const std::vector<Eigen::Vector3
 
 // The grid node of corner c (bits x, y, z) of cell q, or -1 outside the grid.
 std::int64_t corner_node(const GridGeometry& g, const CellSamples& cells, std::size_t q, int c) {
-  const Eigen::Vector3i p = cells.samples[cells.first_of_cell[q]].corner +
-                            Eigen::Vector3i(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+  const Eigen::Vector3i p =
+      cells.samples[cells.first_of_cell[q]].corner + Eigen::Vector3i(c & 1, (c >> 1) & 1, (c >> 2) & 1);
   return g.contains(p.x(), p.y(), p.z()) ? g.index(p.x(), p.y(), p.z()) : -1;
 }
 
@@ -68,8 +66,7 @@ std::vector<std::int64_t> touched_nodes(const GridGeometry& g, const CellSamples
       if (n >= 0) corner_list.push_back(n);
     }
     merged.resize(nodes.size() + corner_list.size());
-    merged.erase(std::set_union(nodes.begin(), nodes.end(), corner_list.begin(), corner_list.end(),
-                                merged.begin()),
+    merged.erase(std::set_union(nodes.begin(), nodes.end(), corner_list.begin(), corner_list.end(), merged.begin()),
                  merged.end());
     nodes.swap(merged);
   }
@@ -97,18 +94,16 @@ std::vector<std::array<std::int64_t, 8>> cell_corners(const GridGeometry& g,
 
 // Each touched node's 27 coefficients of weight * S^T S (offsets (-1..1)^3,
 // x fastest), contiguous in node order.
-std::vector<float> accumulate_coefficients(
-    const GridGeometry& g,
-    const CellSamples& cells,
-    const std::vector<std::array<std::int64_t, 8>>& cell_nodes,
-    std::size_t num_nodes,
-    double weight) {
+std::vector<float> accumulate_coefficients(const GridGeometry& g,
+                                           const CellSamples& cells,
+                                           const std::vector<std::array<std::int64_t, 8>>& cell_nodes,
+                                           std::size_t num_nodes,
+                                           double weight) {
   const Eigen::Vector3i d = g.dims;
   const std::size_t num_cells = cells.num_cells();
   // The cells of one plane of cells (one z) write node planes z and z + 1
   // only: planes of one parity run in parallel without write conflicts.
-  std::vector<std::size_t>
-      first_of_plane;  // cells of plane p: [first_of_plane[p], first_of_plane[p + 1])
+  std::vector<std::size_t> first_of_plane;  // cells of plane p: [first_of_plane[p], first_of_plane[p + 1])
   const std::int64_t cells_per_plane = std::int64_t{d.x() + 3} * (d.y() + 3);
   for (std::size_t q = 0; q < num_cells; ++q) {
     if (q == 0 || cells.cell_key(q) / cells_per_plane != cells.cell_key(q - 1) / cells_per_plane) {
@@ -148,14 +143,11 @@ std::vector<float> accumulate_coefficients(
 
 }  // namespace
 
-ScreeningTerm::ScreeningTerm(const GridGeometry& g,
-                             const std::vector<Eigen::Vector3f>& points,
-                             double weight)
+ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vector3f>& points, double weight)
     : geometry_(g), weight_(weight) {
   const CellSamples cells = sort_by_cell(g, points);
   const std::vector<std::int64_t> nodes = touched_nodes(g, cells);
-  coefficients_ =
-      accumulate_coefficients(g, cells, cell_corners(g, cells, nodes), nodes.size(), weight);
+  coefficients_ = accumulate_coefficients(g, cells, cell_corners(g, cells, nodes), nodes.size(), weight);
   index_runs(nodes);
 }
 
@@ -173,8 +165,7 @@ void ScreeningTerm::index_runs(const std::vector<std::int64_t>& nodes) {
     run.j = static_cast<int>((nodes[e] / d.x()) % d.y());
     run.k = static_cast<int>(nodes[e] / (std::int64_t{d.x()} * d.y()));
     run.coefficients = 27 * static_cast<std::int64_t>(e);
-    run.interior = run.j > 0 && run.j < d.y() - 1 && run.k > 0 && run.k < d.z() - 1 &&
-                   run.begin > 0 && run.end < d.x();
+    run.interior = run.j > 0 && run.j < d.y() - 1 && run.k > 0 && run.k < d.z() - 1 && run.begin > 0 && run.end < d.x();
     runs_.push_back(run);
     e = last;
   }
@@ -187,10 +178,8 @@ void ScreeningTerm::index_runs(const std::vector<std::int64_t>& nodes) {
   }
 }
 
-std::shared_ptr<const ScreeningTerm> ScreeningTerm::coarsened(
-    const std::vector<Eigen::Vector3f>& points) const {
-  if (!coarser_)
-    coarser_ = std::make_shared<const ScreeningTerm>(geometry_.coarsened(), points, weight_ / 8.0);
+std::shared_ptr<const ScreeningTerm> ScreeningTerm::coarsened(const std::vector<Eigen::Vector3f>& points) const {
+  if (!coarser_) coarser_ = std::make_shared<const ScreeningTerm>(geometry_.coarsened(), points, weight_ / 8.0);
   return coarser_;
 }
 

@@ -23,9 +23,7 @@ namespace hos::recon {
 class ScreeningTerm {
  public:
   ScreeningTerm() = default;
-  ScreeningTerm(const GridGeometry& geometry,
-                const std::vector<Eigen::Vector3f>& points,
-                double weight);
+  ScreeningTerm(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points, double weight);
   bool empty() const { return runs_.empty(); }
   double weight() const { return weight_; }
   // Adds weight * target * S^T 1 (the target's share of the right-hand side).
@@ -47,8 +45,7 @@ class ScreeningTerm {
   // begin <= i < end; x_rows[(dy + 1) + 3 (dz + 1)][i'] is x at node
   // (i', j + dy, k + dz), or null for a row outside the grid.
   template <typename T>
-  void add_row(
-      std::int64_t row, int begin, int end, const std::array<const T*, 9>& x_rows, T* y_row) const;
+  void add_row(std::int64_t row, int begin, int end, const std::array<const T*, 9>& x_rows, T* y_row) const;
 
  private:
   GridGeometry geometry_;
@@ -73,8 +70,7 @@ class ScreeningTerm {
 
 // Defined here so that the operator's row sweep inlines them.
 template <typename T>
-void ScreeningTerm::add_row_sums(
-    std::int64_t row, int begin, int end, double scale, T* y_row) const {
+void ScreeningTerm::add_row_sums(std::int64_t row, int begin, int end, double scale, T* y_row) const {
   if (runs_.empty()) return;
   for (std::int64_t e = row_begin_[row]; e < row_begin_[row + 1]; ++e) {
     const Run& run = runs_[e];

@@ -73,8 +73,8 @@ std::vector<StencilRow> Stencil::rows() const {
   std::vector<StencilRow> rows;
   for (std::size_t t = 0; t < offsets.size(); ++t) {
     const Eigen::Vector3i& o = offsets[t];
-    auto it = std::find_if(rows.begin(), rows.end(),
-                           [&](const StencilRow& r) { return r.dy == o.y() && r.dz == o.z(); });
+    auto it =
+        std::find_if(rows.begin(), rows.end(), [&](const StencilRow& r) { return r.dy == o.y() && r.dz == o.z(); });
     if (it == rows.end()) {
       it = rows.insert(rows.end(), StencilRow{});
       it->dy = o.y();

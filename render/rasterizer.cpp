@@ -21,9 +21,7 @@ namespace {
 
 constexpr double kNear = 1e-4;
 
-float srgb_to_linear(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
+float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 
 float linear_to_srgb(float c) {
   c = std::clamp(c, 0.0f, 1.0f);
@@ -140,9 +138,8 @@ std::vector<ScreenTriangle> setup_triangles(const std::vector<RenderObject>& obj
     face_offset += static_cast<int>(mesh.faces.size());
   }
   // Drop triangles entirely outside the image.
-  std::erase_if(tris, [&](const ScreenTriangle& t) {
-    return t.xmax < 0 || t.ymax < 0 || t.xmin > width || t.ymin > height;
-  });
+  std::erase_if(tris,
+                [&](const ScreenTriangle& t) { return t.xmax < 0 || t.ymax < 0 || t.xmin > width || t.ymin > height; });
   return tris;
 }
 
@@ -181,9 +178,7 @@ SampleBuffer rasterize(const std::vector<ScreenTriangle>& tris, int width, int h
         buf.z[idx] = z;
         buf.face[idx] = t.face;
         buf.object[idx] = t.object;
-        buf.bary[idx] = ((w0 * t.inv_z[0] * t.bary[0] + w1 * t.inv_z[1] * t.bary[1] +
-                          w2 * t.inv_z[2] * t.bary[2]) /
-                         iz)
+        buf.bary[idx] = ((w0 * t.inv_z[0] * t.bary[0] + w1 * t.inv_z[1] * t.bary[1] + w2 * t.inv_z[2] * t.bary[2]) / iz)
                             .cast<float>();
       });
     }
@@ -213,15 +208,12 @@ Eigen::Vector3f sample_texture(const cv::Mat& tex, const Eigen::Vector2f& uv) {
          fy * ((1 - fx) * texel(x0, y0 + 1) + fx * texel(x0 + 1, y0 + 1));
 }
 
-Eigen::Vector3f albedo_at(const RenderObject& obj,
-                          int f,
-                          const Eigen::Vector3f& b,
-                          const Eigen::Vector3f& x_world) {
+Eigen::Vector3f albedo_at(const RenderObject& obj, int f, const Eigen::Vector3f& b, const Eigen::Vector3f& x_world) {
   const Material& m = obj.material;
   const Eigen::Vector3i& F = obj.mesh.faces[f];
   if (!m.textures.empty()) {
-    const Eigen::Vector2f uv = b[0] * m.corner_uvs[3 * f] + b[1] * m.corner_uvs[3 * f + 1] +
-                               b[2] * m.corner_uvs[3 * f + 2];
+    const Eigen::Vector2f uv =
+        b[0] * m.corner_uvs[3 * f] + b[1] * m.corner_uvs[3 * f + 1] + b[2] * m.corner_uvs[3 * f + 2];
     const int ti = m.face_texture.empty() ? 0 : m.face_texture[f];
     return sample_texture(m.textures[ti], uv);
   }
@@ -241,8 +233,7 @@ Eigen::Vector3f albedo_at(const RenderObject& obj,
 Eigen::Vector3f normal_at(const TriangleMesh& mesh, int f, const Eigen::Vector3f& b) {
   const Eigen::Vector3i& F = mesh.faces[f];
   if (!mesh.normals.empty()) {
-    const Eigen::Vector3f n =
-        b[0] * mesh.normals[F[0]] + b[1] * mesh.normals[F[1]] + b[2] * mesh.normals[F[2]];
+    const Eigen::Vector3f n = b[0] * mesh.normals[F[0]] + b[1] * mesh.normals[F[1]] + b[2] * mesh.normals[F[2]];
     if (n.squaredNorm() > 1e-20f) return n.normalized();
   }
   const Eigen::Vector3f n =
@@ -250,13 +241,9 @@ Eigen::Vector3f normal_at(const TriangleMesh& mesh, int f, const Eigen::Vector3f
   return n.squaredNorm() > 0 ? n.normalized() : Eigen::Vector3f::UnitZ();
 }
 
-void validate_inputs(const std::vector<RenderObject>& objects,
-                     const Camera& camera,
-                     const RenderOptions& options) {
-  if (camera.width <= 0 || camera.height <= 0)
-    throw std::invalid_argument("render_view: empty camera");
-  if (options.supersampling < 1)
-    throw std::invalid_argument("render_view: supersampling must be >= 1");
+void validate_inputs(const std::vector<RenderObject>& objects, const Camera& camera, const RenderOptions& options) {
+  if (camera.width <= 0 || camera.height <= 0) throw std::invalid_argument("render_view: empty camera");
+  if (options.supersampling < 1) throw std::invalid_argument("render_view: supersampling must be >= 1");
   for (const RenderObject& o : objects) {
     const Material& m = o.material;
     if (m.textures.empty()) continue;
@@ -303,8 +290,8 @@ RenderedView render_view(const std::vector<RenderObject>& objects,
     const RenderObject& obj = objects[object];
     const int f = lookup.local(object, face);
     const Eigen::Vector3i& F = obj.mesh.faces[f];
-    const Eigen::Vector3f x = b[0] * obj.mesh.vertices[F[0]] + b[1] * obj.mesh.vertices[F[1]] +
-                              b[2] * obj.mesh.vertices[F[2]];
+    const Eigen::Vector3f x =
+        b[0] * obj.mesh.vertices[F[0]] + b[1] * obj.mesh.vertices[F[1]] + b[2] * obj.mesh.vertices[F[2]];
     Eigen::Vector3f c = albedo_at(obj, f, b, x);
     if (!options.lighting.unlit) {
       Eigen::Vector3f n = normal_at(obj.mesh, f, b);
@@ -317,8 +304,7 @@ RenderedView render_view(const std::vector<RenderObject>& objects,
 
   RenderedView view;
   // Geometry at the pixel centres.
-  const SampleBuffer centre =
-      rasterize(setup_triangles(objects, frame, 1.0f, options.cull_back_faces, W, H), W, H);
+  const SampleBuffer centre = rasterize(setup_triangles(objects, frame, 1.0f, options.cull_back_faces, W, H), W, H);
   view.depth = cv::Mat(H, W, CV_32F, cv::Scalar(0));
   view.mask = cv::Mat(H, W, CV_8U, cv::Scalar(0));
   view.normal = cv::Mat(H, W, CV_32FC3, cv::Scalar::all(0));
@@ -333,8 +319,7 @@ RenderedView render_view(const std::vector<RenderObject>& objects,
       view.face_id.at<int>(y, x) = centre.face[i];
       view.object_id.at<int>(y, x) = centre.object[i];
       const int o = centre.object[i];
-      const Eigen::Vector3f n =
-          normal_at(objects[o].mesh, lookup.local(o, centre.face[i]), centre.bary[i]);
+      const Eigen::Vector3f n = normal_at(objects[o].mesh, lookup.local(o, centre.face[i]), centre.bary[i]);
       view.normal.at<cv::Vec3f>(y, x) = cv::Vec3f(n.x(), n.y(), n.z());
     }
   }
@@ -343,8 +328,7 @@ RenderedView render_view(const std::vector<RenderObject>& objects,
   SampleBuffer super;
   const SampleBuffer* samples = &centre;
   if (s > 1) {
-    super = rasterize(setup_triangles(objects, frame, static_cast<float>(s),
-                                      options.cull_back_faces, W * s, H * s),
+    super = rasterize(setup_triangles(objects, frame, static_cast<float>(s), options.cull_back_faces, W * s, H * s),
                       W * s, H * s);
     samples = &super;
   }
@@ -356,11 +340,8 @@ RenderedView render_view(const std::vector<RenderObject>& objects,
       Eigen::Vector3f sum = Eigen::Vector3f::Zero();
       for (int sy = 0; sy < s; ++sy) {
         for (int sx = 0; sx < s; ++sx) {
-          const std::size_t i =
-              static_cast<std::size_t>(y * s + sy) * samples->width + (x * s + sx);
-          sum += samples->face[i] < 0
-                     ? background
-                     : shade(samples->object[i], samples->face[i], samples->bary[i]);
+          const std::size_t i = static_cast<std::size_t>(y * s + sy) * samples->width + (x * s + sx);
+          sum += samples->face[i] < 0 ? background : shade(samples->object[i], samples->face[i], samples->bary[i]);
         }
       }
       sum /= static_cast<float>(s * s);

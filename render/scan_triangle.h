@@ -17,12 +17,8 @@ struct PixelRange {
 // double) is the precision of the edge functions. A centre on an edge shared
 // by two triangles is visited for both; the caller's depth test decides.
 template <typename Point, typename Scalar, typename Visit>
-void scan_triangle(const Point& a,
-                   const Point& b,
-                   const Point& c,
-                   Scalar inv_area,
-                   const PixelRange& range,
-                   Visit&& visit) {
+void scan_triangle(
+    const Point& a, const Point& b, const Point& c, Scalar inv_area, const PixelRange& range, Visit&& visit) {
   for (int y = range.y0; y <= range.y1; ++y) {
     const Scalar py = static_cast<Scalar>(y) + Scalar(0.5);
     for (int x = range.x0; x <= range.x1; ++x) {

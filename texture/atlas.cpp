@@ -8,15 +8,11 @@
 
 namespace hos::texture {
 
-std::vector<int> pack_shelves(std::vector<Rect>& rects,
-                              int page_width,
-                              int page_height,
-                              int* num_pages) {
+std::vector<int> pack_shelves(std::vector<Rect>& rects, int page_width, int page_height, int* num_pages) {
   std::vector<int> order(rects.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    return rects[a].height != rects[b].height ? rects[a].height > rects[b].height
-                                              : rects[a].width > rects[b].width;
+    return rects[a].height != rects[b].height ? rects[a].height > rects[b].height : rects[a].width > rects[b].width;
   });
   std::vector<int> page(rects.size(), 0);
   int current = 0, shelf_y = 0, shelf_height = 0, cursor_x = 0;
@@ -59,12 +55,8 @@ struct ChartFrame {
 // Marks texels whose centre lies in the triangle (texel coordinates) and
 // calls fill(x, y, barycentric) for each.
 template <typename Fill>
-void raster_triangle(const Eigen::Vector2d& a,
-                     const Eigen::Vector2d& b,
-                     const Eigen::Vector2d& c,
-                     int width,
-                     int height,
-                     Fill&& fill) {
+void raster_triangle(
+    const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c, int width, int height, Fill&& fill) {
   const double area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
   if (std::abs(area) < 1e-12) return;
   const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}) - 0.5)));
@@ -114,9 +106,7 @@ void dilate(cv::Mat& page, cv::Mat& filled, int rings) {
 }
 
 cv::Vec3b to_bgr(const Eigen::Vector3f& rgb) {
-  auto clamp8 = [](float v) {
-    return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
-  };
+  auto clamp8 = [](float v) { return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L)); };
   return cv::Vec3b(clamp8(rgb.z()), clamp8(rgb.y()), clamp8(rgb.x()));
 }
 
@@ -196,10 +186,7 @@ Packing pack_charts(std::vector<ChartFrame>& frames, int num_flat, const Texture
 
 // Black pages cropped in height to what the packing uses, and their
 // (empty) masks of filled texels.
-void allocate_pages(const Packing& packing,
-                    int page_size,
-                    Atlas& atlas,
-                    std::vector<cv::Mat>& filled) {
+void allocate_pages(const Packing& packing, int page_size, Atlas& atlas, std::vector<cv::Mat>& filled) {
   std::vector<int> used_height(packing.num_pages, 1);
   for (std::size_t i = 0; i < packing.rects.size(); ++i) {
     const Rect& r = packing.rects[i];
@@ -251,10 +238,7 @@ struct AtlasSources {
 };
 
 // The seam edges of local face local_face of chart c (at most 3).
-int find_seam_edges(const AtlasSources& src,
-                    int c,
-                    std::size_t local_face,
-                    std::array<SeamEdge, 3>& seams) {
+int find_seam_edges(const AtlasSources& src, int c, std::size_t local_face, std::array<SeamEdge, 3>& seams) {
   const std::vector<Chart>& charts = src.charts;
   const Eigen::Vector3i& face = charts[c].local_faces[local_face];
   const int mesh_face = charts[c].faces[local_face];
@@ -275,8 +259,7 @@ int find_seam_edges(const AtlasSources& src,
     SeamEdge seam{k, other, Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
     for (int cc = 0; cc < 3; ++cc) {
       const int v = charts[other].vertices[other_face[cc]];
-      if (v == charts[c].vertices[face[k]])
-        seam.offset_a = src.leveling.offsets[other][other_face[cc]];
+      if (v == charts[c].vertices[face[k]]) seam.offset_a = src.leveling.offsets[other][other_face[cc]];
       if (v == charts[c].vertices[face[(k + 1) % 3]]) {
         seam.offset_b = src.leveling.offsets[other][other_face[cc]];
       }
@@ -305,8 +288,7 @@ Eigen::Vector3f blend_across_seams(const AtlasSources& src,
   for (int k = 0; k < num_seams; ++k) {
     const Eigen::Vector2d& a = texel[face[seams[k].corner]];
     const Eigen::Vector2d& b = texel[face[(seams[k].corner + 1) % 3]];
-    const double t =
-        std::clamp((centre - a).dot(b - a) / std::max(1e-12, (b - a).squaredNorm()), 0.0, 1.0);
+    const double t = std::clamp((centre - a).dot(b - a) / std::max(1e-12, (b - a).squaredNorm()), 0.0, 1.0);
     const double d = (centre - (a + t * (b - a))).norm();
     if (d < best) {
       best = d;
@@ -324,8 +306,7 @@ Eigen::Vector3f blend_across_seams(const AtlasSources& src,
   if (p.z() <= 0.0) return rgb;
   const Eigen::Vector3f other =
       src.gains[other_view].cwiseProduct(sample_rgb(src.views[other_view].image, p.x(), p.y())) +
-      static_cast<float>(1.0 - along) * nearest->offset_a +
-      static_cast<float>(along) * nearest->offset_b;
+      static_cast<float>(1.0 - along) * nearest->offset_a + static_cast<float>(along) * nearest->offset_b;
   const float t = static_cast<float>(0.5 * (1.0 - best / blend_width));
   return (1.0f - t) * rgb + t * other;
 }
@@ -350,8 +331,8 @@ void fill_chart(const AtlasSources& src,
   uvs.resize(frame.pixels.size());
   for (std::size_t i = 0; i < frame.pixels.size(); ++i) {
     texel[i] = origin + (frame.pixels[i] - frame.min) * frame.scale;
-    uvs[i] = Eigen::Vector2f(static_cast<float>(texel[i].x() / image.cols),
-                             static_cast<float>(texel[i].y() / image.rows));
+    uvs[i] =
+        Eigen::Vector2f(static_cast<float>(texel[i].x() / image.cols), static_cast<float>(texel[i].y() / image.rows));
   }
   const auto& offsets = src.leveling.offsets[c];
   for (std::size_t local_face = 0; local_face < chart.local_faces.size(); ++local_face) {
@@ -366,10 +347,9 @@ void fill_chart(const AtlasSources& src,
                       const Eigen::Vector3f offset = static_cast<float>(w[0]) * offsets[face[0]] +
                                                      static_cast<float>(w[1]) * offsets[face[1]] +
                                                      static_cast<float>(w[2]) * offsets[face[2]];
-                      const Eigen::Vector3f rgb =
-                          gain.cwiseProduct(sample_rgb(view.image, q.x(), q.y())) + offset;
-                      image.at<cv::Vec3b>(y, x) = to_bgr(blend_across_seams(
-                          src, c, face, texel, centre, w, seams, num_seams, blend_width, rgb));
+                      const Eigen::Vector3f rgb = gain.cwiseProduct(sample_rgb(view.image, q.x(), q.y())) + offset;
+                      image.at<cv::Vec3b>(y, x) = to_bgr(
+                          blend_across_seams(src, c, face, texel, centre, w, seams, num_seams, blend_width, rgb));
                       mask.at<std::uint8_t>(y, x) = 255;
                     });
   }
@@ -420,23 +400,21 @@ Atlas build_atlas(const TriangleMesh& mesh,
   atlas.chart_page.resize(num_charts);
   atlas.chart_uvs.resize(num_charts);
   const FaceCharts face_charts = chart_of_faces(mesh.faces.size(), charts);
-  const AtlasSources sources{mesh,  topology, candidates, charts,
-                             views, gains,    leveling,   face_charts};
+  const AtlasSources sources{mesh, topology, candidates, charts, views, gains, leveling, face_charts};
   const double blend_width = options.local_blending ? options.seam_blend_texels : 0.0;
   reporter.begin("atlas", num_charts);
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < num_charts; ++c) {
     const int page = packing.page_of[c];
     atlas.chart_page[c] = page;
-    fill_chart(sources, c, frames[c], packing.rects[c], options.padding, blend_width,
-               atlas.pages[page], filled[page], atlas.chart_uvs[c]);
+    fill_chart(sources, c, frames[c], packing.rects[c], options.padding, blend_width, atlas.pages[page], filled[page],
+               atlas.chart_uvs[c]);
     reporter.advance();
   }
   reporter.end();
 
   place_flat_faces(flat_faces, packing, num_charts, atlas, filled);
-  for (int p = 0; p < packing.num_pages; ++p)
-    dilate(atlas.pages[p], filled[p], options.padding + 1);
+  for (int p = 0; p < packing.num_pages; ++p) dilate(atlas.pages[p], filled[p], options.padding + 1);
   return atlas;
 }
 

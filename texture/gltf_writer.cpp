@@ -70,9 +70,8 @@ int add_float_accessor(tinygltf::Model& model,
                        std::size_t count,
                        std::vector<double> min = {},
                        std::vector<double> max = {}) {
-  return add_accessor(
-      model, add_buffer_view(model, values.data(), values.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER),
-      TINYGLTF_COMPONENT_TYPE_FLOAT, type, count, std::move(min), std::move(max));
+  return add_accessor(model, add_buffer_view(model, values.data(), values.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER),
+                      TINYGLTF_COMPONENT_TYPE_FLOAT, type, count, std::move(min), std::move(max));
 }
 
 VertexAccessors add_vertex_attributes(tinygltf::Model& model, const TexturedMesh& mesh) {
@@ -94,8 +93,7 @@ VertexAccessors add_vertex_attributes(tinygltf::Model& model, const TexturedMesh
   out.position = add_float_accessor(model, flat, TINYGLTF_TYPE_VEC3, n, lo, hi);
   flat.clear();
   for (const auto& v : mesh.normals) {
-    const Eigen::Vector3f u =
-        v.norm() > 0.0f ? Eigen::Vector3f(v.normalized()) : Eigen::Vector3f(0, 0, 1);
+    const Eigen::Vector3f u = v.norm() > 0.0f ? Eigen::Vector3f(v.normalized()) : Eigen::Vector3f(0, 0, 1);
     flat.insert(flat.end(), {u.x(), u.y(), u.z()});
   }
   out.normal = add_float_accessor(model, flat, TINYGLTF_TYPE_VEC3, n);
@@ -140,8 +138,7 @@ int add_page_material(tinygltf::Model& model,
 
   tinygltf::Material material;
   material.name = "atlas" + std::to_string(page);
-  material.pbrMetallicRoughness.baseColorTexture.index =
-      static_cast<int>(model.textures.size()) - 1;
+  material.pbrMetallicRoughness.baseColorTexture.index = static_cast<int>(model.textures.size()) - 1;
   material.pbrMetallicRoughness.metallicFactor = 0.0;
   material.pbrMetallicRoughness.roughnessFactor = 1.0;
   model.materials.push_back(material);
@@ -157,11 +154,9 @@ tinygltf::Primitive page_primitive(tinygltf::Model& model,
   for (std::uint32_t index : indices) {
     if (index >= num_vertices) throw std::invalid_argument("write_glb: index out of range");
   }
-  const int index_accessor =
-      add_accessor(model,
-                   add_buffer_view(model, indices.data(), indices.size() * 4,
-                                   TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
-                   TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, indices.size());
+  const int index_accessor = add_accessor(
+      model, add_buffer_view(model, indices.data(), indices.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+      TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, indices.size());
   tinygltf::Primitive primitive;
   primitive.attributes["POSITION"] = vertices.position;
   primitive.attributes["NORMAL"] = vertices.normal;
@@ -174,9 +169,7 @@ tinygltf::Primitive page_primitive(tinygltf::Model& model,
 
 // The single root node (carrying the root matrix unless it is the identity)
 // and the default scene; a mesh without primitives is left out.
-void add_scene(tinygltf::Model& model,
-               tinygltf::Mesh gltf_mesh,
-               const Eigen::Matrix4d& root_matrix) {
+void add_scene(tinygltf::Model& model, tinygltf::Mesh gltf_mesh, const Eigen::Matrix4d& root_matrix) {
   gltf_mesh.name = "textured_mesh";
   const bool has_mesh = !gltf_mesh.primitives.empty();
   if (has_mesh) model.meshes.push_back(std::move(gltf_mesh));
@@ -209,9 +202,7 @@ void serialize(tinygltf::Model& model, const std::filesystem::path& path) {
 
 }  // namespace
 
-void write_glb(const std::filesystem::path& path,
-               const TexturedMesh& mesh,
-               const GltfWriteOptions& options) {
+void write_glb(const std::filesystem::path& path, const TexturedMesh& mesh, const GltfWriteOptions& options) {
   check_mesh(mesh);
   tinygltf::Model model;
   model.asset.version = "2.0";

@@ -28,8 +28,7 @@ std::vector<Eigen::Vector3f> chart_vertex_colors(const TriangleMesh& mesh,
                                                  const std::vector<int>& first) {
   std::vector<Eigen::Vector3f> f(first.back());
   std::vector<std::vector<int>> charts_of_view(views.size());
-  for (std::size_t c = 0; c < charts.size(); ++c)
-    charts_of_view[charts[c].view].push_back(static_cast<int>(c));
+  for (std::size_t c = 0; c < charts.size(); ++c) charts_of_view[charts[c].view].push_back(static_cast<int>(c));
 #pragma omp parallel for schedule(dynamic)
   for (int v = 0; v < static_cast<int>(views.size()); ++v) {
     if (charts_of_view[v].empty()) continue;
@@ -37,8 +36,7 @@ std::vector<Eigen::Vector3f> chart_vertex_colors(const TriangleMesh& mesh,
     cv::GaussianBlur(views[v].image, blurred, cv::Size(5, 5), 1.0);
     for (int c : charts_of_view[v]) {
       for (std::size_t i = 0; i < charts[c].vertices.size(); ++i) {
-        const Eigen::Vector3d p =
-            views[v].project(mesh.vertices[charts[c].vertices[i]].cast<double>());
+        const Eigen::Vector3d p = views[v].project(mesh.vertices[charts[c].vertices[i]].cast<double>());
         f[first[c] + i] = gains[v].cwiseProduct(sample_rgb(blurred, p.x(), p.y()));
       }
     }
@@ -127,8 +125,7 @@ int solve_offsets(const Eigen::SparseMatrix<double>& A,
       rhs[j] += d;
     });
     const Eigen::VectorXd x = solver.solve(rhs);
-    if (!x.allFinite())
-      throw NumericalError("texture", "seam leveling produced non-finite offsets");
+    if (!x.allFinite()) throw NumericalError("texture", "seam leveling produced non-finite offsets");
     iterations = std::max(iterations, static_cast<int>(solver.iterations()));
     for (int i = 0; i < n; ++i) g[i][channel] = static_cast<float>(x[i]);
   }
@@ -155,8 +152,7 @@ SeamLeveling level_seams(const TriangleMesh& mesh,
 
   std::vector<Eigen::Vector3f> g(n, Eigen::Vector3f::Zero());
   if (options.global_leveling && result.num_seam_vertices > 0) {
-    result.solver_iterations =
-        solve_offsets(leveling_matrix(copies, charts, first, options), copies, f, g, reporter);
+    result.solver_iterations = solve_offsets(leveling_matrix(copies, charts, first, options), copies, f, g, reporter);
   }
 
   // Mean colour jump between chart copies, before and after leveling.

@@ -23,9 +23,7 @@ std::vector<Eigen::Vector3f> project_vertices(const TriangleMesh& mesh, const Te
 constexpr float kNearZ = 1e-6f;
 
 // The nearest face at every pixel centre of the camera's image.
-DepthBuffer rasterize(const TriangleMesh& mesh,
-                      const std::vector<Eigen::Vector3f>& projected,
-                      const Camera& camera) {
+DepthBuffer rasterize(const TriangleMesh& mesh, const std::vector<Eigen::Vector3f>& projected, const Camera& camera) {
   const int width = camera.width;
   const int height = camera.height;
   DepthBuffer buffer;
@@ -47,24 +45,20 @@ DepthBuffer rasterize(const TriangleMesh& mesh,
         std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}) - 0.5f))),
         std::min(height - 1, static_cast<int>(std::ceil(std::max({a.y(), b.y(), c.y()}) - 0.5f)))};
     const float iza = 1.0f / a.z(), izb = 1.0f / b.z(), izc = 1.0f / c.z();
-    render::scan_triangle(a, b, c, 1.0f / area, range,
-                          [&](int x, int y, float wa, float wb, float wc) {
-                            // 1/z is affine in screen space.
-                            const float z = 1.0f / (wa * iza + wb * izb + wc * izc);
-                            float& depth = buffer.depth.at<float>(y, x);
-                            if (z < depth) {
-                              depth = z;
-                              buffer.face_id.at<int>(y, x) = f;
-                            }
-                          });
+    render::scan_triangle(a, b, c, 1.0f / area, range, [&](int x, int y, float wa, float wb, float wc) {
+      // 1/z is affine in screen space.
+      const float z = 1.0f / (wa * iza + wb * izb + wc * izc);
+      float& depth = buffer.depth.at<float>(y, x);
+      if (z < depth) {
+        depth = z;
+        buffer.face_id.at<int>(y, x) = f;
+      }
+    });
   }
   return buffer;
 }
 
-bool passes_depth_test(const DepthBuffer& buffer,
-                       const Eigen::Vector3f& p,
-                       int face,
-                       float tolerance) {
+bool passes_depth_test(const DepthBuffer& buffer, const Eigen::Vector3f& p, int face, float tolerance) {
   const int x = static_cast<int>(std::floor(p.x()));
   const int y = static_cast<int>(std::floor(p.y()));
   if (x < 0 || y < 0 || x >= buffer.depth.cols || y >= buffer.depth.rows) return false;
@@ -139,8 +133,8 @@ FaceViewCandidates compute_visibility(const TriangleMesh& mesh,
       const Eigen::Vector3f& c = projected[face[2]];
       bool inside = true;
       for (const Eigen::Vector3f* p : {&a, &b, &c}) {
-        inside = inside && p->z() > kNearZ && p->x() >= 0.0f && p->y() >= 0.0f &&
-                 p->x() <= view.camera.width && p->y() <= view.camera.height;
+        inside = inside && p->z() > kNearZ && p->x() >= 0.0f && p->y() >= 0.0f && p->x() <= view.camera.width &&
+                 p->y() <= view.camera.height;
       }
       if (!inside) continue;
       const Eigen::Vector3f pc = (a + b + c) / 3.0f;
@@ -154,8 +148,7 @@ FaceViewCandidates compute_visibility(const TriangleMesh& mesh,
       FaceViewSample s;
       s.view = v;
       s.cos_angle = cos_angle;
-      s.projected_area_px =
-          0.5f * std::abs((b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x()));
+      s.projected_area_px = 0.5f * std::abs((b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x()));
       const Accumulator& sum = acc[f];
       if (sum.count > 0.0f) {
         s.visible_px = sum.count;

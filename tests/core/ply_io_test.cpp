@@ -78,22 +78,18 @@ TEST(PlyIo, BadInputsAreInputErrorsNamingTheFile) {
   std::ofstream(dir / "magic.ply") << "not a ply\n";
   EXPECT_NE(error_of(dir / "magic.ply").find("magic.ply"), std::string::npos);
 
-  std::ofstream(dir / "truncated_header.ply")
-      << "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\n";
+  std::ofstream(dir / "truncated_header.ply") << "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\n";
   EXPECT_NE(error_of(dir / "truncated_header.ply").find("end_header"), std::string::npos);
 
-  std::ofstream(dir / "bad_type.ply")
-      << "ply\nformat ascii 1.0\nelement vertex 1\nproperty quux x\nend_header\n1\n";
+  std::ofstream(dir / "bad_type.ply") << "ply\nformat ascii 1.0\nelement vertex 1\nproperty quux x\nend_header\n1\n";
   EXPECT_NE(error_of(dir / "bad_type.ply").find("quux"), std::string::npos);
 
-  std::ofstream(dir / "short.ply")
-      << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-         "property float z\nend_header\n1 2 3\n4 5 6\n";
+  std::ofstream(dir / "short.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                      "property float z\nend_header\n1 2 3\n4 5 6\n";
   EXPECT_NE(error_of(dir / "short.ply").find("truncated"), std::string::npos);
 
-  std::ofstream(dir / "long.ply")
-      << "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-         "property float z\nend_header\n1 2 3\n4 5 6\n";
+  std::ofstream(dir / "long.ply") << "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                                     "property float z\nend_header\n1 2 3\n4 5 6\n";
   EXPECT_NE(error_of(dir / "long.ply").find("more data"), std::string::npos);
 
   // Binary data shorter than the header's count.
@@ -110,9 +106,8 @@ TEST(PlyIo, BadInputsAreInputErrorsNamingTheFile) {
 
 TEST(PlyIo, NonFiniteCoordinatesAreSkippedAndCounted) {
   hos::testing::TempDir dir;
-  std::ofstream(dir / "nan.ply")
-      << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
-         "property float z\nend_header\n1 2 3\nnan 0 0\n4 inf 6\n7 8 9\n";
+  std::ofstream(dir / "nan.ply") << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                                    "property float z\nend_header\n1 2 3\nnan 0 0\n4 inf 6\n7 8 9\n";
   PlyReadReport report;
   const PointCloud c = read_point_cloud_ply(dir / "nan.ply", &report);
   EXPECT_EQ(c.size(), 2u);
@@ -149,11 +144,10 @@ TEST(PlyIo, NonFiniteCoordinatesAreSkippedAndCounted) {
 
 TEST(PlyIo, ReadsPolygonsAndForeignPropertyNames) {
   hos::testing::TempDir dir;
-  std::ofstream(dir / "quad.ply")
-      << "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\n"
-         "property double z\nproperty uchar r\nproperty uchar g\nproperty uchar b\n"
-         "element face 1\nproperty list uchar uint vertex_index\nend_header\n"
-         "0 0 0 1 2 3\n1 0 0 1 2 3\n1 1 0 1 2 3\n0 1 0 1 2 3\n4 0 1 2 3\n";
+  std::ofstream(dir / "quad.ply") << "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\n"
+                                     "property double z\nproperty uchar r\nproperty uchar g\nproperty uchar b\n"
+                                     "element face 1\nproperty list uchar uint vertex_index\nend_header\n"
+                                     "0 0 0 1 2 3\n1 0 0 1 2 3\n1 1 0 1 2 3\n0 1 0 1 2 3\n4 0 1 2 3\n";
   const TriangleMesh mesh = read_mesh_ply(dir / "quad.ply");
   EXPECT_EQ(mesh.num_faces(), 2u);
   EXPECT_EQ(mesh.colors[0], (Rgb8{1, 2, 3}));

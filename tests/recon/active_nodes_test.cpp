@@ -22,8 +22,7 @@ std::vector<Eigen::Vector3f> sphere_points(const GridGeometry& g, double r, int 
   for (int s = 0; s < n; ++s) {
     const double z = 1.0 - 2.0 * (s + 0.5) / n, phi = 2.399963 * s;  // golden-angle spiral
     const double rho = std::sqrt(1.0 - z * z);
-    points.push_back(
-        (c + r * Eigen::Vector3d(rho * std::cos(phi), rho * std::sin(phi), z)).cast<float>());
+    points.push_back((c + r * Eigen::Vector3d(rho * std::cos(phi), rho * std::sin(phi), z)).cast<float>());
   }
   return points;
 }
@@ -75,8 +74,7 @@ TEST(ActiveNodes, CoarseBandLiesInsideTheFineBand) {
   for (const NodeSpan& s : coarse_band.spans()) {
     for (int i = s.begin; i < s.end; ++i) {
       for (int o = 0; o < 27; ++o) {
-        const int fi = 2 * i + 1 + o % 3 - 1, fj = 2 * s.j + 1 + (o / 3) % 3 - 1,
-                  fk = 2 * s.k + 1 + o / 9 - 1;
+        const int fi = 2 * i + 1 + o % 3 - 1, fj = 2 * s.j + 1 + (o / 3) % 3 - 1, fk = 2 * s.k + 1 + o / 9 - 1;
         ASSERT_TRUE(band.contains(fine.index(fi, fj, fk)));
       }
     }
@@ -100,8 +98,7 @@ TEST(ActiveNodes, BandStoresItsNodesAndTheirHaloCompactly) {
         for (int dz = -h; dz <= h && !near; ++dz) {
           for (int dy = -h; dy <= h && !near; ++dy) {
             for (int dx = -h; dx <= h && !near; ++dx) {
-              near = g.contains(i + dx, j + dy, k + dz) &&
-                     band.contains(g.index(i + dx, j + dy, k + dz));
+              near = g.contains(i + dx, j + dy, k + dz) && band.contains(g.index(i + dx, j + dy, k + dz));
             }
           }
         }
@@ -123,8 +120,7 @@ TEST(ActiveNodes, BandStoresItsNodesAndTheirHaloCompactly) {
   std::vector<double> row(g.dims.x());
   band.gather_row(stored.data(), j, k, 0, g.dims.x(), row.data());
   for (int i = 0; i < g.dims.x(); ++i) {
-    EXPECT_EQ(row[i],
-              band.row_base(j, k, i) == ActiveNodes::kNotStored ? 0.0 : dense[g.index(i, j, k)]);
+    EXPECT_EQ(row[i], band.row_base(j, k, i) == ActiveNodes::kNotStored ? 0.0 : dense[g.index(i, j, k)]);
   }
   // Scattering writes exactly the active nodes.
   std::vector<double> back(g.num_nodes(), -1.0);
@@ -136,8 +132,7 @@ TEST(ActiveNodes, BandStoresItsNodesAndTheirHaloCompactly) {
 
 TEST(ActiveNodes, BandedOperatorComputesTheBandRowsOnly) {
   const GridGeometry g = cube_grid(31, 0.1);
-  const auto points =
-      std::make_shared<const std::vector<Eigen::Vector3f>>(sphere_points(g, 1.0, 5000));
+  const auto points = std::make_shared<const std::vector<Eigen::Vector3f>>(sphere_points(g, 1.0, 5000));
   EnergyOperator dense(g, SmoothnessEnergy::kFullHessian, 0.3);
   dense.set_screening(points, 50.0);
   EnergyOperator banded = dense;
@@ -149,8 +144,7 @@ TEST(ActiveNodes, BandedOperatorComputesTheBandRowsOnly) {
   dense.residual(b.data(), x.data(), r_dense.data());
   // The same x and b in the band's layout: the active rows must match the
   // dense operator's (they read x in the halo), nothing else is written.
-  std::vector<double> xb(band->storage_size()), bb(band->storage_size()),
-      rb(band->storage_size(), 7.0);
+  std::vector<double> xb(band->storage_size()), bb(band->storage_size()), rb(band->storage_size(), 7.0);
   band->gather(x.data(), xb.data());
   band->gather(b.data(), bb.data());
   banded.residual(bb.data(), xb.data(), rb.data());
@@ -168,10 +162,8 @@ TEST(ActiveNodes, BandedOperatorComputesTheBandRowsOnly) {
 
 TEST(ActiveNodes, TotalVariationOperatorRefusesABand) {
   const GridGeometry g = cube_grid(31, 0.1);
-  EnergyOperator tv(g, SmoothnessEnergy::kTotalVariation, 0.0,
-                    std::vector<double>(g.num_nodes(), 1.0), 0.1);
-  auto band =
-      std::make_shared<const ActiveNodes>(band_around_samples(g, sphere_points(g, 1.0, 5000), 2));
+  EnergyOperator tv(g, SmoothnessEnergy::kTotalVariation, 0.0, std::vector<double>(g.num_nodes(), 1.0), 0.1);
+  auto band = std::make_shared<const ActiveNodes>(band_around_samples(g, sphere_points(g, 1.0, 5000), 2));
   EXPECT_THROW(tv.set_active(band), std::invalid_argument);
 }
 
@@ -182,10 +174,8 @@ TEST(ActiveNodes, BandedTransfersMatchTheDenseOnesAndStayAdjoint) {
   const ActiveNodes coarse_band = band.coarsened(fine, coarse);
   // Vectors that are zero outside their bands, as in the V-cycle.
   std::vector<double> r(fine.num_nodes(), 0.0), e(coarse.num_nodes(), 0.0);
-  for (std::int64_t i = 0; i < fine.num_nodes(); ++i)
-    r[i] = band.contains(i) ? std::sin(0.37 * i) : 0.0;
-  for (std::int64_t i = 0; i < coarse.num_nodes(); ++i)
-    e[i] = coarse_band.contains(i) ? std::cos(0.91 * i) : 0.0;
+  for (std::int64_t i = 0; i < fine.num_nodes(); ++i) r[i] = band.contains(i) ? std::sin(0.37 * i) : 0.0;
+  for (std::int64_t i = 0; i < coarse.num_nodes(); ++i) e[i] = coarse_band.contains(i) ? std::cos(0.91 * i) : 0.0;
   std::vector<double> rc_dense, pe_dense(fine.num_nodes(), 0.0);
   restrict_to_coarse(fine, r, coarse, rc_dense);
   prolongate_add(coarse, e, fine, pe_dense);
@@ -218,13 +208,11 @@ TEST(ActiveNodes, BandedTransfersMatchTheDenseOnesAndStayAdjoint) {
   // dense prolongation, gathered.
   std::vector<double> e_all(coarse.num_nodes());
   for (std::int64_t i = 0; i < coarse.num_nodes(); ++i) e_all[i] = std::cos(0.91 * i);
-  std::vector<double> dense(fine.num_nodes(), 0.0), expected(band.storage_size()),
-      stored(band.storage_size(), 0.0);
+  std::vector<double> dense(fine.num_nodes(), 0.0), expected(band.storage_size()), stored(band.storage_size(), 0.0);
   prolongate_add(coarse, e_all, fine, dense);
   band.gather(dense.data(), expected.data());
   prolongate_add_to_stored(coarse, e_all, band, stored.data());
-  for (std::int64_t i = 0; i < band.storage_size(); ++i)
-    ASSERT_NEAR(stored[i], expected[i], 1e-12) << i;
+  for (std::int64_t i = 0; i < band.storage_size(); ++i) ASSERT_NEAR(stored[i], expected[i], 1e-12) << i;
 }
 
 }  // namespace

@@ -25,8 +25,7 @@ std::vector<double> sample(const GridGeometry& g, double (*f)(const Eigen::Vecto
 TEST(EnergyOperator, MembraneIsMinusLaplacianOnQuadratics) {
   const GridGeometry g = cube_grid(11, 0.1);
   const EnergyOperator op(g, SmoothnessEnergy::kMembrane, 0.0);
-  const auto f =
-      sample(g, [](const Eigen::Vector3d& p) { return p.x() * p.x() + 2 * p.y() * p.z(); });
+  const auto f = sample(g, [](const Eigen::Vector3d& p) { return p.x() * p.x() + 2 * p.y() * p.z(); });
   std::vector<double> y;
   op.apply(f, y);
   EXPECT_NEAR(y[g.index(5, 5, 5)], -2.0, 1e-9);  // -(2 + 0 + 0)
@@ -38,8 +37,7 @@ TEST(EnergyOperator, HessianTermVanishesOnQuadraticsAndMeasuresQuartics) {
   // A = -Lap + 2 w H; on x^2 y^2 at the centre: H f = d^4f/dx^4 + ... + 2 * 2 * (fxy)_xy...
   const EnergyOperator full(g, SmoothnessEnergy::kFullHessian, w);
   const EnergyOperator membrane_only(g, SmoothnessEnergy::kFullHessian, 0.0);
-  const auto quadratic =
-      sample(g, [](const Eigen::Vector3d& p) { return p.x() * p.y() + p.z() * p.z(); });
+  const auto quadratic = sample(g, [](const Eigen::Vector3d& p) { return p.x() * p.y() + p.z() * p.z(); });
   std::vector<double> a, b;
   full.apply(quadratic, a);
   membrane_only.apply(quadratic, b);
@@ -58,9 +56,8 @@ TEST(EnergyOperator, IsSymmetric) {
   const GridGeometry g = cube_grid(9, 0.2);
   std::vector<double> tv_weights(g.num_nodes());
   for (std::size_t i = 0; i < tv_weights.size(); ++i) tv_weights[i] = 1.0 + (i % 7) * 0.3;
-  for (const auto& op :
-       {EnergyOperator(g, SmoothnessEnergy::kFullHessian, 0.3),
-        EnergyOperator(g, SmoothnessEnergy::kTotalVariation, 0.0, tv_weights, 0.7)}) {
+  for (const auto& op : {EnergyOperator(g, SmoothnessEnergy::kFullHessian, 0.3),
+                         EnergyOperator(g, SmoothnessEnergy::kTotalVariation, 0.0, tv_weights, 0.7)}) {
     std::vector<double> x(g.num_nodes()), y(g.num_nodes()), ax, ay;
     for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(1.3 * i), y[i] = std::cos(0.7 * i);
     op.apply(x, ax);
@@ -77,8 +74,7 @@ TEST(EnergyOperator, ScreeningAddsTheSumOverSamplesOfSquaredTrilinearValues) {
   const GridGeometry g = cube_grid(9, 0.1);
   auto points = std::make_shared<std::vector<Eigen::Vector3f>>();
   for (int s = 0; s < 400; ++s) {
-    const Eigen::Vector3d u(std::fmod(0.37 * s, 1.0), std::fmod(0.61 * s, 1.0),
-                            std::fmod(0.83 * s, 1.0));
+    const Eigen::Vector3d u(std::fmod(0.37 * s, 1.0), std::fmod(0.61 * s, 1.0), std::fmod(0.83 * s, 1.0));
     points->push_back((-0.1 + 1.0 * u.array()).matrix().cast<float>());  // [-h, 9h] per axis
   }
   const double weight = 2.5;
@@ -99,8 +95,7 @@ TEST(EnergyOperator, ScreeningAddsTheSumOverSamplesOfSquaredTrilinearValues) {
     for (int c = 0; c < 8; ++c) {
       const Eigen::Vector3i n = st.corner + Eigen::Vector3i(c & 1, (c >> 1) & 1, c >> 2);
       if (g.contains(n.x(), n.y(), n.z())) {
-        expected[g.index(n.x(), n.y(), n.z())] +=
-            weight * st.weight(c & 1, (c >> 1) & 1, c >> 2) * value;
+        expected[g.index(n.x(), n.y(), n.z())] += weight * st.weight(c & 1, (c >> 1) & 1, c >> 2) * value;
       }
     }
   }
