@@ -19,11 +19,11 @@
 #if HOS_EVAL_HAS_RENDER
 #include "eval/visible_surface.h"
 #endif
+#include "apps/stage_main.h"
 #include "eval/curvature.h"
 #include "eval/gltf_reader.h"
 #include "eval/mesh_sanity.h"
 #include "eval/surface_distance.h"
-#include "apps/stage_main.h"
 #ifdef HOS_EVAL_HAS_RENDER
 #include "eval/render_compare.h"
 #endif
@@ -47,7 +47,8 @@ hos::TriangleMesh read_surface(const std::string& path) {
 json to_json(const hos::eval::Similarity3& s) {
   json j;
   j["scale"] = s.scale;
-  j["rotation"] = {{s.R(0, 0), s.R(0, 1), s.R(0, 2)}, {s.R(1, 0), s.R(1, 1), s.R(1, 2)}, {s.R(2, 0), s.R(2, 1), s.R(2, 2)}};
+  j["rotation"] = {
+      {s.R(0, 0), s.R(0, 1), s.R(0, 2)}, {s.R(1, 0), s.R(1, 1), s.R(1, 2)}, {s.R(2, 0), s.R(2, 1), s.R(2, 2)}};
   j["translation"] = {s.t.x(), s.t.y(), s.t.z()};
   return j;
 }
@@ -77,6 +78,12 @@ std::vector<double> parse_thresholds(const std::string& text) {
 struct Output {
   std::vector<CLI::Option*> json_options;  // one per subcommand
   std::string json_path;
+
+  // Adds --json to a subcommand.
+  void add_json(CLI::App* sub) {
+    json_options.push_back(
+        sub->add_option("--json", json_path, "write JSON to FILE (or stdout when no FILE)")->expected(0, 1));
+  }
 
   void emit(const json& j, const std::string& table) const {
     const bool json_requested =
@@ -121,7 +128,8 @@ struct AlignFlags {
       throw hos::ConfigError("--align-model/--truth-model", "give both or neither");
     }
     if (recovered_model.empty()) return std::nullopt;
-    return hos::eval::align_models_by_image_name(hos::read_colmap_model(recovered_model), hos::read_colmap_model(truth_model));
+    return hos::eval::align_models_by_image_name(hos::read_colmap_model(recovered_model),
+                                                 hos::read_colmap_model(truth_model));
   }
 };
 
@@ -135,6 +143,252 @@ json alignment_json(const hos::eval::ModelAlignment& a, std::string& table) {
   return j;
 }
 
+// The figures of one subcommand: JSON and a human-readable table.
+struct Report {
+  json j;
+  std::string table;
+};
+
+// mesh: accuracy, completeness, Chamfer, F-score against a true mesh.
+struct MeshCommand {
+  CLI::App* cmd = nullptr;
+  std::string result_path, truth_path, thresholds_text = "0.005,0.01,0.02";
+  hos::eval::SurfaceDistanceOptions distance_options;
+  std::string visible_model;
+  int visible_min_views = 2;
+  AlignFlags align;
+
+  void add(CLI::App& app, Output& output) {
+    cmd = app.add_subcommand("mesh", "accuracy, completeness, Chamfer, F-score against a true mesh");
+    cmd->add_option("--result", result_path, "result mesh or points (.ply, .glb)")->required();
+    cmd->add_option("--truth", truth_path, "true mesh (.ply)")->required();
+    cmd->add_option("--thresholds", thresholds_text, "F-score thresholds as fractions of the truth's bbox diagonal");
+    cmd->add_option("--samples", distance_options.num_samples, "surface samples per mesh");
+    cmd->add_option("--seed", distance_options.seed, "sampling seed");
+    cmd->add_option("--visible-in", visible_model,
+                    "truth-frame sparse model: compare only with the true surface its cameras see");
+    cmd->add_option("--min-views", visible_min_views, "views that must see a true face (with --visible-in)");
+    align.add(cmd);
+    output.add_json(cmd);
+  }
+
+  // The part of the truth that at least visible_min_views cameras see.
+  void keep_visible_truth(hos::TriangleMesh& truth, Report& r, hos::Reporter& reporter) const {
+#if HOS_EVAL_HAS_RENDER
+    const std::size_t all_faces = truth.num_faces();
+    truth = hos::eval::visible_part(truth, hos::read_colmap_model(visible_model), visible_min_views, reporter);
+    r.j["truth_faces_visible"] = truth.num_faces();
+    r.table += row("true faces seen by >= " + std::to_string(visible_min_views) + " views",
+                   std::to_string(truth.num_faces()) + " of " + std::to_string(all_faces));
+#else
+    throw hos::ConfigError("--visible-in", "hos-eval was built without the render module");
+#endif
+  }
+
+  Report run(hos::Reporter& reporter) {
+    distance_options.thresholds = parse_thresholds(thresholds_text);
+    distance_options.validate();
+    Report r;
+    hos::TriangleMesh result = read_surface(result_path);
+    hos::TriangleMesh truth = read_surface(truth_path);
+    r.table += "mesh: " + result_path + " vs " + truth_path + "\n";
+    if (!visible_model.empty()) keep_visible_truth(truth, r, reporter);
+    if (const auto alignment = align.compute()) {
+      r.j["alignment"] = alignment_json(*alignment, r.table);
+      hos::eval::transform_mesh(result, alignment->truth_from_recovered);
+    }
+    const hos::eval::SurfaceComparison c = hos::eval::compare_surfaces(result, truth, distance_options, reporter);
+    r.j["truth_diagonal"] = c.truth_diagonal;
+    r.j["result_is_points"] = c.result_is_points;
+    r.j["accuracy"] = to_json(c.accuracy);
+    r.j["completeness"] = to_json(c.completeness);
+    r.j["chamfer"] = c.chamfer;
+    r.j["f_score"] = c.primary().f_score;
+    r.j["f_score_threshold"] = c.primary().fraction;
+    r.j["thresholds"] = json::array();
+    r.table += row("truth bbox diagonal", fmt(c.truth_diagonal));
+    r.table += row("accuracy mean/median/p90",
+                   fmt(c.accuracy.mean) + " / " + fmt(c.accuracy.median) + " / " + fmt(c.accuracy.p90));
+    r.table += row("completeness mean/median/p90",
+                   fmt(c.completeness.mean) + " / " + fmt(c.completeness.median) + " / " + fmt(c.completeness.p90));
+    r.table += row("chamfer", fmt(c.chamfer));
+    for (const auto& s : c.scores) {
+      r.j["thresholds"].push_back({{"fraction", s.fraction},
+                                   {"distance", s.distance},
+                                   {"precision", s.precision},
+                                   {"recall", s.recall},
+                                   {"f_score", s.f_score}});
+      r.table += row("P/R/F @ " + fmt(100.0 * s.fraction, 3) + "% diag",
+                     fmt(s.precision, 4) + " / " + fmt(s.recall, 4) + " / " + fmt(s.f_score, 4));
+    }
+    return r;
+  }
+};
+
+// curvature: the Table 1 figures of the paper.
+struct CurvatureCommand {
+  CLI::App* cmd = nullptr;
+  std::string mesh_path, points_path;
+
+  void add(CLI::App& app, Output& output) {
+    cmd = app.add_subcommand("curvature", "Table 1 figures: triangles, RMS point distance, |H|, |K|");
+    cmd->add_option("--mesh", mesh_path, "mesh (.ply, .glb)")->required();
+    cmd->add_option("--points", points_path, "input points (.ply) for the RMS distance");
+    output.add_json(cmd);
+  }
+
+  Report run(hos::Reporter& reporter) const {
+    const hos::TriangleMesh mesh = read_surface(mesh_path);
+    std::vector<Eigen::Vector3f> points;
+    if (!points_path.empty()) points = hos::read_point_cloud_ply(points_path).positions;
+    const hos::eval::CurvatureStats s =
+        hos::eval::compute_curvature_stats(mesh, points_path.empty() ? nullptr : &points, reporter);
+    Report r;
+    r.j = {{"triangles", s.triangles},
+           {"vertices_measured", s.vertices_measured},
+           {"mean_abs_mean_curvature", s.mean_abs_h},
+           {"max_abs_mean_curvature", s.max_abs_h},
+           {"mean_abs_gaussian_curvature", s.mean_abs_k},
+           {"max_abs_gaussian_curvature", s.max_abs_k},
+           {"p99_abs_mean_curvature", s.p99_abs_h},
+           {"p99_abs_gaussian_curvature", s.p99_abs_k},
+           {"rms_point_distance", s.rms_point_distance ? json(*s.rms_point_distance) : json(nullptr)}};
+    r.table += "curvature: " + mesh_path + " (cotangent Laplacian H, angle-defect K, mixed Voronoi areas)\n";
+    r.table += row("triangles", std::to_string(s.triangles));
+    r.table += row("RMS points -> surface", s.rms_point_distance ? fmt(*s.rms_point_distance) : "-");
+    r.table += row("avg / max |H|", fmt(s.mean_abs_h) + " / " + fmt(s.max_abs_h));
+    r.table += row("avg / max |K|", fmt(s.mean_abs_k) + " / " + fmt(s.max_abs_k));
+    r.table += row("p99 |H| / |K|", fmt(s.p99_abs_h) + " / " + fmt(s.p99_abs_k));
+    return r;
+  }
+};
+
+// sanity: topology of a mesh.
+struct SanityCommand {
+  CLI::App* cmd = nullptr;
+  std::string mesh_path;
+
+  void add(CLI::App& app, Output& output) {
+    cmd = app.add_subcommand("sanity", "watertight, manifold, oriented, components, Euler characteristic");
+    cmd->add_option("--mesh", mesh_path, "mesh (.ply, .glb)")->required();
+    output.add_json(cmd);
+  }
+
+  Report run(hos::Reporter& /*reporter*/) const {
+    const hos::eval::MeshSanity s = hos::eval::check_mesh_sanity(read_surface(mesh_path));
+    Report r;
+    r.j = {{"vertices", s.vertices},
+           {"unreferenced_vertices", s.unreferenced_vertices},
+           {"faces", s.faces},
+           {"edges", s.edges},
+           {"boundary_edges", s.boundary_edges},
+           {"non_manifold_edges", s.non_manifold_edges},
+           {"non_manifold_vertices", s.non_manifold_vertices},
+           {"inconsistent_edges", s.inconsistent_edges},
+           {"degenerate_faces", s.degenerate_faces},
+           {"components", s.components},
+           {"euler_characteristic", s.euler_characteristic},
+           {"edge_manifold", s.edge_manifold},
+           {"vertex_manifold", s.vertex_manifold},
+           {"watertight", s.watertight},
+           {"consistently_oriented", s.consistently_oriented},
+           {"genus", s.genus ? json(*s.genus) : json(nullptr)}};
+    r.table += "sanity: " + mesh_path + "\n";
+    for (const auto& [key, value] : r.j.items()) r.table += row(key, value.dump());
+    return r;
+  }
+};
+
+// cameras: pose errors after a similarity alignment.
+struct CamerasCommand {
+  CLI::App* cmd = nullptr;
+  std::string model, truth;
+
+  void add(CLI::App& app, Output& output) {
+    cmd = app.add_subcommand("cameras", "camera pose errors after a similarity alignment");
+    cmd->add_option("--model", model, "recovered sparse model folder")->required();
+    cmd->add_option("--truth", truth, "true sparse model folder")->required();
+    output.add_json(cmd);
+  }
+
+  Report run(hos::Reporter& /*reporter*/) const {
+    const hos::eval::CameraPoseComparison c =
+        hos::eval::compare_camera_poses(hos::read_colmap_model(model), hos::read_colmap_model(truth));
+    Report r;
+    r.j["alignment"] = to_json(c.truth_from_recovered);
+    r.j["scene_size"] = c.scene_size;
+    r.j["images_recovered"] = c.num_recovered;
+    r.j["images_truth"] = c.num_truth;
+    r.j["images_matched"] = c.cameras.size();
+    r.j["center_error"] = {
+        {"mean", c.mean_center_error}, {"median", c.median_center_error}, {"max", c.max_center_error}};
+    r.j["rotation_error_deg"] = {{"mean", c.mean_rotation_error_deg},
+                                 {"median", c.median_rotation_error_deg},
+                                 {"max", c.max_rotation_error_deg}};
+    r.j["cameras"] = json::array();
+    for (const auto& e : c.cameras) {
+      r.j["cameras"].push_back(
+          {{"name", e.name}, {"center_error", e.center_error}, {"rotation_error_deg", e.rotation_error_deg}});
+    }
+    r.table += "cameras: " + model + " vs " + truth + "\n";
+    r.table +=
+        row("matched / recovered / truth", std::to_string(c.cameras.size()) + " / " + std::to_string(c.num_recovered) +
+                                               " / " + std::to_string(c.num_truth));
+    r.table += row("alignment scale", fmt(c.truth_from_recovered.scale));
+    r.table +=
+        row("centre error mean/median/max", fmt(c.mean_center_error) + " / " + fmt(c.median_center_error) + " / " +
+                                                fmt(c.max_center_error) + " (x scene size " + fmt(c.scene_size) + ")");
+    r.table += row("rotation error mean/median/max", fmt(c.mean_rotation_error_deg) + " / " +
+                                                         fmt(c.median_rotation_error_deg) + " / " +
+                                                         fmt(c.max_rotation_error_deg) + " deg");
+    return r;
+  }
+};
+
+// render: PSNR/SSIM of a textured .glb re-rendered from a model's cameras.
+struct RenderCommand {
+  CLI::App* cmd = nullptr;
+  std::string glb_path, model, images_dir, save_dir;
+  AlignFlags align;
+
+  void add(CLI::App& app, Output& output) {
+    cmd = app.add_subcommand("render", "PSNR/SSIM of a textured .glb re-rendered from a model's cameras");
+    cmd->add_option("--glb", glb_path, "textured mesh (.glb)")->required();
+    cmd->add_option("--model", model, "sparse model whose cameras render (PINHOLE)")->required();
+    cmd->add_option("--images", images_dir, "folder of the model's photos")->required();
+    cmd->add_option("--save", save_dir, "write each render beside its photo as DIR/NAME.png");
+    align.add(cmd);
+    output.add_json(cmd);
+  }
+
+  Report run(hos::Reporter& reporter) const {
+#ifdef HOS_EVAL_HAS_RENDER
+    Report r;
+    hos::render::RenderObject object = hos::eval::read_glb(glb_path);
+    r.table += "render: " + glb_path + " vs " + images_dir + "\n";
+    if (const auto alignment = align.compute()) {
+      r.j["alignment"] = alignment_json(*alignment, r.table);
+      hos::eval::transform_mesh(object.mesh, alignment->truth_from_recovered);
+    }
+    const hos::eval::RenderComparison c =
+        hos::eval::compare_renders(object, hos::read_colmap_model(model), images_dir, reporter, save_dir);
+    r.j["mean_psnr"] = number(c.mean_psnr);
+    r.j["mean_ssim"] = c.mean_ssim;
+    r.j["skipped_views"] = c.skipped_views;
+    r.j["views"] = json::array();
+    for (const auto& v : c.views) {
+      r.j["views"].push_back(
+          {{"name", v.name}, {"mask_pixels", v.mask_pixels}, {"psnr", number(v.psnr)}, {"ssim", v.ssim}});
+      r.table += row(v.name, "PSNR " + fmt(v.psnr, 4) + " dB  SSIM " + fmt(v.ssim, 4));
+    }
+    r.table += row("mean", "PSNR " + fmt(c.mean_psnr, 4) + " dB  SSIM " + fmt(c.mean_ssim, 4));
+    return r;
+#else
+    throw hos::ConfigError("render", "hos-eval was built without the render module");
+#endif
+  }
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -146,186 +400,28 @@ int main(int argc, char** argv) {
   app.add_option("--log", flags.log_file, "log file");
   app.add_flag("--verbose", flags.verbose, "show debug messages");
   Output output;
-  auto add_json = [&output](CLI::App* sub) {
-    output.json_options.push_back(sub->add_option("--json", output.json_path, "write JSON to FILE (or stdout when no FILE)")
-                                      ->expected(0, 1));
-  };
-
-  // mesh
-  std::string result_path, truth_path, thresholds_text = "0.005,0.01,0.02";
-  hos::eval::SurfaceDistanceOptions distance_options;
-  AlignFlags mesh_align;
-  CLI::App* mesh_cmd = app.add_subcommand("mesh", "accuracy, completeness, Chamfer, F-score against a true mesh");
-  mesh_cmd->add_option("--result", result_path, "result mesh or points (.ply, .glb)")->required();
-  mesh_cmd->add_option("--truth", truth_path, "true mesh (.ply)")->required();
-  mesh_cmd->add_option("--thresholds", thresholds_text, "F-score thresholds as fractions of the truth's bbox diagonal");
-  mesh_cmd->add_option("--samples", distance_options.num_samples, "surface samples per mesh");
-  mesh_cmd->add_option("--seed", distance_options.seed, "sampling seed");
-  std::string visible_model;
-  int visible_min_views = 2;
-  mesh_cmd->add_option("--visible-in", visible_model,
-                       "truth-frame sparse model: compare only with the true surface its cameras see");
-  mesh_cmd->add_option("--min-views", visible_min_views, "views that must see a true face (with --visible-in)");
-  mesh_align.add(mesh_cmd);
-  add_json(mesh_cmd);
-
-  // curvature
-  std::string curvature_mesh, points_path;
-  CLI::App* curvature_cmd = app.add_subcommand("curvature", "Table 1 figures: triangles, RMS point distance, |H|, |K|");
-  curvature_cmd->add_option("--mesh", curvature_mesh, "mesh (.ply, .glb)")->required();
-  curvature_cmd->add_option("--points", points_path, "input points (.ply) for the RMS distance");
-  add_json(curvature_cmd);
-
-  // sanity
-  std::string sanity_mesh;
-  CLI::App* sanity_cmd = app.add_subcommand("sanity", "watertight, manifold, oriented, components, Euler characteristic");
-  sanity_cmd->add_option("--mesh", sanity_mesh, "mesh (.ply, .glb)")->required();
-  add_json(sanity_cmd);
-
-  // cameras
-  std::string cameras_model, cameras_truth;
-  CLI::App* cameras_cmd = app.add_subcommand("cameras", "camera pose errors after a similarity alignment");
-  cameras_cmd->add_option("--model", cameras_model, "recovered sparse model folder")->required();
-  cameras_cmd->add_option("--truth", cameras_truth, "true sparse model folder")->required();
-  add_json(cameras_cmd);
-
-  // render
-  std::string glb_path, render_model, images_dir, render_save_dir;
-  AlignFlags render_align;
-  CLI::App* render_cmd = app.add_subcommand("render", "PSNR/SSIM of a textured .glb re-rendered from a model's cameras");
-  render_cmd->add_option("--glb", glb_path, "textured mesh (.glb)")->required();
-  render_cmd->add_option("--model", render_model, "sparse model whose cameras render (PINHOLE)")->required();
-  render_cmd->add_option("--images", images_dir, "folder of the model's photos")->required();
-  render_cmd->add_option("--save", render_save_dir, "write each render beside its photo as DIR/NAME.png");
-  render_align.add(render_cmd);
-  add_json(render_cmd);
-
+  MeshCommand mesh;
+  CurvatureCommand curvature;
+  SanityCommand sanity;
+  CamerasCommand cameras;
+  RenderCommand render;
+  mesh.add(app, output);
+  curvature.add(app, output);
+  sanity.add(app, output);
+  cameras.add(app, output);
+  render.add(app, output);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? hos::kExitSuccess : hos::kExitUsage;
   }
-
   return hos::apps::run_stage_main("eval", flags, [&](hos::Reporter& reporter) {
-    json j;
-    std::string table;
-    if (mesh_cmd->parsed()) {
-      distance_options.thresholds = parse_thresholds(thresholds_text);
-      distance_options.validate();
-      hos::TriangleMesh result = read_surface(result_path);
-      hos::TriangleMesh truth = read_surface(truth_path);
-      table += "mesh: " + result_path + " vs " + truth_path + "\n";
-      if (!visible_model.empty()) {
-#if HOS_EVAL_HAS_RENDER
-        const std::size_t all_faces = truth.num_faces();
-        truth = hos::eval::visible_part(truth, hos::read_colmap_model(visible_model), visible_min_views, reporter);
-        j["truth_faces_visible"] = truth.num_faces();
-        table += row("true faces seen by >= " + std::to_string(visible_min_views) + " views",
-                     std::to_string(truth.num_faces()) + " of " + std::to_string(all_faces));
-#else
-        throw hos::ConfigError("--visible-in", "hos-eval was built without the render module");
-#endif
-      }
-      if (const auto alignment = mesh_align.compute()) {
-        j["alignment"] = alignment_json(*alignment, table);
-        hos::eval::transform_mesh(result, alignment->truth_from_recovered);
-      }
-      const hos::eval::SurfaceComparison c = hos::eval::compare_surfaces(result, truth, distance_options, reporter);
-      j["truth_diagonal"] = c.truth_diagonal;
-      j["result_is_points"] = c.result_is_points;
-      j["accuracy"] = to_json(c.accuracy);
-      j["completeness"] = to_json(c.completeness);
-      j["chamfer"] = c.chamfer;
-      j["f_score"] = c.primary().f_score;
-      j["f_score_threshold"] = c.primary().fraction;
-      j["thresholds"] = json::array();
-      table += row("truth bbox diagonal", fmt(c.truth_diagonal));
-      table += row("accuracy mean/median/p90", fmt(c.accuracy.mean) + " / " + fmt(c.accuracy.median) + " / " + fmt(c.accuracy.p90));
-      table += row("completeness mean/median/p90",
-                   fmt(c.completeness.mean) + " / " + fmt(c.completeness.median) + " / " + fmt(c.completeness.p90));
-      table += row("chamfer", fmt(c.chamfer));
-      for (const auto& s : c.scores) {
-        j["thresholds"].push_back({{"fraction", s.fraction}, {"distance", s.distance}, {"precision", s.precision},
-                                   {"recall", s.recall}, {"f_score", s.f_score}});
-        table += row("P/R/F @ " + fmt(100.0 * s.fraction, 3) + "% diag",
-                     fmt(s.precision, 4) + " / " + fmt(s.recall, 4) + " / " + fmt(s.f_score, 4));
-      }
-    } else if (curvature_cmd->parsed()) {
-      const hos::TriangleMesh mesh = read_surface(curvature_mesh);
-      std::vector<Eigen::Vector3f> points;
-      if (!points_path.empty()) points = hos::read_point_cloud_ply(points_path).positions;
-      const hos::eval::CurvatureStats s =
-          hos::eval::compute_curvature_stats(mesh, points_path.empty() ? nullptr : &points, reporter);
-      j = {{"triangles", s.triangles}, {"vertices_measured", s.vertices_measured},
-           {"mean_abs_mean_curvature", s.mean_abs_h}, {"max_abs_mean_curvature", s.max_abs_h},
-           {"mean_abs_gaussian_curvature", s.mean_abs_k}, {"max_abs_gaussian_curvature", s.max_abs_k},
-           {"p99_abs_mean_curvature", s.p99_abs_h}, {"p99_abs_gaussian_curvature", s.p99_abs_k},
-           {"rms_point_distance", s.rms_point_distance ? json(*s.rms_point_distance) : json(nullptr)}};
-      table += "curvature: " + curvature_mesh + " (cotangent Laplacian H, angle-defect K, mixed Voronoi areas)\n";
-      table += row("triangles", std::to_string(s.triangles));
-      table += row("RMS points -> surface", s.rms_point_distance ? fmt(*s.rms_point_distance) : "-");
-      table += row("avg / max |H|", fmt(s.mean_abs_h) + " / " + fmt(s.max_abs_h));
-      table += row("avg / max |K|", fmt(s.mean_abs_k) + " / " + fmt(s.max_abs_k));
-      table += row("p99 |H| / |K|", fmt(s.p99_abs_h) + " / " + fmt(s.p99_abs_k));
-    } else if (sanity_cmd->parsed()) {
-      const hos::eval::MeshSanity s = hos::eval::check_mesh_sanity(read_surface(sanity_mesh));
-      j = {{"vertices", s.vertices}, {"unreferenced_vertices", s.unreferenced_vertices}, {"faces", s.faces},
-           {"edges", s.edges}, {"boundary_edges", s.boundary_edges}, {"non_manifold_edges", s.non_manifold_edges},
-           {"non_manifold_vertices", s.non_manifold_vertices}, {"inconsistent_edges", s.inconsistent_edges},
-           {"degenerate_faces", s.degenerate_faces}, {"components", s.components},
-           {"euler_characteristic", s.euler_characteristic}, {"edge_manifold", s.edge_manifold},
-           {"vertex_manifold", s.vertex_manifold}, {"watertight", s.watertight},
-           {"consistently_oriented", s.consistently_oriented}, {"genus", s.genus ? json(*s.genus) : json(nullptr)}};
-      table += "sanity: " + sanity_mesh + "\n";
-      for (const auto& [key, value] : j.items()) table += row(key, value.dump());
-    } else if (cameras_cmd->parsed()) {
-      const hos::eval::CameraPoseComparison c =
-          hos::eval::compare_camera_poses(hos::read_colmap_model(cameras_model), hos::read_colmap_model(cameras_truth));
-      j["alignment"] = to_json(c.truth_from_recovered);
-      j["scene_size"] = c.scene_size;
-      j["images_recovered"] = c.num_recovered;
-      j["images_truth"] = c.num_truth;
-      j["images_matched"] = c.cameras.size();
-      j["center_error"] = {{"mean", c.mean_center_error}, {"median", c.median_center_error}, {"max", c.max_center_error}};
-      j["rotation_error_deg"] = {{"mean", c.mean_rotation_error_deg}, {"median", c.median_rotation_error_deg},
-                                 {"max", c.max_rotation_error_deg}};
-      j["cameras"] = json::array();
-      for (const auto& e : c.cameras) {
-        j["cameras"].push_back({{"name", e.name}, {"center_error", e.center_error}, {"rotation_error_deg", e.rotation_error_deg}});
-      }
-      table += "cameras: " + cameras_model + " vs " + cameras_truth + "\n";
-      table += row("matched / recovered / truth", std::to_string(c.cameras.size()) + " / " +
-                                                      std::to_string(c.num_recovered) + " / " + std::to_string(c.num_truth));
-      table += row("alignment scale", fmt(c.truth_from_recovered.scale));
-      table += row("centre error mean/median/max", fmt(c.mean_center_error) + " / " + fmt(c.median_center_error) + " / " +
-                                                        fmt(c.max_center_error) + " (x scene size " + fmt(c.scene_size) + ")");
-      table += row("rotation error mean/median/max", fmt(c.mean_rotation_error_deg) + " / " +
-                                                          fmt(c.median_rotation_error_deg) + " / " +
-                                                          fmt(c.max_rotation_error_deg) + " deg");
-    } else if (render_cmd->parsed()) {
-#ifdef HOS_EVAL_HAS_RENDER
-      hos::render::RenderObject object = hos::eval::read_glb(glb_path);
-      table += "render: " + glb_path + " vs " + images_dir + "\n";
-      if (const auto alignment = render_align.compute()) {
-        j["alignment"] = alignment_json(*alignment, table);
-        hos::eval::transform_mesh(object.mesh, alignment->truth_from_recovered);
-      }
-      const hos::eval::RenderComparison c =
-          hos::eval::compare_renders(object, hos::read_colmap_model(render_model), images_dir, reporter,
-                               render_save_dir);
-      j["mean_psnr"] = number(c.mean_psnr);
-      j["mean_ssim"] = c.mean_ssim;
-      j["skipped_views"] = c.skipped_views;
-      j["views"] = json::array();
-      for (const auto& v : c.views) {
-        j["views"].push_back({{"name", v.name}, {"mask_pixels", v.mask_pixels}, {"psnr", number(v.psnr)}, {"ssim", v.ssim}});
-        table += row(v.name, "PSNR " + fmt(v.psnr, 4) + " dB  SSIM " + fmt(v.ssim, 4));
-      }
-      table += row("mean", "PSNR " + fmt(c.mean_psnr, 4) + " dB  SSIM " + fmt(c.mean_ssim, 4));
-#else
-      throw hos::ConfigError("render", "hos-eval was built without the render module");
-#endif
-    }
-    output.emit(j, table);
+    Report r;
+    if (mesh.cmd->parsed()) r = mesh.run(reporter);
+    if (curvature.cmd->parsed()) r = curvature.run(reporter);
+    if (sanity.cmd->parsed()) r = sanity.run(reporter);
+    if (cameras.cmd->parsed()) r = cameras.run(reporter);
+    if (render.cmd->parsed()) r = render.run(reporter);
+    output.emit(r.j, r.table);
   });
 }

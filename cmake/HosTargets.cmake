@@ -1,10 +1,19 @@
+# hos_warnings(target): the warning flags of every hos target; with
+# HOS_WERROR (CI) a warning fails the build.
+function(hos_warnings target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wno-unused-parameter)
+  if(HOS_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+endfunction()
+
 # hos_library(name SOURCES ... DEPS ...): a static library of one subsystem.
 function(hos_library name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
   add_library(${name} STATIC ${ARG_SOURCES})
   target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR})
   target_link_libraries(${name} PUBLIC ${ARG_DEPS})
-  target_compile_options(${name} PRIVATE -Wall -Wextra -Wno-unused-parameter)
+  hos_warnings(${name})
 endfunction()
 
 # hos_executable(name SOURCES ... DEPS ...): a thin main over a library call.
@@ -12,7 +21,7 @@ function(hos_executable name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS})
-  target_compile_options(${name} PRIVATE -Wall -Wextra -Wno-unused-parameter)
+  hos_warnings(${name})
   set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bin)
 endfunction()
 
@@ -27,16 +36,19 @@ function(hos_optional_executable name source)
   hos_executable(${name} SOURCES ${source} DEPS ${ARGN})
 endfunction()
 
-# hos_test(name SOURCES ... DEPS ...): one gtest binary per module; every TEST
-# becomes its own ctest entry so `ctest -R Suite.Case` works.
+# hos_test(name SOURCES ... DEPS ... [LABELS ...] [SLOW_TESTS Suite.Case ...]
+#          [TIMEOUT s]): one gtest binary per module; every TEST becomes its own
+# ctest entry so `ctest -R Suite.Case` works. LABELS label every test of the
+# binary; SLOW_TESTS (gtest filter patterns) label those tests `slow`, so
+# `ctest -LE slow` runs the fast ones.
 function(hos_test name)
-  cmake_parse_arguments(ARG "" "TIMEOUT" "SOURCES;DEPS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "" "TIMEOUT" "SOURCES;DEPS;LABELS;SLOW_TESTS" ${ARGN})
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 600)
   endif()
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} hos_test_support GTest::gmock GTest::gtest_main)
-  target_compile_options(${name} PRIVATE -Wall -Wextra -Wno-unused-parameter)
+  hos_warnings(${name})
   include(GoogleTest)
   # gtest_discover_tests splits every ';' of PROPERTIES again (even escaped
   # ones), so ENVIRONMENT holds a single variable: HOS_BIN_DIR is not needed
@@ -44,11 +56,27 @@ function(hos_test name)
   # ./bin. LABELS is only passed when given: an empty value would make the
   # next keyword its value.
   set(test_properties TIMEOUT ${ARG_TIMEOUT} ENVIRONMENT "HOS_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+  set(fast_properties ${test_properties})
   if(ARG_LABELS)
-    list(APPEND test_properties LABELS "${ARG_LABELS}")
+    list(APPEND fast_properties LABELS "${ARG_LABELS}")
   endif()
+  if(NOT ARG_SLOW_TESTS)
+    gtest_discover_tests(${name}
+      WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
+      PROPERTIES ${fast_properties}
+      DISCOVERY_TIMEOUT 60)
+    return()
+  endif()
+  # Discovered twice: the slow tests with the label, the others without.
+  list(JOIN ARG_SLOW_TESTS ":" slow_filter)
   gtest_discover_tests(${name}
     WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
-    PROPERTIES ${test_properties}
+    TEST_FILTER "-${slow_filter}"
+    PROPERTIES ${fast_properties}
+    DISCOVERY_TIMEOUT 60)
+  gtest_discover_tests(${name}
+    WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
+    TEST_FILTER "${slow_filter}"
+    PROPERTIES ${test_properties} LABELS slow
     DISCOVERY_TIMEOUT 60)
 endfunction()

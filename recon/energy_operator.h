@@ -17,90 +17,19 @@
 #include "recon/active_nodes.h"
 #include "recon/grid.h"
 #include "recon/recon_options.h"
+#include "recon/screening_term.h"
+#include "recon/stencil.h"
 
 namespace hos::recon {
-
-// The terms of a stencil that read one neighbour row (dy, dz): x offsets and
-// coefficients (offsets lie within +-2, so at most 5).
-struct StencilRow {
-  int dy = 0, dz = 0, count = 0;
-  std::array<int, 5> ox{};
-  std::array<double, 5> c{};
-};
-
-// A constant-coefficient stencil: offsets (within +-2) and coefficients.
-struct Stencil {
-  std::vector<Eigen::Vector3i> offsets;
-  std::vector<double> coefficients;
-  double center() const;
-  double abs_sum() const;
-  // The terms grouped by the row they read, in order of first appearance.
-  std::vector<StencilRow> rows() const;
-};
-
-// The stencil of -Lap + 2 hessian_weight H for the energy on spacing h
-// (energy (2) gives just -Lap; its TV part is per-node).
-Stencil energy_stencil(SmoothnessEnergy energy, double spacing, double hessian_weight);
-
-// Optional screening term weight * sum_i (f(p_i) - target)^2 over the samples
-// (f(p_i) trilinear): it pins the level set to the samples where orientations
-// are too coarse to place it (one orientation per scan). Every multigrid level
-// rediscretises it from the sample positions at its own spacing, with the
-// weight divided by 8 per level (the Galerkin scaling of R S^T S P with the
-// restriction R = P^T / 8), and stores S^T S as a 27-point stencil on the
-// nodes it touches, so the operator stays a row-local sweep.
-class ScreeningTerm {
- public:
-  ScreeningTerm() = default;
-  ScreeningTerm(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
-                double weight);
-  bool empty() const { return runs_.empty(); }
-  double weight() const { return weight_; }
-  // Adds weight * target * S^T 1 (the target's share of the right-hand side).
-  void add_target(double target, std::vector<double>& rhs) const;
-  // Multiplies the weight by factor.
-  void scale(double factor);
-  // The term rediscretised on the coarsened grid from the same samples, with
-  // the weight divided by 8; built once and shared by every operator that
-  // holds this term (the band's hierarchy and the full grid's).
-  std::shared_ptr<const ScreeningTerm> coarsened(const std::vector<Eigen::Vector3f>& points) const;
-  // Mean l1 row sum over the touched nodes (weight * mean splatted density).
-  double mean_row_sum() const;
-  // Adds scale times its row sums (weight * splatted density; every
-  // coefficient is >= 0, so also its l1 row sums) to y_row[i] for the touched
-  // nodes i of grid row `row` (j + ny k) with begin <= i < end.
-  template <typename T>
-  void add_row_sums(std::int64_t row, int begin, int end, double scale, T* y_row) const;
-  // y_row[i] += (S^T S x)[node i of the row] for the touched nodes with
-  // begin <= i < end; x_rows[(dy + 1) + 3 (dz + 1)][i'] is x at node
-  // (i', j + dy, k + dz), or null for a row outside the grid.
-  template <typename T>
-  void add_row(std::int64_t row, int begin, int end, const std::array<const T*, 9>& x_rows,
-               T* y_row) const;
-
- private:
-  GridGeometry geometry_;
-  double weight_ = 0.0;
-  // The touched nodes as runs of consecutive nodes along x (the rows a span
-  // meets are found without a search), each node's 27 coefficients (offsets
-  // (-1..1)^3, x fastest) contiguous.
-  struct Run {
-    int j, k, begin, end;     // grid row and nodes begin <= i < end
-    std::int64_t coefficients;  // index of the run's first coefficient
-    bool interior;            // all 27 neighbours of every node inside the grid
-  };
-  std::vector<Run> runs_;
-  std::vector<std::int64_t> row_begin_;  // per grid row (j, k): first run
-  std::vector<float> coefficients_;
-  std::int64_t num_nodes_ = 0;
-  mutable std::shared_ptr<const ScreeningTerm> coarser_;
-};
 
 class EnergyOperator {
  public:
   // tv_node_weights: empty, or one weight per node (energy (2)), scaled by tv_weight.
-  EnergyOperator(const GridGeometry& geometry, SmoothnessEnergy energy, double hessian_weight,
-                 std::vector<double> tv_node_weights = {}, double tv_weight = 0.0);
+  EnergyOperator(const GridGeometry& geometry,
+                 SmoothnessEnergy energy,
+                 double hessian_weight,
+                 std::vector<double> tv_node_weights = {},
+                 double tv_weight = 0.0);
 
   const GridGeometry& geometry() const { return geometry_; }
   // The nodes whose rows apply, residual and jacobi compute (every node by
@@ -155,26 +84,5 @@ class EnergyOperator {
   double stencil_abs_sum_;
   std::shared_ptr<const ActiveNodes> active_;
 };
-
-// Restriction (full weighting, the transpose of prolongation divided by 8) and
-// trilinear prolongation between a grid and its coarsened grid. The raw-array
-// versions take each array in the layout of its grid's nodes and write only
-// the active nodes of the output (restriction: coarse_active, prolongation:
-// fine_active), so a banded hierarchy keeps zeros outside its bands and the
-// pair stays transposed. Values that the input's layout does not store are zero.
-void restrict_to_coarse(const GridGeometry& fine, const std::vector<double>& r,
-                        const GridGeometry& coarse, std::vector<double>& rc);
-void prolongate_add(const GridGeometry& coarse, const std::vector<double>& ec,
-                    const GridGeometry& fine, std::vector<double>& x);
-template <typename T>
-void restrict_to_coarse(const GridGeometry& fine, const ActiveNodes& fine_nodes, const T* r,
-                        const GridGeometry& coarse, const ActiveNodes& coarse_active, T* rc);
-template <typename T>
-void prolongate_add(const GridGeometry& coarse, const ActiveNodes& coarse_nodes, const T* ec,
-                    const GridGeometry& fine, const ActiveNodes& fine_active, T* x);
-// The same from a whole coarse grid to every node a fine layout stores (its
-// active nodes and halo): starts a banded solve without a grid-sized array.
-void prolongate_add_to_stored(const GridGeometry& coarse, const std::vector<double>& ec,
-                              const ActiveNodes& fine_nodes, double* x);
 
 }  // namespace hos::recon

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "recon/grid_transfer.h"
 
 namespace hos::recon {
 namespace {
@@ -40,18 +41,16 @@ constexpr double kChebyshevRatio = 10.0;
 
 }  // namespace
 
-MultigridPreconditioner::MultigridPreconditioner(const EnergyOperator& fine, int max_levels,
-                                                 int smoothing_steps)
+MultigridPreconditioner::MultigridPreconditioner(const EnergyOperator& fine, int max_levels, int smoothing_steps)
     : smoothing_steps_(smoothing_steps) {
   std::vector<EnergyOperator> ops{fine};
-  while ((max_levels <= 0 || static_cast<int>(ops.size()) < max_levels) &&
-         ops.back().geometry().can_coarsen(3)) {
+  while ((max_levels <= 0 || static_cast<int>(ops.size()) < max_levels) && ops.back().geometry().can_coarsen(3)) {
     ops.push_back(ops.back().coarsened());
   }
   for (auto& op : ops) {
     const std::size_t n = static_cast<std::size_t>(op.active().storage_size());
-    Level level{std::move(op), ZeroedArray<float>(n), ZeroedArray<float>(n), ZeroedArray<float>(n),
-                ZeroedArray<float>(n), ZeroedArray<float>(n)};
+    Level level{std::move(op),         ZeroedArray<float>(n), ZeroedArray<float>(n),
+                ZeroedArray<float>(n), ZeroedArray<float>(n), ZeroedArray<float>(n)};
     level.op.l1_diagonals(level.inv_l1.data());
     for_each_active_range(level.op.active(), [&](std::int64_t first, std::int64_t last) {
       for (std::int64_t i = first; i < last; ++i) level.inv_l1[i] = 1.0f / level.inv_l1[i];
@@ -122,8 +121,7 @@ void MultigridPreconditioner::v_cycle(int level) const {
   smooth(l, smoothing_steps_, true);
   l.op.residual(l.b.data(), l.x.data(), l.scratch.data());
   const Level& c = levels_[level + 1];
-  restrict_to_coarse(l.op.geometry(), l.op.active(), l.scratch.data(), c.op.geometry(), c.op.active(),
-                     c.b.data());
+  restrict_to_coarse(l.op.geometry(), l.op.active(), l.scratch.data(), c.op.geometry(), c.op.active(), c.b.data());
   v_cycle(level + 1);
   prolongate_add(c.op.geometry(), c.op.active(), c.x.data(), l.op.geometry(), l.op.active(), l.x.data());
   smooth(l, smoothing_steps_, false);
@@ -140,8 +138,10 @@ void MultigridPreconditioner::apply(const double* r, double* z) const {
   });
 }
 
-SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<double>& b,
-                                std::vector<double>& x, const SolverOptions& options,
+SolveReport solve_linear_system(const EnergyOperator& op,
+                                const std::vector<double>& b,
+                                std::vector<double>& x,
+                                const SolverOptions& options,
                                 Reporter& reporter) {
   using Clock = std::chrono::steady_clock;
   const auto seconds_since = [](Clock::time_point t) {
@@ -152,12 +152,10 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
   const std::size_t n = b.size();
   if (static_cast<std::int64_t>(n) != op.active().storage_size()) {
     throw std::invalid_argument("solve_linear_system: the right-hand side has " + std::to_string(n) +
-                                " values, the operator's layout " +
-                                std::to_string(op.active().storage_size()));
+                                " values, the operator's layout " + std::to_string(op.active().storage_size()));
   }
   x.resize(n, 0.0);
-  const MultigridPreconditioner multigrid(op, options.multigrid ? options.max_levels : 1,
-                                          options.smoothing_steps);
+  const MultigridPreconditioner multigrid(op, options.multigrid ? options.max_levels : 1, options.smoothing_steps);
   report.levels = multigrid.num_levels();
   ZeroedArray<double> inv_l1;
   if (!options.multigrid) {
@@ -211,14 +209,13 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
   for_active([&](std::int64_t first, std::int64_t last) { std::copy(z + first, z + last, p + first); });
   double rz = dot(op, r, z);
   report.relative_residual = std::sqrt(dot(op, r, r)) / b_norm;
-  for (int it = 0; it < options.max_iterations && report.relative_residual > options.tolerance;
-       ++it) {
+  for (int it = 0; it < options.max_iterations && report.relative_residual > options.tolerance; ++it) {
     reporter.throw_if_cancelled();
     op.apply(p, ap);
     const double pap = dot(op, p, ap);
     if (!(pap > 0.0) || !std::isfinite(pap)) {
-      throw NumericalError("recon", "conjugate gradients lost positive definiteness (p'Ap = " +
-                                        std::to_string(pap) + ")");
+      throw NumericalError("recon",
+                           "conjugate gradients lost positive definiteness (p'Ap = " + std::to_string(pap) + ")");
     }
     const double alpha = rz / pap;
     axpy(op, alpha, p, x.data());
@@ -229,8 +226,7 @@ SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<doub
     if (!std::isfinite(report.relative_residual)) {
       throw NumericalError("recon", "the solver diverged (residual is not finite)");
     }
-    reporter.debug(format_message("recon: CG iteration ", it + 1, " relative residual ",
-                                  report.relative_residual));
+    reporter.debug(format_message("recon: CG iteration ", it + 1, " relative residual ", report.relative_residual));
     if (report.relative_residual <= options.tolerance) break;
     // Flexible (Polak-Ribiere) beta = r' (z_new - z_old) / r_old' z_old: it
     // keeps CG convergent with the slightly nonlinear single-precision V-cycle.

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "recon/active_nodes.h"
 #include "recon/energy_operator.h"
+#include "recon/grid_transfer.h"
 #include "recon/isosurface.h"
 #include "recon/memory_budget.h"
 #include "recon/multigrid.h"
@@ -166,6 +167,156 @@ std::int64_t solve_with_bands(EnergyOperator& op,
   return band->count();
 }
 
+// Unit orientations (weighted by confidence) in the unit frame, so that every
+// step after is independent of the input's units and position; dropped
+// points are counted and reported.
+OrientedSamples usable_samples(const PointCloud& input,
+                               const ReconOptions& options,
+                               ReconStats& stats,
+                               Reporter& reporter) {
+  OrientedSamples samples = prepare_samples(input, options.use_confidence, "input points");
+  stats.num_samples_dropped = samples.dropped_without_normal + samples.dropped_far;
+  if (samples.dropped_without_normal > 0) {
+    reporter.warn(
+        format_message("recon: ", samples.dropped_without_normal, " points without a usable normal were ignored"));
+  }
+  if (samples.dropped_far > 0) {
+    reporter.warn(format_message("recon: ", samples.dropped_far,
+                                 " far outlier points (more than the object's extent away from it) were ignored"));
+  }
+  stats.num_samples = samples.points.size();
+  return samples;
+}
+
+// The right-hand side of A f = -div F for the orientation field F (sec. 4.1).
+ScalarGrid orientation_rhs(const GridGeometry& grid, const OrientedSamples& samples, const ReconOptions& options) {
+  if (options.uniform_flux) {
+    return density_scaled_rhs(grid, samples.points, samples.normals, samples.weights, options.filter_passes,
+                              options.direction_filter_passes, options.filter_passes);
+  }
+  VectorGrid field = splat_normals(grid, samples.points, samples.normals, samples.weights);
+  box_filter(field, options.filter_passes);
+  normalize_field(field, samples.points, options.filter_passes);
+  ScalarGrid rhs = divergence(field);
+  for (double& v : rhs.values) v = -v;
+  return rhs;
+}
+
+// One linear solve, its figures added to stats and reported.
+void solve_and_report(const EnergyOperator& op,
+                      const std::vector<double>& b,
+                      std::vector<double>& x,
+                      const SolverOptions& so,
+                      ReconStats& stats,
+                      Reporter& reporter) {
+  const SolveReport report = solve_linear_system(op, b, x, so, reporter);
+  stats.solver_iterations += report.iterations;
+  stats.multigrid_levels = report.levels;
+  stats.relative_residual = report.relative_residual;
+  reporter.info(format_message("recon: ", report.iterations, " CG iterations, ", report.levels,
+                               " multigrid levels, relative residual ", report.relative_residual));
+  reporter.debug(
+      format_message("recon: solver setup ", report.seconds_setup, " s, iterations ", report.seconds_iterations, " s"));
+  if (!report.converged) {
+    reporter.warn(format_message("recon: the solver stopped at relative residual ", report.relative_residual,
+                                 " above the tolerance ", so.tolerance, "; raise recon.solver.max_iterations"));
+  }
+}
+
+// Energy (2): iteratively reweighted least squares; each round minimises the
+// quadratic majoriser |grad f|^2 / (2 |grad f_old|) of the TV term exactly.
+void solve_total_variation(const GridGeometry& grid,
+                           const std::vector<double>& rhs,
+                           const ReconOptions& options,
+                           ScalarGrid& f,
+                           ReconStats& stats,
+                           Reporter& reporter) {
+  const SolverOptions& solver = options.solver;
+  solve_and_report(EnergyOperator(grid, SmoothnessEnergy::kTotalVariation, 0.0), rhs, f.values, solver, stats,
+                   reporter);
+  const double eps = 0.01 / ((1.0 + options.filter_passes) * grid.spacing);
+  for (int round = 0; round < solver.tv_iterations; ++round) {
+    reporter.throw_if_cancelled();
+    SolverOptions so = solver;
+    if (round + 1 < solver.tv_iterations) so.tolerance = std::max(solver.tolerance, 1e-3);
+    const EnergyOperator op(grid, SmoothnessEnergy::kTotalVariation, 0.0, tv_weights(f, eps),
+                            options.lambda * reference_length(grid));
+    solve_and_report(op, rhs, f.values, so, stats, reporter);
+  }
+}
+
+// Adds the screening term to op and its target to rhs. The target of the
+// pinning is the isovalue (eq. 12) of the unscreened solution, estimated on a
+// grid coarsened up to x_level times, whose prolongation (in x) also starts
+// the solve.
+void add_screening(EnergyOperator& op,
+                   std::vector<double>& rhs,
+                   const std::vector<Eigen::Vector3f>& points,
+                   const ReconOptions& options,
+                   int& x_level,
+                   std::vector<double>& x,
+                   Reporter& reporter) {
+  const GridGeometry& grid = op.geometry();
+  const double target = coarse_isovalue(op, rhs, points, options.solver, reporter, x_level, x);
+  const auto t_screening = Clock::now();
+  op.set_screening(std::make_shared<const std::vector<Eigen::Vector3f>>(points), 1.0);
+  // Weighted so that at a typical surface node the term is screening
+  // times the Laplacian's scale 1 / h^2, at any resolution and density.
+  op.scale_screening(options.screening /
+                     (grid.spacing * grid.spacing * std::max(op.screening().mean_row_sum(), 1e-12)));
+  op.screening().add_target(target, rhs);
+  reporter.debug(format_message("recon: screening term ", seconds_since(t_screening), " s"));
+}
+
+// Energies (1), (3), (4): one solve (screened when options.screening > 0),
+// restricted to a band around the samples where that pays.
+void solve_quadratic(const GridGeometry& grid,
+                     std::vector<double> rhs,
+                     const std::vector<Eigen::Vector3f>& points,
+                     const ReconOptions& options,
+                     ScalarGrid& f,
+                     ReconStats& stats,
+                     Reporter& reporter) {
+  const SolverOptions& solver = options.solver;
+  const double ell = reference_length(grid);
+  const double weight = options.energy == SmoothnessEnergy::kMembrane ? options.lambda : options.lambda * ell * ell;
+  EnergyOperator op(grid, options.energy, weight);
+  // The solve starts on the grid coarsened twice (see solve_with_bands).
+  int x_level = solver.band_voxels > 0 ? 2 : 0;
+  if (options.screening > 0.0) {
+    add_screening(op, rhs, points, options, x_level, f.values, reporter);
+  } else {
+    // From zero, on the coarsest grid the solve may start on.
+    GridGeometry start = grid;
+    int levels = 0;
+    for (; levels < x_level && start.can_coarsen(3); ++levels) start = start.coarsened();
+    x_level = levels;
+    f.values.assign(start.num_nodes(), 0.0);
+  }
+  stats.band_nodes =
+      solve_with_bands(op, std::move(rhs), points, solver.band_voxels, x_level, f.values, reporter,
+                       [&](const EnergyOperator& o, const std::vector<double>& b, std::vector<double>& x) {
+                         solve_and_report(o, b, x, solver, stats, reporter);
+                       });
+}
+
+// Isovalue: mean of f at the samples (eq. 12), then the isosurface (sec. 4.4),
+// trimmed away from the samples.
+void extract_surface(const ScalarGrid& f,
+                     const std::vector<Eigen::Vector3f>& points,
+                     const ReconOptions& options,
+                     ReconResult& result) {
+  ReconStats& stats = result.stats;
+  stats.isovalue = mean_at_samples(f, points);
+  result.mesh = extract_isosurface(f, stats.isovalue);
+  stats.faces_before_trim = result.mesh.faces.size();
+  if (options.trim.enabled) {
+    const TrimReport trim = trim_far_from_samples(
+        result.mesh, points, options.trim.distance_voxels * f.geometry.spacing, options.trim.min_component_fraction);
+    stats.faces_trimmed = trim.faces_removed_far + trim.faces_removed_small;
+  }
+}
+
 }  // namespace
 
 void check_reconstructable(const PointCloud& points, const std::string& source) {
@@ -216,23 +367,8 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
 #endif
   ReconResult result;
   ReconStats& stats = result.stats;
-
-  // Unit orientations (weighted by confidence) in the unit frame: every step
-  // below is independent of the input's units and position.
-  OrientedSamples samples = prepare_samples(input, options.use_confidence, "input points");
+  const OrientedSamples samples = usable_samples(input, options, stats, reporter);
   const std::vector<Eigen::Vector3f>& points = samples.points;
-  const std::vector<Eigen::Vector3f>& normals = samples.normals;
-  const std::vector<float>& weights = samples.weights;
-  stats.num_samples_dropped = samples.dropped_without_normal + samples.dropped_far;
-  if (samples.dropped_without_normal > 0) {
-    reporter.warn(
-        format_message("recon: ", samples.dropped_without_normal, " points without a usable normal were ignored"));
-  }
-  if (samples.dropped_far > 0) {
-    reporter.warn(format_message("recon: ", samples.dropped_far,
-                                 " far outlier points (more than the object's extent away from it) were ignored"));
-  }
-  stats.num_samples = points.size();
   ReconOptions unit_options = options;
   unit_options.voxel_size = options.voxel_size / samples.frame.scale;
 
@@ -245,84 +381,19 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   stats.voxel_size = grid.spacing * samples.frame.scale;
   reporter.info(format_message("recon: grid ", grid.dims.x(), "x", grid.dims.y(), "x", grid.dims.z(), ", voxel ",
                                grid.spacing, ", ", points.size(), " samples"));
-  // A f = -div F
-  ScalarGrid rhs;
-  if (options.uniform_flux) {
-    rhs = density_scaled_rhs(grid, points, normals, weights, options.filter_passes, options.direction_filter_passes,
-                             options.filter_passes);
-  } else {
-    VectorGrid field = splat_normals(grid, points, normals, weights);
-    box_filter(field, options.filter_passes);
-    normalize_field(field, points, options.filter_passes);
-    rhs = divergence(field);
-    for (double& v : rhs.values) v = -v;
-  }
+  ScalarGrid rhs = orientation_rhs(grid, samples, options);
   reporter.end();
   stats.seconds_field = seconds_since(t_field);
 
-  // Energy minimisation.
+  // Energy minimisation (sec. 3.4, 4.2, 4.3).
   const auto t_solve = Clock::now();
   reporter.begin("solve", 0);
-  const double ell = reference_length(grid);
   ScalarGrid& f = result.function;
   f.geometry = grid;  // values: the solves below size them (no grid-sized fill here)
-  const SolverOptions& solver = options.solver;
-  const auto run = [&](const EnergyOperator& op, const std::vector<double>& b, std::vector<double>& x,
-                       const SolverOptions& so) {
-    const SolveReport report = solve_linear_system(op, b, x, so, reporter);
-    stats.solver_iterations += report.iterations;
-    stats.multigrid_levels = report.levels;
-    stats.relative_residual = report.relative_residual;
-    reporter.info(format_message("recon: ", report.iterations, " CG iterations, ", report.levels,
-                                 " multigrid levels, relative residual ", report.relative_residual));
-    reporter.debug(format_message("recon: solver setup ", report.seconds_setup, " s, iterations ",
-                                  report.seconds_iterations, " s"));
-    if (!report.converged) {
-      reporter.warn(format_message("recon: the solver stopped at relative residual ", report.relative_residual,
-                                   " above the tolerance ", so.tolerance, "; raise recon.solver.max_iterations"));
-    }
-  };
   if (options.energy == SmoothnessEnergy::kTotalVariation) {
-    // Iteratively reweighted least squares: each round minimises the quadratic
-    // majoriser |grad f|^2 / (2 |grad f_old|) of the TV term exactly.
-    run(EnergyOperator(grid, SmoothnessEnergy::kTotalVariation, 0.0), rhs.values, f.values, solver);
-    const double eps = 0.01 / ((1.0 + options.filter_passes) * grid.spacing);
-    for (int round = 0; round < solver.tv_iterations; ++round) {
-      reporter.throw_if_cancelled();
-      SolverOptions so = solver;
-      if (round + 1 < solver.tv_iterations) so.tolerance = std::max(solver.tolerance, 1e-3);
-      const EnergyOperator op(grid, SmoothnessEnergy::kTotalVariation, 0.0, tv_weights(f, eps), options.lambda * ell);
-      run(op, rhs.values, f.values, so);
-    }
+    solve_total_variation(grid, rhs.values, options, f, stats, reporter);
   } else {
-    const double weight = options.energy == SmoothnessEnergy::kMembrane ? options.lambda : options.lambda * ell * ell;
-    EnergyOperator op(grid, options.energy, weight);
-    // The solve starts on the grid coarsened twice (see solve_with_bands).
-    int x_level = solver.band_voxels > 0 ? 2 : 0;
-    if (options.screening > 0.0) {
-      // One screened solve. The target of the pinning is the isovalue (eq. 12)
-      // of the unscreened solution, estimated on a grid coarsened twice (1/64
-      // of the nodes), whose prolongation also starts the solve.
-      const double target = coarse_isovalue(op, rhs.values, points, solver, reporter, x_level, f.values);
-      const auto t_screening = Clock::now();
-      op.set_screening(std::make_shared<const std::vector<Eigen::Vector3f>>(points), 1.0);
-      // Weighted so that at a typical surface node the term is screening
-      // times the Laplacian's scale 1 / h^2, at any resolution and density.
-      op.scale_screening(options.screening /
-                         (grid.spacing * grid.spacing * std::max(op.screening().mean_row_sum(), 1e-12)));
-      op.screening().add_target(target, rhs.values);
-      reporter.debug(format_message("recon: screening term ", seconds_since(t_screening), " s"));
-    } else {
-      // From zero, on the coarsest grid the solve may start on.
-      GridGeometry start = grid;
-      int levels = 0;
-      for (; levels < x_level && start.can_coarsen(3); ++levels) start = start.coarsened();
-      x_level = levels;
-      f.values.assign(start.num_nodes(), 0.0);
-    }
-    stats.band_nodes = solve_with_bands(
-        op, std::move(rhs.values), points, solver.band_voxels, x_level, f.values, reporter,
-        [&](const EnergyOperator& o, const std::vector<double>& b, std::vector<double>& x) { run(o, b, x, solver); });
+    solve_quadratic(grid, std::move(rhs.values), points, options, f, stats, reporter);
   }
   for (double v : f.values) {
     if (!std::isfinite(v)) throw NumericalError("recon", "the implicit function is not finite");
@@ -330,17 +401,9 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   reporter.end();
   stats.seconds_solve = seconds_since(t_solve);
 
-  // Isovalue: mean of f at the samples (eq. 12), then the isosurface.
   const auto t_mesh = Clock::now();
   reporter.begin("isosurface", 0);
-  stats.isovalue = mean_at_samples(f, points);
-  result.mesh = extract_isosurface(f, stats.isovalue);
-  stats.faces_before_trim = result.mesh.faces.size();
-  if (options.trim.enabled) {
-    const TrimReport trim = trim_far_from_samples(result.mesh, points, options.trim.distance_voxels * grid.spacing,
-                                                  options.trim.min_component_fraction);
-    stats.faces_trimmed = trim.faces_removed_far + trim.faces_removed_small;
-  }
+  extract_surface(f, points, options, result);
   reporter.end();
   stats.seconds_mesh = seconds_since(t_mesh);
   if (result.mesh.faces.empty()) {

@@ -14,14 +14,14 @@
 #include <limits>
 #include <stdexcept>
 
+#include "render/scan_triangle.h"
+
 namespace hos::render {
 namespace {
 
 constexpr double kNear = 1e-4;
 
-float srgb_to_linear(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
+float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 
 float linear_to_srgb(float c) {
   c = std::clamp(c, 0.0f, 1.0f);
@@ -39,13 +39,13 @@ const std::array<float, 256>& srgb_decode_table() {
 
 // A triangle after near-plane clipping: pixel-space (scaled) positions, 1/z,
 // (double: a clipped vertex near the camera projects far outside the image,
-// and float edge functions lose the interior's precision), and the barycentrics of its corners in the ORIGINAL face, so interpolation
-// stays in terms of the original vertices' attributes.
+// and float edge functions lose the interior's precision), and the barycentrics of its corners in
+// the ORIGINAL face, so interpolation stays in terms of the original vertices' attributes.
 struct ScreenTriangle {
   std::array<Eigen::Vector2d, 3> p;
   std::array<double, 3> inv_z;
   std::array<Eigen::Vector3d, 3> bary;
-  int face = 0;    // global face index
+  int face = 0;  // global face index
   int object = 0;
   double xmin, xmax, ymin, ymax;
 };
@@ -59,14 +59,18 @@ struct CameraFrame {
 // The visible surface at each sample of a (width*scale) x (height*scale) grid.
 struct SampleBuffer {
   int width = 0, height = 0;
-  std::vector<float> z;      // camera z, +inf when empty
-  std::vector<int> face;     // -1 when empty
+  std::vector<float> z;   // camera z, +inf when empty
+  std::vector<int> face;  // -1 when empty
   std::vector<int> object;
   std::vector<Eigen::Vector3f> bary;  // in the original face
 };
 
-void clip_and_project(const std::array<Eigen::Vector3f, 3>& cam, const CameraFrame& frame, float scale,
-                      int face, int object, std::vector<ScreenTriangle>& out) {
+void clip_and_project(const std::array<Eigen::Vector3f, 3>& cam,
+                      const CameraFrame& frame,
+                      float scale,
+                      int face,
+                      int object,
+                      std::vector<ScreenTriangle>& out) {
   struct ClipVertex {
     Eigen::Vector3d x;
     Eigen::Vector3d b;
@@ -111,8 +115,11 @@ void clip_and_project(const std::array<Eigen::Vector3f, 3>& cam, const CameraFra
 }
 
 std::vector<ScreenTriangle> setup_triangles(const std::vector<RenderObject>& objects,
-                                            const CameraFrame& frame, float scale, bool cull_back_faces,
-                                            int width, int height) {
+                                            const CameraFrame& frame,
+                                            float scale,
+                                            bool cull_back_faces,
+                                            int width,
+                                            int height) {
   std::vector<ScreenTriangle> tris;
   int face_offset = 0;
   for (int o = 0; o < static_cast<int>(objects.size()); ++o) {
@@ -131,9 +138,8 @@ std::vector<ScreenTriangle> setup_triangles(const std::vector<RenderObject>& obj
     face_offset += static_cast<int>(mesh.faces.size());
   }
   // Drop triangles entirely outside the image.
-  std::erase_if(tris, [&](const ScreenTriangle& t) {
-    return t.xmax < 0 || t.ymax < 0 || t.xmin > width || t.ymin > height;
-  });
+  std::erase_if(tris,
+                [&](const ScreenTriangle& t) { return t.xmax < 0 || t.ymax < 0 || t.xmin > width || t.ymin > height; });
   return tris;
 }
 
@@ -158,34 +164,23 @@ SampleBuffer rasterize(const std::vector<ScreenTriangle>& tris, int width, int h
       const Eigen::Vector2d &a = t.p[0], &b = t.p[1], &c = t.p[2];
       const double area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
       if (std::abs(area) < 1e-12) continue;
-      const int xs = static_cast<int>(std::max(0.0, std::ceil(t.xmin - 0.5)));
-      const int xe = static_cast<int>(std::min(width - 1.0, std::floor(t.xmax - 0.5)));
-      const int ys = static_cast<int>(std::max<double>(y0, std::ceil(t.ymin - 0.5)));
-      const int ye = static_cast<int>(std::min<double>(y1 - 1, std::floor(t.ymax - 0.5)));
-      const double inv_area = 1.0 / area;
-      for (int y = ys; y <= ye; ++y) {
-        const double py = y + 0.5;
-        for (int x = xs; x <= xe; ++x) {
-          const double px = x + 0.5;
-          // Edge functions; the same sign as the area means inside. Ties on
-          // a shared edge go to both triangles; the z test decides.
-          const double w0 = ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) * inv_area;
-          const double w1 = ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) * inv_area;
-          const double w2 = 1.0 - w0 - w1;
-          if (w0 < 0 || w1 < 0 || w2 < 0) continue;
-          // Perspective-correct: 1/z and attribute/z are affine in screen space.
-          const double iz = w0 * t.inv_z[0] + w1 * t.inv_z[1] + w2 * t.inv_z[2];
-          if (!(iz > 0)) continue;
-          const float z = static_cast<float>(1.0 / iz);
-          const std::size_t idx = static_cast<std::size_t>(y) * width + x;
-          if (z >= buf.z[idx]) continue;
-          buf.z[idx] = z;
-          buf.face[idx] = t.face;
-          buf.object[idx] = t.object;
-          buf.bary[idx] = ((w0 * t.inv_z[0] * t.bary[0] + w1 * t.inv_z[1] * t.bary[1] +
-                            w2 * t.inv_z[2] * t.bary[2]) / iz).cast<float>();
-        }
-      }
+      const PixelRange range{static_cast<int>(std::max(0.0, std::ceil(t.xmin - 0.5))),
+                             static_cast<int>(std::min(width - 1.0, std::floor(t.xmax - 0.5))),
+                             static_cast<int>(std::max<double>(y0, std::ceil(t.ymin - 0.5))),
+                             static_cast<int>(std::min<double>(y1 - 1, std::floor(t.ymax - 0.5)))};
+      scan_triangle(a, b, c, 1.0 / area, range, [&](int x, int y, double w0, double w1, double w2) {
+        // Perspective-correct: 1/z and attribute/z are affine in screen space.
+        const double iz = w0 * t.inv_z[0] + w1 * t.inv_z[1] + w2 * t.inv_z[2];
+        if (!(iz > 0)) return;
+        const float z = static_cast<float>(1.0 / iz);
+        const std::size_t idx = static_cast<std::size_t>(y) * width + x;
+        if (z >= buf.z[idx]) return;
+        buf.z[idx] = z;
+        buf.face[idx] = t.face;
+        buf.object[idx] = t.object;
+        buf.bary[idx] = ((w0 * t.inv_z[0] * t.bary[0] + w1 * t.inv_z[1] * t.bary[1] + w2 * t.inv_z[2] * t.bary[2]) / iz)
+                            .cast<float>();
+      });
     }
   }
   return buf;
@@ -213,13 +208,12 @@ Eigen::Vector3f sample_texture(const cv::Mat& tex, const Eigen::Vector2f& uv) {
          fy * ((1 - fx) * texel(x0, y0 + 1) + fx * texel(x0 + 1, y0 + 1));
 }
 
-Eigen::Vector3f albedo_at(const RenderObject& obj, int f, const Eigen::Vector3f& b,
-                          const Eigen::Vector3f& x_world) {
+Eigen::Vector3f albedo_at(const RenderObject& obj, int f, const Eigen::Vector3f& b, const Eigen::Vector3f& x_world) {
   const Material& m = obj.material;
   const Eigen::Vector3i& F = obj.mesh.faces[f];
   if (!m.textures.empty()) {
-    const Eigen::Vector2f uv = b[0] * m.corner_uvs[3 * f] + b[1] * m.corner_uvs[3 * f + 1] +
-                               b[2] * m.corner_uvs[3 * f + 2];
+    const Eigen::Vector2f uv =
+        b[0] * m.corner_uvs[3 * f] + b[1] * m.corner_uvs[3 * f + 1] + b[2] * m.corner_uvs[3 * f + 2];
     const int ti = m.face_texture.empty() ? 0 : m.face_texture[f];
     return sample_texture(m.textures[ti], uv);
   }
@@ -247,8 +241,7 @@ Eigen::Vector3f normal_at(const TriangleMesh& mesh, int f, const Eigen::Vector3f
   return n.squaredNorm() > 0 ? n.normalized() : Eigen::Vector3f::UnitZ();
 }
 
-void validate_inputs(const std::vector<RenderObject>& objects, const Camera& camera,
-                     const RenderOptions& options) {
+void validate_inputs(const std::vector<RenderObject>& objects, const Camera& camera, const RenderOptions& options) {
   if (camera.width <= 0 || camera.height <= 0) throw std::invalid_argument("render_view: empty camera");
   if (options.supersampling < 1) throw std::invalid_argument("render_view: supersampling must be >= 1");
   for (const RenderObject& o : objects) {
@@ -269,8 +262,10 @@ void validate_inputs(const std::vector<RenderObject>& objects, const Camera& cam
 
 }  // namespace
 
-RenderedView render_view(const std::vector<RenderObject>& objects, const Camera& camera,
-                         const ImageRecord& pose, const RenderOptions& options) {
+RenderedView render_view(const std::vector<RenderObject>& objects,
+                         const Camera& camera,
+                         const ImageRecord& pose,
+                         const RenderOptions& options) {
   validate_inputs(objects, camera, options);
   const int W = camera.width, H = camera.height, s = options.supersampling;
   CameraFrame frame;
@@ -295,8 +290,8 @@ RenderedView render_view(const std::vector<RenderObject>& objects, const Camera&
     const RenderObject& obj = objects[object];
     const int f = lookup.local(object, face);
     const Eigen::Vector3i& F = obj.mesh.faces[f];
-    const Eigen::Vector3f x = b[0] * obj.mesh.vertices[F[0]] + b[1] * obj.mesh.vertices[F[1]] +
-                              b[2] * obj.mesh.vertices[F[2]];
+    const Eigen::Vector3f x =
+        b[0] * obj.mesh.vertices[F[0]] + b[1] * obj.mesh.vertices[F[1]] + b[2] * obj.mesh.vertices[F[2]];
     Eigen::Vector3f c = albedo_at(obj, f, b, x);
     if (!options.lighting.unlit) {
       Eigen::Vector3f n = normal_at(obj.mesh, f, b);
@@ -309,8 +304,7 @@ RenderedView render_view(const std::vector<RenderObject>& objects, const Camera&
 
   RenderedView view;
   // Geometry at the pixel centres.
-  const SampleBuffer centre =
-      rasterize(setup_triangles(objects, frame, 1.0f, options.cull_back_faces, W, H), W, H);
+  const SampleBuffer centre = rasterize(setup_triangles(objects, frame, 1.0f, options.cull_back_faces, W, H), W, H);
   view.depth = cv::Mat(H, W, CV_32F, cv::Scalar(0));
   view.mask = cv::Mat(H, W, CV_8U, cv::Scalar(0));
   view.normal = cv::Mat(H, W, CV_32FC3, cv::Scalar::all(0));

@@ -9,6 +9,7 @@ packages=(
   libopencv-dev libeigen3-dev libceres-dev libtinygltf-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libcli11-dev nlohmann-json3-dev libstb-dev
   libnanoflann-dev libmaxflow-dev libmeshoptimizer-dev
+  clang-tidy
 )
 # Node.js and npm run the glTF validator in the texture and pipeline tests.
 # Many machines already carry them from another source, and Debian's npm

@@ -5,6 +5,8 @@
 #include <limits>
 #include <opencv2/imgproc.hpp>
 
+#include "render/scan_triangle.h"
+
 namespace hos::texture {
 
 namespace {
@@ -20,10 +22,13 @@ std::vector<Eigen::Vector3f> project_vertices(const TriangleMesh& mesh, const Te
 
 constexpr float kNearZ = 1e-6f;
 
-void rasterize(const TriangleMesh& mesh, const std::vector<Eigen::Vector3f>& projected,
-               DepthBuffer& buffer) {
-  const int width = buffer.depth.cols;
-  const int height = buffer.depth.rows;
+// The nearest face at every pixel centre of the camera's image.
+DepthBuffer rasterize(const TriangleMesh& mesh, const std::vector<Eigen::Vector3f>& projected, const Camera& camera) {
+  const int width = camera.width;
+  const int height = camera.height;
+  DepthBuffer buffer;
+  buffer.depth = cv::Mat(height, width, CV_32F, cv::Scalar(std::numeric_limits<float>::infinity()));
+  buffer.face_id = cv::Mat(height, width, CV_32S, cv::Scalar(-1));
   for (int f = 0; f < static_cast<int>(mesh.faces.size()); ++f) {
     const auto& face = mesh.faces[f];
     const Eigen::Vector3f& a = projected[face[0]];
@@ -34,37 +39,26 @@ void rasterize(const TriangleMesh& mesh, const std::vector<Eigen::Vector3f>& pro
     if (a.z() <= kNearZ || b.z() <= kNearZ || c.z() <= kNearZ) continue;
     const float area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
     if (area == 0.0f || !std::isfinite(area)) continue;
-    const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}) - 0.5f)));
-    const int x1 = std::min(width - 1, static_cast<int>(std::ceil(std::max({a.x(), b.x(), c.x()}) - 0.5f)));
-    const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}) - 0.5f)));
-    const int y1 = std::min(height - 1, static_cast<int>(std::ceil(std::max({a.y(), b.y(), c.y()}) - 0.5f)));
-    if (x0 > x1 || y0 > y1) continue;
-    const float inv_area = 1.0f / area;
+    const render::PixelRange range{
+        std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}) - 0.5f))),
+        std::min(width - 1, static_cast<int>(std::ceil(std::max({a.x(), b.x(), c.x()}) - 0.5f))),
+        std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}) - 0.5f))),
+        std::min(height - 1, static_cast<int>(std::ceil(std::max({a.y(), b.y(), c.y()}) - 0.5f)))};
     const float iza = 1.0f / a.z(), izb = 1.0f / b.z(), izc = 1.0f / c.z();
-    for (int y = y0; y <= y1; ++y) {
-      const float py = y + 0.5f;
-      float* depth_row = buffer.depth.ptr<float>(y);
-      int* id_row = buffer.face_id.ptr<int>(y);
-      for (int x = x0; x <= x1; ++x) {
-        const float px = x + 0.5f;
-        // Barycentric weights of a, b, c (signed areas of the sub-triangles).
-        const float wa = ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) * inv_area;
-        const float wb = ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) * inv_area;
-        const float wc = 1.0f - wa - wb;
-        if (wa < 0.0f || wb < 0.0f || wc < 0.0f) continue;
-        // 1/z is affine in screen space.
-        const float z = 1.0f / (wa * iza + wb * izb + wc * izc);
-        if (z < depth_row[x]) {
-          depth_row[x] = z;
-          id_row[x] = f;
-        }
+    render::scan_triangle(a, b, c, 1.0f / area, range, [&](int x, int y, float wa, float wb, float wc) {
+      // 1/z is affine in screen space.
+      const float z = 1.0f / (wa * iza + wb * izb + wc * izc);
+      float& depth = buffer.depth.at<float>(y, x);
+      if (z < depth) {
+        depth = z;
+        buffer.face_id.at<int>(y, x) = f;
       }
-    }
+    });
   }
+  return buffer;
 }
 
-bool passes_depth_test(const DepthBuffer& buffer, const Eigen::Vector3f& p, int face,
-                       float tolerance) {
+bool passes_depth_test(const DepthBuffer& buffer, const Eigen::Vector3f& p, int face, float tolerance) {
   const int x = static_cast<int>(std::floor(p.x()));
   const int y = static_cast<int>(std::floor(p.y()));
   if (x < 0 || y < 0 || x >= buffer.depth.cols || y >= buffer.depth.rows) return false;
@@ -76,17 +70,14 @@ bool passes_depth_test(const DepthBuffer& buffer, const Eigen::Vector3f& p, int 
 }  // namespace
 
 DepthBuffer rasterize_depth(const TriangleMesh& mesh, const TextureView& view) {
-  DepthBuffer buffer;
-  buffer.depth = cv::Mat(view.camera.height, view.camera.width, CV_32F,
-                         cv::Scalar(std::numeric_limits<float>::infinity()));
-  buffer.face_id = cv::Mat(view.camera.height, view.camera.width, CV_32S, cv::Scalar(-1));
-  rasterize(mesh, project_vertices(mesh, view), buffer);
-  return buffer;
+  return rasterize(mesh, project_vertices(mesh, view), view.camera);
 }
 
-FaceViewCandidates compute_visibility(const TriangleMesh& mesh, const MeshTopology& topology,
+FaceViewCandidates compute_visibility(const TriangleMesh& mesh,
+                                      const MeshTopology& topology,
                                       const std::vector<TextureView>& views,
-                                      const TextureOptions& options, Reporter& reporter) {
+                                      const TextureOptions& options,
+                                      Reporter& reporter) {
   const int num_faces = static_cast<int>(mesh.faces.size());
   const int num_views = static_cast<int>(views.size());
   const float cos_max = static_cast<float>(std::cos(options.max_view_angle_deg * M_PI / 180.0));
@@ -99,11 +90,7 @@ FaceViewCandidates compute_visibility(const TriangleMesh& mesh, const MeshTopolo
     if (reporter.cancel_requested()) continue;
     const TextureView& view = views[v];
     const std::vector<Eigen::Vector3f> projected = project_vertices(mesh, view);
-    DepthBuffer buffer;
-    buffer.depth = cv::Mat(view.camera.height, view.camera.width, CV_32F,
-                           cv::Scalar(std::numeric_limits<float>::infinity()));
-    buffer.face_id = cv::Mat(view.camera.height, view.camera.width, CV_32S, cv::Scalar(-1));
-    rasterize(mesh, projected, buffer);
+    const DepthBuffer buffer = rasterize(mesh, projected, view.camera);
 
     cv::Mat grey, gx, gy, gradient;
     cv::cvtColor(view.image, grey, cv::COLOR_BGR2GRAY);
@@ -146,8 +133,8 @@ FaceViewCandidates compute_visibility(const TriangleMesh& mesh, const MeshTopolo
       const Eigen::Vector3f& c = projected[face[2]];
       bool inside = true;
       for (const Eigen::Vector3f* p : {&a, &b, &c}) {
-        inside = inside && p->z() > kNearZ && p->x() >= 0.0f && p->y() >= 0.0f &&
-                 p->x() <= view.camera.width && p->y() <= view.camera.height;
+        inside = inside && p->z() > kNearZ && p->x() >= 0.0f && p->y() >= 0.0f && p->x() <= view.camera.width &&
+                 p->y() <= view.camera.height;
       }
       if (!inside) continue;
       const Eigen::Vector3f pc = (a + b + c) / 3.0f;
@@ -161,8 +148,7 @@ FaceViewCandidates compute_visibility(const TriangleMesh& mesh, const MeshTopolo
       FaceViewSample s;
       s.view = v;
       s.cos_angle = cos_angle;
-      s.projected_area_px =
-          0.5f * std::abs((b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x()));
+      s.projected_area_px = 0.5f * std::abs((b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x()));
       const Accumulator& sum = acc[f];
       if (sum.count > 0.0f) {
         s.visible_px = sum.count;

@@ -134,7 +134,9 @@ TEST(PlyIo, NonFiniteCoordinatesAreSkippedAndCounted) {
   for (std::size_t k = 0; k < b.size(); ++k) {
     const int i = static_cast<int>(b.positions[k].y());
     ASSERT_NE(i % 7, 3);
-    if (k > 0) EXPECT_GT(b.positions[k].y(), b.positions[k - 1].y());
+    if (k > 0) {
+      EXPECT_GT(b.positions[k].y(), b.positions[k - 1].y());
+    }
     EXPECT_EQ(b.normals[k].z(), static_cast<float>(i));
     EXPECT_EQ(b.colors[k][0], i % 256);
   }

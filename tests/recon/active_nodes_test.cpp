@@ -4,11 +4,11 @@
 
 #include <gtest/gtest.h>
 
-#include "tests/recon/shape_samples.h"
-
 #include <cmath>
 
 #include "recon/energy_operator.h"
+#include "recon/grid_transfer.h"
+#include "tests/recon/shape_samples.h"
 
 namespace hos::recon {
 namespace {
@@ -74,8 +74,7 @@ TEST(ActiveNodes, CoarseBandLiesInsideTheFineBand) {
   for (const NodeSpan& s : coarse_band.spans()) {
     for (int i = s.begin; i < s.end; ++i) {
       for (int o = 0; o < 27; ++o) {
-        const int fi = 2 * i + 1 + o % 3 - 1, fj = 2 * s.j + 1 + (o / 3) % 3 - 1,
-                  fk = 2 * s.k + 1 + o / 9 - 1;
+        const int fi = 2 * i + 1 + o % 3 - 1, fj = 2 * s.j + 1 + (o / 3) % 3 - 1, fk = 2 * s.k + 1 + o / 9 - 1;
         ASSERT_TRUE(band.contains(fine.index(fi, fj, fk)));
       }
     }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 
+#include "recon/grid_transfer.h"
 #include "tests/recon/shape_samples.h"
 
 namespace hos::recon {

@@ -1,0 +1,206 @@
+#include "recon/screening_term.h"
+
+#include <parallel/algorithm>
+
+namespace hos::recon {
+
+namespace {
+
+struct Sample {
+  std::int64_t cell;  // lower corner on the grid padded by two nodes: a sort key
+  std::size_t input;  // index in points
+  Eigen::Vector3i corner;
+  Eigen::Vector3d frac;
+};
+
+// The samples sorted by cell, ties broken by the input order (the sums below,
+// and so the result, do not depend on the sort or the thread count). Sorted
+// by cell, each corner's node index ascends with the cell: the touched nodes
+// are the merge of 8 sorted lists (one per corner) instead of a sort of all
+// corners, and every corner's compact index is found by a forward walk.
+struct CellSamples {
+  std::vector<Sample> samples;
+  std::vector<std::size_t> first_of_cell;  // samples of cell q: [first_of_cell[q], first_of_cell[q + 1])
+
+  std::size_t num_cells() const { return first_of_cell.size() - 1; }
+  std::int64_t cell_key(std::size_t q) const { return samples[first_of_cell[q]].cell; }
+};
+
+CellSamples sort_by_cell(const GridGeometry& g, const std::vector<Eigen::Vector3f>& points) {
+  const Eigen::Vector3i d = g.dims;
+  CellSamples out;
+  std::vector<Sample>& samples = out.samples;
+  samples.resize(points.size());
+#pragma omp parallel for schedule(static)
+  for (std::size_t s = 0; s < points.size(); ++s) {
+    const TrilinearStencil st = trilinear_stencil(g, points[s].cast<double>());
+    // Clamped to [-2, d]: a clamped cell has every corner outside the grid
+    // along that axis, so cells that share a key touch the same nodes.
+    const Eigen::Vector3i c = st.corner.cwiseMax(-2).cwiseMin(d);
+    samples[s] = {(std::int64_t{c.z() + 2} * (d.y() + 3) + c.y() + 2) * (d.x() + 3) + c.x() + 2, s, st.corner, st.frac};
+  }
+  __gnu_parallel::sort(samples.begin(), samples.end(), [](const Sample& a, const Sample& b) {
+    return a.cell < b.cell || (a.cell == b.cell && a.input < b.input);
+  });
+  for (std::size_t s = 0; s < samples.size(); ++s) {
+    if (s == 0 || samples[s].cell != samples[s - 1].cell) out.first_of_cell.push_back(s);
+  }
+  out.first_of_cell.push_back(samples.size());
+  return out;
+}
+
+// The grid node of corner c (bits x, y, z) of cell q, or -1 outside the grid.
+std::int64_t corner_node(const GridGeometry& g, const CellSamples& cells, std::size_t q, int c) {
+  const Eigen::Vector3i p =
+      cells.samples[cells.first_of_cell[q]].corner + Eigen::Vector3i(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+  return g.contains(p.x(), p.y(), p.z()) ? g.index(p.x(), p.y(), p.z()) : -1;
+}
+
+// The grid nodes some cell's corner touches, ascending.
+std::vector<std::int64_t> touched_nodes(const GridGeometry& g, const CellSamples& cells) {
+  std::vector<std::int64_t> nodes, corner_list, merged;
+  for (int c = 0; c < 8; ++c) {
+    corner_list.clear();
+    for (std::size_t q = 0; q < cells.num_cells(); ++q) {
+      const std::int64_t n = corner_node(g, cells, q, c);
+      if (n >= 0) corner_list.push_back(n);
+    }
+    merged.resize(nodes.size() + corner_list.size());
+    merged.erase(std::set_union(nodes.begin(), nodes.end(), corner_list.begin(), corner_list.end(), merged.begin()),
+                 merged.end());
+    nodes.swap(merged);
+  }
+  return nodes;
+}
+
+// Compact node index (in nodes) of every cell's 8 corners, -1 outside the grid.
+std::vector<std::array<std::int64_t, 8>> cell_corners(const GridGeometry& g,
+                                                      const CellSamples& cells,
+                                                      const std::vector<std::int64_t>& nodes) {
+  std::vector<std::array<std::int64_t, 8>> cell_nodes(cells.num_cells());
+#pragma omp parallel for schedule(static, 1)
+  for (int c = 0; c < 8; ++c) {
+    std::size_t walk = 0;
+    for (std::size_t q = 0; q < cells.num_cells(); ++q) {
+      const std::int64_t n = corner_node(g, cells, q, c);
+      if (n >= 0) {
+        while (nodes[walk] < n) ++walk;
+      }
+      cell_nodes[q][c] = n >= 0 ? static_cast<std::int64_t>(walk) : -1;
+    }
+  }
+  return cell_nodes;
+}
+
+// Each touched node's 27 coefficients of weight * S^T S (offsets (-1..1)^3,
+// x fastest), contiguous in node order.
+std::vector<float> accumulate_coefficients(const GridGeometry& g,
+                                           const CellSamples& cells,
+                                           const std::vector<std::array<std::int64_t, 8>>& cell_nodes,
+                                           std::size_t num_nodes,
+                                           double weight) {
+  const Eigen::Vector3i d = g.dims;
+  const std::size_t num_cells = cells.num_cells();
+  // The cells of one plane of cells (one z) write node planes z and z + 1
+  // only: planes of one parity run in parallel without write conflicts.
+  std::vector<std::size_t> first_of_plane;  // cells of plane p: [first_of_plane[p], first_of_plane[p + 1])
+  const std::int64_t cells_per_plane = std::int64_t{d.x() + 3} * (d.y() + 3);
+  for (std::size_t q = 0; q < num_cells; ++q) {
+    if (q == 0 || cells.cell_key(q) / cells_per_plane != cells.cell_key(q - 1) / cells_per_plane) {
+      first_of_plane.push_back(q);
+    }
+  }
+  const std::int64_t num_planes = static_cast<std::int64_t>(first_of_plane.size());
+  first_of_plane.push_back(num_cells);
+  std::vector<float> coefficients(27 * num_nodes, 0.0f);
+  for (int parity = 0; parity < 2; ++parity) {
+#pragma omp parallel for schedule(dynamic, 4)
+    for (std::int64_t p = 0; p < num_planes; ++p) {
+      const std::size_t first = first_of_plane[p];
+      if ((cells.cell_key(first) / cells_per_plane) % 2 != parity) continue;
+      for (std::size_t q = first; q < first_of_plane[p + 1]; ++q) {
+        const std::array<std::int64_t, 8>& corners = cell_nodes[q];
+        for (std::size_t s = cells.first_of_cell[q]; s < cells.first_of_cell[q + 1]; ++s) {
+          const TrilinearStencil st{cells.samples[s].corner, cells.samples[s].frac};
+          std::array<double, 8> w;
+          for (int c = 0; c < 8; ++c) w[c] = st.weight(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+          for (int a = 0; a < 8; ++a) {
+            if (corners[a] < 0) continue;
+            float* row = &coefficients[27 * corners[a]];
+            for (int b = 0; b < 8; ++b) {
+              if (corners[b] < 0) continue;
+              const int o = ((b & 1) - (a & 1) + 1) + 3 * (((b >> 1) & 1) - ((a >> 1) & 1) + 1) +
+                            9 * (((b >> 2) & 1) - ((a >> 2) & 1) + 1);
+              row[o] += static_cast<float>(weight * w[a] * w[b]);
+            }
+          }
+        }
+      }
+    }
+  }
+  return coefficients;
+}
+
+}  // namespace
+
+ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vector3f>& points, double weight)
+    : geometry_(g), weight_(weight) {
+  const CellSamples cells = sort_by_cell(g, points);
+  const std::vector<std::int64_t> nodes = touched_nodes(g, cells);
+  coefficients_ = accumulate_coefficients(g, cells, cell_corners(g, cells, nodes), nodes.size(), weight);
+  index_runs(nodes);
+}
+
+void ScreeningTerm::index_runs(const std::vector<std::int64_t>& nodes) {
+  const Eigen::Vector3i d = geometry_.dims;
+  num_nodes_ = static_cast<std::int64_t>(nodes.size());
+  for (std::size_t e = 0; e < nodes.size();) {
+    std::size_t last = e + 1;
+    while (last < nodes.size() && nodes[last] == nodes[last - 1] + 1 && nodes[last] % d.x() != 0) {
+      ++last;
+    }
+    Run run;
+    run.begin = static_cast<int>(nodes[e] % d.x());
+    run.end = run.begin + static_cast<int>(last - e);
+    run.j = static_cast<int>((nodes[e] / d.x()) % d.y());
+    run.k = static_cast<int>(nodes[e] / (std::int64_t{d.x()} * d.y()));
+    run.coefficients = 27 * static_cast<std::int64_t>(e);
+    run.interior = run.j > 0 && run.j < d.y() - 1 && run.k > 0 && run.k < d.z() - 1 && run.begin > 0 && run.end < d.x();
+    runs_.push_back(run);
+    e = last;
+  }
+  const std::int64_t rows = std::int64_t{d.y()} * d.z();
+  row_begin_.resize(rows + 1);
+  std::size_t e = 0;
+  for (std::int64_t r = 0; r <= rows; ++r) {
+    while (e < runs_.size() && std::int64_t{runs_[e].k} * d.y() + runs_[e].j < r) ++e;
+    row_begin_[r] = static_cast<std::int64_t>(e);
+  }
+}
+
+std::shared_ptr<const ScreeningTerm> ScreeningTerm::coarsened(const std::vector<Eigen::Vector3f>& points) const {
+  if (!coarser_) coarser_ = std::make_shared<const ScreeningTerm>(geometry_.coarsened(), points, weight_ / 8.0);
+  return coarser_;
+}
+
+void ScreeningTerm::scale(double factor) {
+  weight_ *= factor;
+  coarser_.reset();
+  for (float& c : coefficients_) c = static_cast<float>(c * factor);
+}
+
+double ScreeningTerm::mean_row_sum() const {
+  double sum = 0.0;
+  for (float c : coefficients_) sum += c;
+  return num_nodes_ == 0 ? 0.0 : sum / static_cast<double>(num_nodes_);
+}
+
+void ScreeningTerm::add_target(double target, std::vector<double>& rhs) const {
+  const std::int64_t nx = geometry_.dims.x();
+  const std::int64_t rows = static_cast<std::int64_t>(row_begin_.size()) - 1;
+  for (std::int64_t row = 0; row < rows; ++row) {
+    add_row_sums(row, 0, static_cast<int>(nx), target, rhs.data() + row * nx);
+  }
+}
+
+}  // namespace hos::recon

@@ -1,0 +1,36 @@
+// The pixel loop of a z-buffer rasterizer, shared by render_view and the
+// texture stage's visibility buffers: which pixel centres a screen-space
+// triangle covers, and their barycentric weights.
+#pragma once
+
+namespace hos::render {
+
+// An inclusive range of pixels, x0 <= x <= x1, y0 <= y <= y1.
+struct PixelRange {
+  int x0 = 0, x1 = -1, y0 = 0, y1 = -1;
+};
+
+// Calls visit(x, y, w0, w1, w2) for every pixel (x, y) of range whose centre
+// (x + 0.5, y + 0.5) lies in the triangle a, b, c (anything with x() and y()
+// in pixels), where w are the centre's barycentric weights of a, b, c (each
+// >= 0, summing to 1) and inv_area is 1 / ((b - a) x (c - a)). Scalar (float or
+// double) is the precision of the edge functions. A centre on an edge shared
+// by two triangles is visited for both; the caller's depth test decides.
+template <typename Point, typename Scalar, typename Visit>
+void scan_triangle(
+    const Point& a, const Point& b, const Point& c, Scalar inv_area, const PixelRange& range, Visit&& visit) {
+  for (int y = range.y0; y <= range.y1; ++y) {
+    const Scalar py = static_cast<Scalar>(y) + Scalar(0.5);
+    for (int x = range.x0; x <= range.x1; ++x) {
+      const Scalar px = static_cast<Scalar>(x) + Scalar(0.5);
+      // Edge functions: signed areas of the sub-triangles opposite each corner.
+      const Scalar w0 = ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) * inv_area;
+      const Scalar w1 = ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) * inv_area;
+      const Scalar w2 = Scalar(1) - w0 - w1;
+      if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+      visit(x, y, w0, w1, w2);
+    }
+  }
+}
+
+}  // namespace hos::render
