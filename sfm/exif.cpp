@@ -11,6 +11,9 @@ namespace {
 constexpr std::uint16_t kTagOrientation = 0x0112;
 constexpr std::uint16_t kTagExifIfd = 0x8769;
 constexpr std::uint16_t kTagFocalLength = 0x920A;
+constexpr std::uint16_t kTagGpsIfd = 0x8825;
+constexpr std::uint16_t kTagGpsLatitude = 0x0002;
+constexpr std::uint16_t kTagGpsLongitude = 0x0004;
 constexpr std::uint16_t kTypeShort = 3;
 constexpr std::uint16_t kTypeLong = 4;
 constexpr std::uint16_t kTypeRational = 5;
@@ -28,7 +31,9 @@ class TiffReader {
     }
   }
   bool valid() const { return valid_; }
-  bool has(std::size_t offset, std::size_t n) const { return offset <= size_ && n <= size_ - offset; }
+  bool has(std::size_t offset, std::size_t n) const {
+    return offset <= size_ && n <= size_ - offset;
+  }
   std::uint16_t u16(std::size_t o) const {
     if (!has(o, 2)) return 0;
     return little_ ? static_cast<std::uint16_t>(data_[o] | data_[o + 1] << 8)
@@ -63,14 +68,27 @@ void parse_tiff(const std::uint8_t* data, std::size_t size, ExifInfo& info) {
   const TiffReader tiff(data, size);
   if (!tiff.valid()) return;
   std::size_t exif_ifd = 0;
+  std::size_t gps_ifd = 0;
   for_each_entry(tiff, tiff.u32(4), [&](std::uint16_t tag, std::uint16_t type, std::size_t value) {
     if (tag == kTagOrientation && type == kTypeShort) {
       const int o = tiff.u16(value);
       if (o >= 1 && o <= 8) info.orientation = o;
     } else if (tag == kTagExifIfd && type == kTypeLong) {
       exif_ifd = tiff.u32(value);
+    } else if (tag == kTagGpsIfd && type == kTypeLong) {
+      gps_ifd = tiff.u32(value);
     }
   });
+  if (gps_ifd != 0) {
+    // Latitude and longitude are each three rationals (degrees, minutes, seconds).
+    bool latitude = false, longitude = false;
+    for_each_entry(tiff, gps_ifd, [&](std::uint16_t tag, std::uint16_t type, std::size_t) {
+      if (type != kTypeRational) return;
+      latitude = latitude || tag == kTagGpsLatitude;
+      longitude = longitude || tag == kTagGpsLongitude;
+    });
+    info.has_gps = latitude && longitude;
+  }
   if (exif_ifd == 0) return;
   for_each_entry(tiff, exif_ifd, [&](std::uint16_t tag, std::uint16_t type, std::size_t value) {
     if (tag != kTagFocalLength || type != kTypeRational) return;
@@ -111,7 +129,8 @@ ExifInfo parse_jpeg_exif(const std::vector<std::uint8_t>& jpeg) {
   walk_segments(jpeg, [&](std::uint8_t marker, std::size_t offset, std::size_t size) {
     static constexpr char kHeader[] = {'E', 'x', 'i', 'f', 0, 0};
     if (marker != 0xE1 || size < 6 + 8) return;
-    if (!std::equal(kHeader, kHeader + 6, jpeg.begin() + static_cast<std::ptrdiff_t>(offset))) return;
+    if (!std::equal(kHeader, kHeader + 6, jpeg.begin() + static_cast<std::ptrdiff_t>(offset)))
+      return;
     parse_tiff(jpeg.data() + offset + 6, size - 6, info);
   });
   return info;
@@ -131,7 +150,8 @@ bool jpeg_is_complete(const std::vector<std::uint8_t>& jpeg) {
 std::vector<std::uint8_t> read_file_bytes(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string(), "cannot be opened for reading");
-  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                  std::istreambuf_iterator<char>());
   if (in.bad()) throw InputError(path.string(), "read error");
   return bytes;
 }

@@ -60,5 +60,18 @@ TEST(StageFigures, GlbMeshAndTextureSizes) {
   EXPECT_THROW(read_glb_figures(dir / "x.glb"), InputError);
 }
 
+TEST(StageFigures, SfmStepTimesReachTheSummary) {
+  hos::testing::TempDir dir;
+  fs::create_directories(dir / "sfm");
+  std::ofstream(dir / "sfm" / "report.json")
+      << R"({"images_given": 11, "images_registered": 10, "points": 5000, "matcher": "vocab_tree",)"
+      << R"( "step_seconds": {"feature_extractor": 12.25, "vocab_tree_builder": 2.0, "mapper": 8.0}})";
+  const auto figures = stage_figures("sfm", dir.path());
+  EXPECT_EQ(figures["step_seconds"].size(), 3u);
+  EXPECT_EQ(figures_text("sfm", figures),
+            "10/11 images registered, 5000 points, vocab_tree matching; feature_extractor 12.2 s; "
+            "vocab_tree_builder 2.0 s; mapper 8.0 s");
+}
+
 }  // namespace
 }  // namespace hos::pipeline
