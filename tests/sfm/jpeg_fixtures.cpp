@@ -32,6 +32,16 @@ class TiffWriter {
   bool little_;
 };
 
+// A TIFF block's header: byte order, 42, IFD0 right after (offset 8).
+TiffWriter tiff_header(bool little_endian) {
+  TiffWriter t(little_endian);
+  t.bytes =
+      little_endian ? std::vector<std::uint8_t>{'I', 'I'} : std::vector<std::uint8_t>{'M', 'M'};
+  t.u16(42);
+  t.u32(8);
+  return t;
+}
+
 // Inserts the TIFF block as an APP1 EXIF segment right after the SOI marker.
 void insert_exif(const std::vector<std::uint8_t>& tiff, std::vector<std::uint8_t>& jpeg) {
   std::vector<std::uint8_t> app1{0xFF, 0xE1, 0, 0, 'E', 'x', 'i', 'f', 0, 0};
@@ -62,11 +72,7 @@ std::vector<std::uint8_t> jpeg_with_exif(const cv::Mat& image,
   std::vector<std::uint8_t> jpeg;
   cv::imencode(".jpg", image, jpeg, {cv::IMWRITE_JPEG_QUALITY, 98});
   // TIFF: header, IFD0 {orientation, exif pointer}, EXIF IFD {focal}, rational.
-  TiffWriter t(little_endian);
-  t.bytes =
-      little_endian ? std::vector<std::uint8_t>{'I', 'I'} : std::vector<std::uint8_t>{'M', 'M'};
-  t.u16(42);
-  t.u32(8);
+  TiffWriter t = tiff_header(little_endian);
   t.u16(2);  // IFD0 entries
   t.u16(0x0112);
   t.u16(3);
@@ -100,11 +106,7 @@ std::vector<std::uint8_t> jpeg_with_gps(const cv::Mat& image, bool little_endian
   std::vector<std::uint8_t> jpeg;
   cv::imencode(".jpg", image, jpeg, {cv::IMWRITE_JPEG_QUALITY, 98});
   // TIFF: header, IFD0 {GPS pointer}, GPS IFD {latitude, longitude}, 6 rationals.
-  TiffWriter t(little_endian);
-  t.bytes =
-      little_endian ? std::vector<std::uint8_t>{'I', 'I'} : std::vector<std::uint8_t>{'M', 'M'};
-  t.u16(42);
-  t.u32(8);
+  TiffWriter t = tiff_header(little_endian);
   t.u16(1);
   t.u16(0x8825);
   t.u16(4);
