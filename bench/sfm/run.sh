@@ -83,6 +83,9 @@ PY
 
 if [ -n "$summary" ]; then summarise "$summary"; exit 0; fi
 [ -n "$old_bin" ] && [ -n "$out" ] || usage
+for tool in "$old_bin/hos-sfm" "$new_bin/hos-sfm" "$new_bin/hos-synth" "$new_bin/sfm_pose_accuracy"; do
+  [ -x "$tool" ] || { echo "$tool is missing (build it first)" >&2; exit 2; }
+done
 mkdir -p "$out/ws"
 out="$(cd "$out" && pwd)"
 tsv="$out/runs.tsv"
