@@ -90,19 +90,16 @@ int main(int argc, char** argv) {
       const double centre_error = (aligned - expected[i]).norm() / diagonal * 100.0;
       const Eigen::Matrix3d delta =
           truth.at(names[i]).cam_from_world.transpose() * image.rotation() * rotation.transpose();
-      const double angle =
-          std::acos(std::clamp((delta.trace() - 1.0) / 2.0, -1.0, 1.0)) * 180.0 / M_PI;
+      const double angle = std::acos(std::clamp((delta.trace() - 1.0) / 2.0, -1.0, 1.0)) * 180.0 / M_PI;
       centre_errors.push_back(centre_error);
       squared_sum += centre_error * centre_error;
       rotation_errors.push_back(angle);
       std::cout << names[i] << "  centre " << centre_error << " %  rotation " << angle << " deg\n";
     }
-    std::cout << "images compared: " << names.size() << " of " << truth.size()
-              << " with ground truth\n"
-              << "centre RMSE (% of camera bbox diagonal): "
-              << std::sqrt(squared_sum / names.size()) << "\n"
-              << "centre error (% of camera bbox diagonal): median " << median(centre_errors)
-              << ", max " << *std::max_element(centre_errors.begin(), centre_errors.end()) << "\n"
+    std::cout << "images compared: " << names.size() << " of " << truth.size() << " with ground truth\n"
+              << "centre RMSE (% of camera bbox diagonal): " << std::sqrt(squared_sum / names.size()) << "\n"
+              << "centre error (% of camera bbox diagonal): median " << median(centre_errors) << ", max "
+              << *std::max_element(centre_errors.begin(), centre_errors.end()) << "\n"
               << "rotation error (deg): median " << median(rotation_errors) << ", max "
               << *std::max_element(rotation_errors.begin(), rotation_errors.end()) << "\n";
   } catch (const std::exception& e) {

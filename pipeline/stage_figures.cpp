@@ -14,8 +14,7 @@ namespace fs = std::filesystem;
 namespace {
 
 std::uint32_t le32(const unsigned char* p) {
-  return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 |
-         std::uint32_t(p[3]) << 24;
+  return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 | std::uint32_t(p[3]) << 24;
 }
 
 }  // namespace
@@ -24,8 +23,7 @@ std::map<std::string, std::int64_t> ply_element_counts(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file.string(), "cannot be opened");
   std::string line;
-  if (!std::getline(in, line) || line.rfind("ply", 0) != 0)
-    throw InputError(file.string(), "not a PLY file");
+  if (!std::getline(in, line) || line.rfind("ply", 0) != 0) throw InputError(file.string(), "not a PLY file");
   std::map<std::string, std::int64_t> counts;
   for (int i = 0; i < 1000 && std::getline(in, line); ++i) {
     if (line.rfind("end_header", 0) == 0) return counts;
@@ -40,16 +38,14 @@ std::map<std::string, std::int64_t> ply_element_counts(const fs::path& file) {
 GlbFigures read_glb_figures(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file.string(), "cannot be opened");
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
-                                   std::istreambuf_iterator<char>());
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (bytes.size() < 20 || std::memcmp(bytes.data(), "glTF", 4) != 0) {
     throw InputError(file.string(), "not a binary glTF (.glb) file");
   }
   GlbFigures out;
   out.bytes = static_cast<std::int64_t>(bytes.size());
   const std::uint32_t json_length = le32(&bytes[12]);
-  if (20 + std::size_t(json_length) > bytes.size())
-    throw InputError(file.string(), "truncated glTF JSON chunk");
+  if (20 + std::size_t(json_length) > bytes.size()) throw InputError(file.string(), "truncated glTF JSON chunk");
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(bytes.begin() + 20, bytes.begin() + 20 + json_length);
@@ -95,9 +91,8 @@ nlohmann::ordered_json stage_figures(const std::string& stage, const fs::path& w
     if (stage == "sfm") {
       std::ifstream in(paths.sfm_report);
       const nlohmann::json r = nlohmann::json::parse(in);
-      for (const char* key :
-           {"images_registered", "images_given", "points", "mean_reprojection_error_px",
-            "mean_track_length", "matcher", "step_seconds"}) {
+      for (const char* key : {"images_registered", "images_given", "points", "mean_reprojection_error_px",
+                              "mean_track_length", "matcher", "step_seconds"}) {
         if (r.contains(key)) f[key] = r[key];
       }
     } else if (stage == "mvs") {
@@ -112,8 +107,7 @@ nlohmann::ordered_json stage_figures(const std::string& stage, const fs::path& w
       f["vertices"] = g.vertices;
       f["triangles"] = g.triangles;
       nlohmann::ordered_json sizes = nlohmann::ordered_json::array();
-      for (const auto& [w, h] : g.texture_sizes)
-        sizes.push_back(std::to_string(w) + "x" + std::to_string(h));
+      for (const auto& [w, h] : g.texture_sizes) sizes.push_back(std::to_string(w) + "x" + std::to_string(h));
       f["textures"] = sizes;
     }
   } catch (const std::exception&) {
@@ -127,8 +121,8 @@ std::string figures_text(const std::string& stage, const nlohmann::ordered_json&
   auto num = [&](const char* key) { return f.contains(key) ? f[key].dump() : std::string("?"); };
   std::ostringstream text;
   if (stage == "sfm") {
-    text << num("images_registered") << "/" << num("images_given") << " images registered, "
-         << num("points") << " points";
+    text << num("images_registered") << "/" << num("images_given") << " images registered, " << num("points")
+         << " points";
     if (f.contains("matcher")) text << ", " << f["matcher"].get<std::string>() << " matching";
     if (f.contains("step_seconds")) {
       // The COLMAP steps' times, so a slow step shows in the summary.

@@ -25,15 +25,11 @@ struct ColmapRunContext {
   std::int64_t num_images = 0;
 };
 
-ColmapStep feature_extraction_step(const ColmapRunContext& context,
-                                   const SfmPlan& plan,
-                                   const SfmOptions& options);
+ColmapStep feature_extraction_step(const ColmapRunContext& context, const SfmPlan& plan, const SfmOptions& options);
 
 // One command, or two for the vocabulary tree (vocab_tree_builder over the
 // photos' own features, then vocab_tree_matcher).
-std::vector<ColmapStep> matching_steps(const ColmapRunContext& context,
-                                       const SfmPlan& plan,
-                                       const SfmOptions& options);
+std::vector<ColmapStep> matching_steps(const ColmapRunContext& context, const SfmPlan& plan, const SfmOptions& options);
 
 ColmapStep mapping_step(const ColmapRunContext& context, const SfmOptions& options);
 

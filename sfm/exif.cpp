@@ -31,9 +31,7 @@ class TiffReader {
     }
   }
   bool valid() const { return valid_; }
-  bool has(std::size_t offset, std::size_t n) const {
-    return offset <= size_ && n <= size_ - offset;
-  }
+  bool has(std::size_t offset, std::size_t n) const { return offset <= size_ && n <= size_ - offset; }
   std::uint16_t u16(std::size_t o) const {
     if (!has(o, 2)) return 0;
     return little_ ? static_cast<std::uint16_t>(data_[o] | data_[o + 1] << 8)
@@ -129,8 +127,7 @@ ExifInfo parse_jpeg_exif(const std::vector<std::uint8_t>& jpeg) {
   walk_segments(jpeg, [&](std::uint8_t marker, std::size_t offset, std::size_t size) {
     static constexpr char kHeader[] = {'E', 'x', 'i', 'f', 0, 0};
     if (marker != 0xE1 || size < 6 + 8) return;
-    if (!std::equal(kHeader, kHeader + 6, jpeg.begin() + static_cast<std::ptrdiff_t>(offset)))
-      return;
+    if (!std::equal(kHeader, kHeader + 6, jpeg.begin() + static_cast<std::ptrdiff_t>(offset))) return;
     parse_tiff(jpeg.data() + offset + 6, size - 6, info);
   });
   return info;
@@ -150,8 +147,7 @@ bool jpeg_is_complete(const std::vector<std::uint8_t>& jpeg) {
 std::vector<std::uint8_t> read_file_bytes(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string(), "cannot be opened for reading");
-  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                  std::istreambuf_iterator<char>());
+  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw InputError(path.string(), "read error");
   return bytes;
 }

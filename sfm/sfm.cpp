@@ -24,21 +24,16 @@ namespace {
 constexpr std::size_t kMaxListed = 20;  // names listed in messages
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 std::string list_names(const std::vector<std::string>& names) {
   std::string out;
-  for (std::size_t i = 0; i < names.size() && i < kMaxListed; ++i)
-    out += (i ? ", " : "") + names[i];
+  for (std::size_t i = 0; i < names.size() && i < kMaxListed; ++i) out += (i ? ", " : "") + names[i];
   if (names.size() > kMaxListed) out += format_message(" and ", names.size() - kMaxListed, " more");
   return out;
 }
 
-bool has_model_files(const fs::path& dir) {
-  return fs::exists(dir / "cameras.bin") || fs::exists(dir / "cameras.txt");
-}
+bool has_model_files(const fs::path& dir) { return fs::exists(dir / "cameras.bin") || fs::exists(dir / "cameras.txt"); }
 
 // Models in numbered subfolders, as the mapper writes them.
 std::vector<std::pair<int, fs::path>> numbered_models(const fs::path& dir) {
@@ -58,10 +53,8 @@ std::vector<std::pair<int, fs::path>> numbered_models(const fs::path& dir) {
 
 void require_ok(const ColmapStepResult& step, const std::string& what) {
   if (step.exit_code != 0) {
-    throw StageError(
-        "sfm",
-        "COLMAP " + what + " failed (exit code " + std::to_string(step.exit_code) +
-            "); the end of its output (full log in the stage log):" + format_tail(step.last_lines));
+    throw StageError("sfm", "COLMAP " + what + " failed (exit code " + std::to_string(step.exit_code) +
+                                "); the end of its output (full log in the stage log):" + format_tail(step.last_lines));
   }
 }
 
@@ -97,8 +90,8 @@ void undistort_with_colmap(const ColmapInfo& colmap,
                            Reporter& reporter,
                            SfmResult& result) {
   ColmapStep step{"image_undistorter",
-                  {"--image_path", images.string(), "--input_path", model.string(), "--output_path",
-                   output.string(), "--output_type", "COLMAP"},
+                  {"--image_path", images.string(), "--input_path", model.string(), "--output_path", output.string(),
+                   "--output_type", "COLMAP"},
                   "undistorting images",
                   num_images};
   const ColmapStepResult run = run_colmap_step(colmap, step, reporter);
@@ -109,8 +102,8 @@ void undistort_with_colmap(const ColmapInfo& colmap,
 
 void clear_previous_run(const SfmPaths& paths) {
   std::error_code ec;
-  for (const auto& p : {paths.report, paths.undistorted, paths.sparse, paths.database,
-                        paths.vocab_tree, paths.images}) {
+  for (const auto& p :
+       {paths.report, paths.undistorted, paths.sparse, paths.database, paths.vocab_tree, paths.images}) {
     fs::remove_all(p, ec);
   }
   fs::remove(paths.database.string() + "-shm", ec);
@@ -124,10 +117,8 @@ SfmResult import_existing_model(const SfmInput& input,
                                 const SfmPaths& paths,
                                 Reporter& reporter) {
   fs::path model_dir = input.existing_model;
-  if (!fs::is_directory(model_dir))
-    throw InputError(model_dir.string(), "sparse model folder does not exist");
-  if (!fs::is_directory(input.images))
-    throw InputError(input.images.string(), "image folder does not exist");
+  if (!fs::is_directory(model_dir)) throw InputError(model_dir.string(), "sparse model folder does not exist");
+  if (!fs::is_directory(input.images)) throw InputError(input.images.string(), "image folder does not exist");
   SparseModel model;
   if (has_model_files(model_dir)) {
     model = read_colmap_model(model_dir);
@@ -135,8 +126,7 @@ SfmResult import_existing_model(const SfmInput& input,
     // A mapper output folder (0/, 1/, ...): the largest model, as after SfM.
     const auto models = numbered_models(model_dir);
     if (models.empty()) {
-      throw InputError(model_dir.string(),
-                       "holds no COLMAP model (cameras/images/points3D .bin or .txt)");
+      throw InputError(model_dir.string(), "holds no COLMAP model (cameras/images/points3D .bin or .txt)");
     }
     fs::path best_dir;
     for (const auto& [index, dir] : models) {
@@ -156,13 +146,12 @@ SfmResult import_existing_model(const SfmInput& input,
   SfmResult result;
   result.matcher = "existing model";
   result.images_given = static_cast<int>(model.images.size());
-  result.models.push_back(
-      {0, static_cast<int>(model.images.size()), static_cast<std::int64_t>(model.points.size())});
+  result.models.push_back({0, static_cast<int>(model.images.size()), static_cast<std::int64_t>(model.points.size())});
   fill_model_figures(model, result);
   if (result.images_registered < options.min_registered_images) {
-    throw InputError(model_dir.string(), format_message("has only ", result.images_registered,
-                                                        " registered images (need ",
-                                                        options.min_registered_images, ")"));
+    throw InputError(model_dir.string(),
+                     format_message("has only ", result.images_registered, " registered images (need ",
+                                    options.min_registered_images, ")"));
   }
   write_folder_atomically(paths.undistorted, [&](const fs::path& tmp) {
     if (is_undistorted(model)) {
@@ -180,8 +169,8 @@ SfmResult import_existing_model(const SfmInput& input,
     } else {
       const ColmapInfo colmap = locate_colmap(options.colmap);
       result.colmap_version = colmap.version;
-      undistort_with_colmap(colmap, input.images, model_dir, tmp,
-                            static_cast<std::int64_t>(model.images.size()), reporter, result);
+      undistort_with_colmap(colmap, input.images, model_dir, tmp, static_cast<std::int64_t>(model.images.size()),
+                            reporter, result);
     }
     load_undistorted_workspace(tmp);  // the consumers' own check
   });
@@ -192,16 +181,12 @@ SfmResult import_existing_model(const SfmInput& input,
 void prepare_workspace(const SfmPaths& paths) {
   std::error_code ec;
   fs::create_directories(paths.root, ec);
-  if (ec)
-    throw OutputError(paths.root.string(), "cannot create the workspace folder: " + ec.message());
+  if (ec) throw OutputError(paths.root.string(), "cannot create the workspace folder: " + ec.message());
   clear_previous_run(paths);
 }
 
-ImageInputs stage_photos(const SfmInput& input,
-                         const SfmOptions& options,
-                         const SfmPaths& paths,
-                         Reporter& reporter,
-                         SfmResult& result) {
+ImageInputs stage_photos(
+    const SfmInput& input, const SfmOptions& options, const SfmPaths& paths, Reporter& reporter, SfmResult& result) {
   const auto started = Clock::now();
   ImageInputs inputs = prepare_images(input.images, paths.images, options, reporter);
   result.step_seconds.emplace_back("prepare_images", seconds_since(started));
@@ -231,8 +216,7 @@ ColmapRunContext run_context(const ImageInputs& inputs,
   context.sparse = paths.sparse;
   context.vocab_tree = paths.vocab_tree;
   context.gpu = options.use_gpu == "yes" || (options.use_gpu == "auto" && colmap.cuda);
-  context.single_camera =
-      options.camera_mode == "single" || (options.camera_mode == "auto" && inputs.same_camera());
+  context.single_camera = options.camera_mode == "single" || (options.camera_mode == "auto" && inputs.same_camera());
   context.num_images = static_cast<std::int64_t>(inputs.images.size());
   result.single_camera = context.single_camera;
   return context;
@@ -244,21 +228,16 @@ void announce_plan(const ColmapRunContext& context,
                    const SfmResult& result,
                    Reporter& reporter) {
   const SfmPlan& plan = result.plan;
-  reporter.info(format_message(context.num_images, " photos, ",
-                               context.single_camera ? "one shared camera" : "one camera per photo",
-                               " (", options.camera_model, "), COLMAP ", colmap.version,
-                               context.gpu ? " with GPU" : " on the CPU"));
-  reporter.info(format_message("SIFT at most ", plan.sift_max_image_size, " px",
-                               plan.sift_upsample ? " (and 2x)" : "", ", ", plan.max_num_features,
-                               " features per photo, ", plan.max_num_matches, " matches per pair; ",
-                               plan.matcher, " matching (", plan.matcher_reason, ")"));
+  reporter.info(format_message(
+      context.num_images, " photos, ", context.single_camera ? "one shared camera" : "one camera per photo", " (",
+      options.camera_model, "), COLMAP ", colmap.version, context.gpu ? " with GPU" : " on the CPU"));
+  reporter.info(format_message("SIFT at most ", plan.sift_max_image_size, " px", plan.sift_upsample ? " (and 2x)" : "",
+                               ", ", plan.max_num_features, " features per photo, ", plan.max_num_matches,
+                               " matches per pair; ", plan.matcher, " matching (", plan.matcher_reason, ")"));
 }
 
 // Runs one COLMAP command, fails the stage on an error exit, keeps its time.
-void run_timed(const ColmapInfo& colmap,
-               const ColmapStep& step,
-               Reporter& reporter,
-               SfmResult& result) {
+void run_timed(const ColmapInfo& colmap, const ColmapStep& step, Reporter& reporter, SfmResult& result) {
   const ColmapStepResult run = run_colmap_step(colmap, step, reporter);
   require_ok(run, step.command);
   result.step_seconds.emplace_back(step.command, run.seconds);
@@ -273,8 +252,8 @@ fs::path select_largest_model(const std::vector<std::pair<int, fs::path>>& model
   fs::path best_dir;
   for (const auto& [index, dir] : models) {
     SparseModel model = read_colmap_model(dir);
-    result.models.push_back({index, static_cast<int>(model.images.size()),
-                             static_cast<std::int64_t>(model.points.size())});
+    result.models.push_back(
+        {index, static_cast<int>(model.images.size()), static_cast<std::int64_t>(model.points.size())});
     if (best_dir.empty() || model.images.size() > best.images.size()) {
       best = std::move(model);
       best_dir = dir;
@@ -289,12 +268,10 @@ fs::path select_largest_model(const std::vector<std::pair<int, fs::path>>& model
     std::string others;
     for (const auto& m : result.models) {
       if (m.index != result.used_model)
-        others += format_message(others.empty() ? "" : ", ", "model ", m.index, " (", m.images,
-                                 " images)");
+        others += format_message(others.empty() ? "" : ", ", "model ", m.index, " (", m.images, " images)");
     }
-    reporter.warn(format_message("COLMAP split the photos into ", result.models.size(),
-                                 " models; using model ", result.used_model, " (",
-                                 result.images_registered, " images), ignoring ", others));
+    reporter.warn(format_message("COLMAP split the photos into ", result.models.size(), " models; using model ",
+                                 result.used_model, " (", result.images_registered, " images), ignoring ", others));
   }
   return best_dir;
 }
@@ -312,23 +289,20 @@ fs::path map_photos(const ColmapInfo& colmap,
   result.step_seconds.emplace_back("mapper", mapped.seconds);
   const auto models = numbered_models(context.sparse);
   if (models.empty()) {
-    throw StageError(
-        "sfm",
-        format_message("COLMAP could not register the photos (no model from ", context.num_images,
-                       " photos): they may not overlap enough or lack texture. "
-                       "Photos of one object need 60-80% overlap between neighbours.",
-                       mapped.exit_code != 0
-                           ? " COLMAP mapper output ends with:" + format_tail(mapped.last_lines)
-                           : std::string()));
+    throw StageError("sfm", format_message("COLMAP could not register the photos (no model from ", context.num_images,
+                                           " photos): they may not overlap enough or lack texture. "
+                                           "Photos of one object need 60-80% overlap between neighbours.",
+                                           mapped.exit_code != 0
+                                               ? " COLMAP mapper output ends with:" + format_tail(mapped.last_lines)
+                                               : std::string()));
   }
   require_ok(mapped, "mapper");
   const fs::path best_dir = select_largest_model(models, inputs, reporter, result);
   if (result.images_registered < options.min_registered_images) {
-    throw StageError("sfm",
-                     format_message("only ", result.images_registered, " of ", context.num_images,
-                                    " photos registered (need ", options.min_registered_images,
-                                    "): the photos may not overlap enough. Not registered: ",
-                                    list_names(result.unregistered)));
+    throw StageError("sfm", format_message("only ", result.images_registered, " of ", context.num_images,
+                                           " photos registered (need ", options.min_registered_images,
+                                           "): the photos may not overlap enough. Not registered: ",
+                                           list_names(result.unregistered)));
   }
   return best_dir;
 }
@@ -338,8 +312,7 @@ fs::path map_photos(const ColmapInfo& colmap,
 std::string step_times_text(const SfmResult& r) {
   std::ostringstream times;
   times << std::fixed << std::setprecision(1) << "times: total " << r.total_seconds << " s";
-  for (const auto& [name, seconds] : r.step_seconds)
-    times << "; " << name << " " << seconds << " s";
+  for (const auto& [name, seconds] : r.step_seconds) times << "; " << name << " " << seconds << " s";
   return times.str();
 }
 
@@ -383,8 +356,7 @@ SfmResult run_sfm(const SfmInput& input, const SfmOptions& options, Reporter& re
   const fs::path model_dir = map_photos(colmap, context, options, inputs, reporter, result);
   // Undistortion into the workspace the later stages read.
   write_folder_atomically(paths.undistorted, [&](const fs::path& tmp) {
-    undistort_with_colmap(colmap, paths.images, model_dir, tmp, result.images_registered, reporter,
-                          result);
+    undistort_with_colmap(colmap, paths.images, model_dir, tmp, result.images_registered, reporter, result);
     load_undistorted_workspace(tmp);  // the consumers' own check
   });
   result.undistorted = paths.undistorted;
@@ -398,8 +370,7 @@ void write_sfm_report(const SfmResult& r, const fs::path& file) {
   j["images_registered"] = r.images_registered;
   j["unregistered"] = r.unregistered;
   j["skipped"] = nlohmann::json::array();
-  for (const auto& s : r.skipped)
-    j["skipped"].push_back({{"file", s.file.string()}, {"reason", s.reason}});
+  for (const auto& s : r.skipped) j["skipped"].push_back({{"file", s.file.string()}, {"reason", s.reason}});
   j["points"] = r.points;
   j["mean_reprojection_error_px"] = r.mean_reprojection_error_px;
   j["mean_track_length"] = r.mean_track_length;
@@ -432,10 +403,9 @@ void write_sfm_report(const SfmResult& r, const fs::path& file) {
 
 std::vector<std::string> sfm_summary_lines(const SfmResult& r) {
   std::vector<std::string> lines;
-  lines.push_back(format_message(
-      "registered ", r.images_registered, " of ", r.images_given, " photos",
-      r.skipped.empty() ? std::string()
-                        : format_message(" (", r.skipped.size(), " files skipped)")));
+  lines.push_back(
+      format_message("registered ", r.images_registered, " of ", r.images_given, " photos",
+                     r.skipped.empty() ? std::string() : format_message(" (", r.skipped.size(), " files skipped)")));
   if (!r.unregistered.empty()) lines.push_back("not registered: " + list_names(r.unregistered));
   std::ostringstream figures;
   figures.precision(3);
@@ -443,9 +413,8 @@ std::vector<std::string> sfm_summary_lines(const SfmResult& r) {
           << " px, mean track length " << r.mean_track_length;
   lines.push_back(figures.str());
   if (!r.plan.matcher.empty()) {
-    lines.push_back(format_message(r.plan.matcher, " matching (", r.plan.matcher_reason, "), ",
-                                   r.plan.max_num_features, " SIFT features per photo at most ",
-                                   r.plan.sift_max_image_size, " px"));
+    lines.push_back(format_message(r.plan.matcher, " matching (", r.plan.matcher_reason, "), ", r.plan.max_num_features,
+                                   " SIFT features per photo at most ", r.plan.sift_max_image_size, " px"));
   }
   if (!r.step_seconds.empty()) lines.push_back(step_times_text(r));
   lines.push_back("undistorted workspace: " + r.undistorted.string());

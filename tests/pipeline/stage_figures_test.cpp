@@ -19,8 +19,9 @@ void append32(std::string& s, std::uint32_t v) {
 
 TEST(StageFigures, PlyElementCounts) {
   hos::testing::TempDir dir;
-  std::ofstream(dir / "m.ply") << "ply\nformat binary_little_endian 1.0\ncomment x\nelement vertex 12\n"
-                                   "property float x\nelement face 7\nproperty list uchar int vertex_indices\nend_header\n";
+  std::ofstream(dir / "m.ply")
+      << "ply\nformat binary_little_endian 1.0\ncomment x\nelement vertex 12\n"
+         "property float x\nelement face 7\nproperty list uchar int vertex_indices\nend_header\n";
   const auto counts = ply_element_counts(dir / "m.ply");
   EXPECT_EQ(counts.at("vertex"), 12);
   EXPECT_EQ(counts.at("face"), 7);

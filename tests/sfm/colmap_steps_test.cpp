@@ -37,9 +37,9 @@ TEST(ColmapSteps, ExtractionIsBoundedAndUsesEveryCore) {
   EXPECT_EQ(arg(step, "SiftExtraction.num_threads"), "-1");
   EXPECT_EQ(arg(step, "SiftExtraction.use_gpu"), "0");
   // Small photos keep COLMAP's upsampled first octave.
-  EXPECT_EQ(arg(feature_extraction_step(context(), plan_sfm({36, 0, 800}, options), options),
-                "SiftExtraction.first_octave"),
-            "-1");
+  EXPECT_EQ(
+      arg(feature_extraction_step(context(), plan_sfm({36, 0, 800}, options), options), "SiftExtraction.first_octave"),
+      "-1");
 }
 
 TEST(ColmapSteps, ExhaustiveMatchingIsOneCommandWithTheMatchCap) {
@@ -64,8 +64,7 @@ TEST(ColmapSteps, VocabularyTreeIsBuiltFromThePhotosFirst) {
   EXPECT_EQ(steps[1].command, "vocab_tree_matcher");
   EXPECT_EQ(arg(steps[1], "VocabTreeMatching.vocab_tree_path"), "ws/sfm/vocab_tree.bin");
   // The photo itself is the first retrieved: neighbours + 1.
-  EXPECT_EQ(arg(steps[1], "VocabTreeMatching.num_images"),
-            std::to_string(options.vocab_tree_neighbors + 1));
+  EXPECT_EQ(arg(steps[1], "VocabTreeMatching.num_images"), std::to_string(options.vocab_tree_neighbors + 1));
 }
 
 TEST(ColmapSteps, SpatialAndSequentialMatching) {

@@ -11,8 +11,7 @@ namespace {
 
 TEST(Exif, ReadsOrientationAndFocalLengthInBothByteOrders) {
   for (bool little_endian : {true, false}) {
-    const auto jpeg =
-        testing::jpeg_with_exif(testing::gradient_image(64, 48), 6, 35.5, little_endian);
+    const auto jpeg = testing::jpeg_with_exif(testing::gradient_image(64, 48), 6, 35.5, little_endian);
     const ExifInfo info = parse_jpeg_exif(jpeg);
     EXPECT_EQ(info.orientation, 6);
     ASSERT_TRUE(info.focal_length_mm.has_value());
@@ -22,13 +21,10 @@ TEST(Exif, ReadsOrientationAndFocalLengthInBothByteOrders) {
 
 TEST(Exif, GpsPositionIsDetectedInBothByteOrders) {
   for (bool little_endian : {true, false}) {
-    EXPECT_TRUE(
-        parse_jpeg_exif(testing::jpeg_with_gps(testing::gradient_image(64, 48), little_endian))
-            .has_gps);
+    EXPECT_TRUE(parse_jpeg_exif(testing::jpeg_with_gps(testing::gradient_image(64, 48), little_endian)).has_gps);
     // Orientation and focal length only: no position.
-    EXPECT_FALSE(parse_jpeg_exif(testing::jpeg_with_exif(testing::gradient_image(64, 48), 1, 35.0,
-                                                         little_endian))
-                     .has_gps);
+    EXPECT_FALSE(
+        parse_jpeg_exif(testing::jpeg_with_exif(testing::gradient_image(64, 48), 1, 35.0, little_endian)).has_gps);
   }
 }
 
@@ -44,8 +40,7 @@ TEST(Exif, NoExifGivesDefaults) {
 TEST(Exif, GarbageIsNotFatal) {
   std::vector<std::uint8_t> bytes(100, 0xFF);
   EXPECT_EQ(parse_jpeg_exif(bytes).orientation, 1);
-  bytes = {0xFF, 0xD8, 0xFF, 0xE1, 0x00, 0x40, 'E',  'x',  'i',  'f',
-           0,    0,    'I',  'I',  42,   0,    0xFF, 0xFF, 0xFF, 0x7F};
+  bytes = {0xFF, 0xD8, 0xFF, 0xE1, 0x00, 0x40, 'E', 'x', 'i', 'f', 0, 0, 'I', 'I', 42, 0, 0xFF, 0xFF, 0xFF, 0x7F};
   EXPECT_EQ(parse_jpeg_exif(bytes).orientation, 1);
 }
 

@@ -35,8 +35,7 @@ class TiffWriter {
 // A TIFF block's header: byte order, 42, IFD0 right after (offset 8).
 TiffWriter tiff_header(bool little_endian) {
   TiffWriter t(little_endian);
-  t.bytes =
-      little_endian ? std::vector<std::uint8_t>{'I', 'I'} : std::vector<std::uint8_t>{'M', 'M'};
+  t.bytes = little_endian ? std::vector<std::uint8_t>{'I', 'I'} : std::vector<std::uint8_t>{'M', 'M'};
   t.u16(42);
   t.u32(8);
   return t;
@@ -58,17 +57,14 @@ cv::Mat gradient_image(int width, int height) {
   cv::Mat image(height, width, CV_8UC3);
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
-      image.at<cv::Vec3b>(y, x) = cv::Vec3b(static_cast<std::uint8_t>(255 * x / width),
-                                            static_cast<std::uint8_t>(255 * y / height), 40);
+      image.at<cv::Vec3b>(y, x) =
+          cv::Vec3b(static_cast<std::uint8_t>(255 * x / width), static_cast<std::uint8_t>(255 * y / height), 40);
     }
   }
   return image;
 }
 
-std::vector<std::uint8_t> jpeg_with_exif(const cv::Mat& image,
-                                         int orientation,
-                                         double focal_mm,
-                                         bool little_endian) {
+std::vector<std::uint8_t> jpeg_with_exif(const cv::Mat& image, int orientation, double focal_mm, bool little_endian) {
   std::vector<std::uint8_t> jpeg;
   cv::imencode(".jpg", image, jpeg, {cv::IMWRITE_JPEG_QUALITY, 98});
   // TIFF: header, IFD0 {orientation, exif pointer}, EXIF IFD {focal}, rational.

@@ -23,8 +23,7 @@ TEST(SfmPlan, AutoMatcherFollowsPhotoCountAndGps) {
   EXPECT_EQ(plan_sfm(photos(100, 99), options).matcher, "vocab_tree");
   // Few photos are matched exhaustively even when they carry GPS.
   EXPECT_EQ(plan_sfm(photos(20, 20), options).matcher, "exhaustive");
-  EXPECT_THAT(plan_sfm(photos(100), options).matcher_reason,
-              HasSubstr("100 photos > sfm.exhaustive_max_images (60)"));
+  EXPECT_THAT(plan_sfm(photos(100), options).matcher_reason, HasSubstr("100 photos > sfm.exhaustive_max_images (60)"));
 }
 
 TEST(SfmPlan, ExplicitMatcherAndLimitWin) {

@@ -20,16 +20,16 @@
 namespace hos::sfm {
 namespace {
 namespace fs = std::filesystem;
-using ::testing::HasSubstr;
 using hos::testing::read_text;
 using hos::testing::shell_quote;
+using ::testing::HasSubstr;
 
 bool have_colmap() { return !find_executable("colmap").empty(); }
 
 // Runs hos-sfm; returns the exit code, output in log.
 int run_sfm_exe(const std::string& args, const fs::path& log, const std::string& env = "") {
-  const std::string command = env + " " + shell_quote(hos::testing::executable("hos-sfm").string()) +
-                              " --progress plain " + args;
+  const std::string command =
+      env + " " + shell_quote(hos::testing::executable("hos-sfm").string()) + " --progress plain " + args;
   return hos::testing::run_command(command, log);
 }
 
@@ -38,13 +38,10 @@ struct Similarity {
   double scale = 1;
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();
-  Eigen::Vector3d apply(const Eigen::Vector3d& x) const {
-    return scale * rotation * x + translation;
-  }
+  Eigen::Vector3d apply(const Eigen::Vector3d& x) const { return scale * rotation * x + translation; }
 };
 
-Similarity umeyama(const std::vector<Eigen::Vector3d>& from,
-                   const std::vector<Eigen::Vector3d>& to) {
+Similarity umeyama(const std::vector<Eigen::Vector3d>& from, const std::vector<Eigen::Vector3d>& to) {
   Eigen::Matrix3Xd a(3, from.size()), b(3, to.size());
   for (std::size_t i = 0; i < from.size(); ++i) {
     a.col(i) = from[i];
@@ -87,12 +84,12 @@ PoseErrors pose_errors(const SparseModel& truth, const SparseModel& result) {
   PoseErrors errors;
   for (const auto& [id, image] : truth.images) {
     const ImageRecord* match = result.find_image(image.name);
-    errors.worst_centre = std::max(
-        errors.worst_centre, (align.apply(match->center()) - image.center()).norm() / scene_size);
+    errors.worst_centre =
+        std::max(errors.worst_centre, (align.apply(match->center()) - image.center()).norm() / scene_size);
     // cam_from_world of the aligned estimate is R_est * R_align^T.
     const Eigen::Matrix3d aligned = match->rotation() * align.rotation.transpose();
-    errors.worst_rotation_deg = std::max(
-        errors.worst_rotation_deg, rotation_angle_deg(image.rotation().transpose() * aligned));
+    errors.worst_rotation_deg =
+        std::max(errors.worst_rotation_deg, rotation_angle_deg(image.rotation().transpose() * aligned));
   }
   return errors;
 }
@@ -141,19 +138,16 @@ TEST_F(SfmTest, SyntheticSceneRegistersEveryViewAccurately) {
   fs::copy(scene / "images", photos);
   std::ofstream(photos / "zero.jpg");
   std::vector<std::uint8_t> jpeg;
-  cv::imencode(
-      ".jpg",
-      cv::imread((scene / "images" / fs::directory_iterator(scene / "images")->path().filename())
-                     .string()),
-      jpeg);
+  cv::imencode(".jpg",
+               cv::imread((scene / "images" / fs::directory_iterator(scene / "images")->path().filename()).string()),
+               jpeg);
   jpeg.resize(jpeg.size() / 2);
   std::ofstream(photos / "corrupt.jpg", std::ios::binary)
       .write(reinterpret_cast<const char*>(jpeg.data()), jpeg.size());
 
   const fs::path ws = dir_ / "ws";
-  const int code = run_sfm_exe(
-      "--images " + shell_quote(photos.string()) + " --workspace " + shell_quote(ws.string()),
-      dir_ / "sfm.out");
+  const int code = run_sfm_exe("--images " + shell_quote(photos.string()) + " --workspace " + shell_quote(ws.string()),
+                               dir_ / "sfm.out");
   const std::string out = read_text(dir_ / "sfm.out");
   ASSERT_EQ(code, 0) << out;
   EXPECT_THAT(out, HasSubstr("zero.jpg: empty file"));
@@ -170,9 +164,8 @@ TEST_F(SfmTest, SyntheticSceneRegistersEveryViewAccurately) {
   const PoseErrors errors = pose_errors(truth, result);
   EXPECT_LT(errors.worst_centre, 0.01);
   EXPECT_LT(errors.worst_rotation_deg, 1.0);
-  std::cout << "worst centre error " << errors.worst_centre * 100
-            << "% of the scene size, worst rotation error " << errors.worst_rotation_deg
-            << " deg\n";
+  std::cout << "worst centre error " << errors.worst_centre * 100 << "% of the scene size, worst rotation error "
+            << errors.worst_rotation_deg << " deg\n";
 
   const std::string report = read_text(ws / "sfm" / "report.json");
   EXPECT_THAT(report, HasSubstr("\"images_registered\": " + std::to_string(truth.images.size())));
@@ -188,8 +181,7 @@ TEST_F(SfmTest, VocabularyTreeAndBoundedSiftKeepFullSizeCameras) {
   if (scene.empty()) GTEST_SKIP() << "hos-synth is not built";
   const fs::path ws = dir_ / "ws";
   const int code =
-      run_sfm_exe("--images " + shell_quote((scene / "images").string()) + " --workspace " +
-                      shell_quote(ws.string()) +
+      run_sfm_exe("--images " + shell_quote((scene / "images").string()) + " --workspace " + shell_quote(ws.string()) +
                       " --set sfm.exhaustive_max_images=6 --set sfm.sift_max_image_size=320",
                   dir_ / "sfm.out");
   const std::string out = read_text(dir_ / "sfm.out");
@@ -222,10 +214,10 @@ TEST_F(SfmTest, ExistingUndistortedModelIsUsedAsIs) {
   if (scene.empty()) GTEST_SKIP() << "hos-synth is not built";
   const fs::path ws = dir_ / "ws";
   // Without COLMAP on PATH: an undistorted model needs none.
-  const int code = run_sfm_exe("--images " + shell_quote((scene / "images").string()) +
-                                   " --sparse " + shell_quote((scene / "sparse").string()) +
-                                   " --workspace " + shell_quote(ws.string()),
-                               dir_ / "sfm.out", "env PATH=/nonexistent");
+  const int code =
+      run_sfm_exe("--images " + shell_quote((scene / "images").string()) + " --sparse " +
+                      shell_quote((scene / "sparse").string()) + " --workspace " + shell_quote(ws.string()),
+                  dir_ / "sfm.out", "env PATH=/nonexistent");
   ASSERT_EQ(code, 0) << read_text(dir_ / "sfm.out");
   const SparseModel truth = read_colmap_model(scene / "sparse");
   const SparseModel copy = read_colmap_model(ws / "sfm" / "undistorted" / "sparse");
@@ -240,9 +232,9 @@ TEST_F(SfmTest, ExistingUndistortedModelIsUsedAsIs) {
 
 TEST_F(SfmTest, EmptyFolderIsBadInput) {
   fs::create_directories(dir_ / "empty");
-  const int code = run_sfm_exe("--images " + shell_quote((dir_ / "empty").string()) +
-                                   " --workspace " + shell_quote((dir_ / "ws").string()),
-                               dir_ / "out");
+  const int code = run_sfm_exe(
+      "--images " + shell_quote((dir_ / "empty").string()) + " --workspace " + shell_quote((dir_ / "ws").string()),
+      dir_ / "out");
   EXPECT_EQ(code, kExitBadInput);
   EXPECT_THAT(read_text(dir_ / "out"), HasSubstr("contains no photos"));
   expect_no_result(dir_ / "ws");
@@ -250,11 +242,10 @@ TEST_F(SfmTest, EmptyFolderIsBadInput) {
 
 TEST_F(SfmTest, FolderOfTextFilesIsBadInput) {
   fs::create_directories(dir_ / "text");
-  for (const char* name : {"notes.txt", "README.md", "photo.jpg"})
-    std::ofstream(dir_ / "text" / name) << "text\n";
-  const int code = run_sfm_exe("--images " + shell_quote((dir_ / "text").string()) +
-                                   " --workspace " + shell_quote((dir_ / "ws").string()),
-                               dir_ / "out");
+  for (const char* name : {"notes.txt", "README.md", "photo.jpg"}) std::ofstream(dir_ / "text" / name) << "text\n";
+  const int code = run_sfm_exe(
+      "--images " + shell_quote((dir_ / "text").string()) + " --workspace " + shell_quote((dir_ / "ws").string()),
+      dir_ / "out");
   EXPECT_EQ(code, kExitBadInput);
   const std::string out = read_text(dir_ / "out");
   EXPECT_THAT(out, HasSubstr("only 0 usable photo"));
@@ -266,9 +257,8 @@ TEST_F(SfmTest, FolderOfTextFilesIsBadInput) {
 TEST_F(SfmTest, NonOverlappingImagesFailCleanly) {
   if (!have_colmap()) GTEST_SKIP() << "colmap is not installed";
   const fs::path photos = unrelated_images(4);
-  const int code = run_sfm_exe("--images " + shell_quote(photos.string()) + " --workspace " +
-                                   shell_quote((dir_ / "ws").string()),
-                               dir_ / "out");
+  const int code = run_sfm_exe(
+      "--images " + shell_quote(photos.string()) + " --workspace " + shell_quote((dir_ / "ws").string()), dir_ / "out");
   EXPECT_EQ(code, kExitStageFailed);
   const std::string out = read_text(dir_ / "out");
   EXPECT_THAT(out, HasSubstr("overlap"));
@@ -277,13 +267,12 @@ TEST_F(SfmTest, NonOverlappingImagesFailCleanly) {
 
 TEST_F(SfmTest, MissingColmapSaysHowToInstall) {
   const fs::path photos = unrelated_images(3);
-  int code = run_sfm_exe("--images " + shell_quote(photos.string()) + " --workspace " +
-                             shell_quote((dir_ / "ws").string()),
-                         dir_ / "out", "env PATH=/nonexistent");
+  int code =
+      run_sfm_exe("--images " + shell_quote(photos.string()) + " --workspace " + shell_quote((dir_ / "ws").string()),
+                  dir_ / "out", "env PATH=/nonexistent");
   EXPECT_EQ(code, kExitStageFailed);
   EXPECT_THAT(read_text(dir_ / "out"), HasSubstr("apt-get install colmap"));
-  code = run_sfm_exe("--images " + shell_quote(photos.string()) + " --workspace " +
-                         shell_quote((dir_ / "ws").string()),
+  code = run_sfm_exe("--images " + shell_quote(photos.string()) + " --workspace " + shell_quote((dir_ / "ws").string()),
                      dir_ / "out", "env HOS_COLMAP=/no/such/colmap");
   EXPECT_EQ(code, kExitUsage);
   EXPECT_THAT(read_text(dir_ / "out"), HasSubstr("HOS_COLMAP"));
@@ -291,9 +280,8 @@ TEST_F(SfmTest, MissingColmapSaysHowToInstall) {
 }
 
 TEST_F(SfmTest, UnknownOptionNamesClosestKey) {
-  const int code = run_sfm_exe("--images x --workspace " + shell_quote((dir_ / "ws").string()) +
-                                   " --set sfm.matchr=exhaustive",
-                               dir_ / "out");
+  const int code = run_sfm_exe(
+      "--images x --workspace " + shell_quote((dir_ / "ws").string()) + " --set sfm.matchr=exhaustive", dir_ / "out");
   EXPECT_EQ(code, kExitUsage);
   EXPECT_THAT(read_text(dir_ / "out"), HasSubstr("did you mean sfm.matcher"));
 }
