@@ -90,7 +90,8 @@ nlohmann::ordered_json stage_figures(const std::string& stage, const fs::path& w
   try {
     if (stage == "sfm") {
       std::ifstream in(paths.sfm_report);
-      const nlohmann::json r = nlohmann::json::parse(in);
+      // Ordered, so the steps keep the order they ran in.
+      const nlohmann::ordered_json r = nlohmann::ordered_json::parse(in);
       for (const char* key : {"images_registered", "images_given", "points", "mean_reprojection_error_px",
                               "mean_track_length", "matcher", "step_seconds"}) {
         if (r.contains(key)) f[key] = r[key];
