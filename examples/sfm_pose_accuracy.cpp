@@ -8,7 +8,7 @@
 // Ground truth formats: Strecha et al. (one "<image>.camera" file per image:
 // K, distortion, camera-to-world R, centre C, size; x ~ K R^T (X - C)) and
 // Middlebury multi-view ("name K(9) R(9) t(3)" lines, x ~ K [R | t]).
-// Prints per-image errors and the median / maximum centre error as a
+// Prints per-image errors, the centre RMSE and the median / maximum centre error as a
 // percentage of the diagonal of the true camera centres' bounding box, and
 // rotation errors in degrees.
 #include <Eigen/Geometry>
@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
   try {
     const hos::SparseModel model = hos::read_colmap_model(argv[1]);
     const std::string format = argv[2];
-    const auto truth = format == "strecha"   ? hos::read_strecha_cameras(argv[3])
+    const auto truth = format == "strecha"  ? hos::read_strecha_cameras(argv[3])
                        : format == "colmap" ? read_colmap_truth(argv[3])
                                             : hos::read_middlebury_cameras(argv[3]);
     std::vector<std::string> names;
@@ -82,18 +82,22 @@ int main(int argc, char** argv) {
     const Eigen::Matrix3d rotation = similarity.block<3, 3>(0, 0) / scale;
     const double diagonal = box.diagonal().norm();
     std::vector<double> centre_errors, rotation_errors;
-    std::cout << std::fixed << std::setprecision(3);
+    double squared_sum = 0.0;
+    std::cout << std::fixed << std::setprecision(4);
     for (std::size_t i = 0; i < names.size(); ++i) {
       const auto& image = *model.find_image(names[i]);
       const Eigen::Vector3d aligned = (similarity * estimated[i].homogeneous()).head<3>();
       const double centre_error = (aligned - expected[i]).norm() / diagonal * 100.0;
-      const Eigen::Matrix3d delta = truth.at(names[i]).cam_from_world.transpose() * image.rotation() * rotation.transpose();
+      const Eigen::Matrix3d delta =
+          truth.at(names[i]).cam_from_world.transpose() * image.rotation() * rotation.transpose();
       const double angle = std::acos(std::clamp((delta.trace() - 1.0) / 2.0, -1.0, 1.0)) * 180.0 / M_PI;
       centre_errors.push_back(centre_error);
+      squared_sum += centre_error * centre_error;
       rotation_errors.push_back(angle);
       std::cout << names[i] << "  centre " << centre_error << " %  rotation " << angle << " deg\n";
     }
     std::cout << "images compared: " << names.size() << " of " << truth.size() << " with ground truth\n"
+              << "centre RMSE (% of camera bbox diagonal): " << std::sqrt(squared_sum / names.size()) << "\n"
               << "centre error (% of camera bbox diagonal): median " << median(centre_errors) << ", max "
               << *std::max_element(centre_errors.begin(), centre_errors.end()) << "\n"
               << "rotation error (deg): median " << median(rotation_errors) << ", max "

@@ -2,6 +2,7 @@
 
 #include <cstring>
 #include <fstream>
+#include <iomanip>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
@@ -89,9 +90,10 @@ nlohmann::ordered_json stage_figures(const std::string& stage, const fs::path& w
   try {
     if (stage == "sfm") {
       std::ifstream in(paths.sfm_report);
-      const nlohmann::json r = nlohmann::json::parse(in);
+      // Ordered, so the steps keep the order they ran in.
+      const nlohmann::ordered_json r = nlohmann::ordered_json::parse(in);
       for (const char* key : {"images_registered", "images_given", "points", "mean_reprojection_error_px",
-                              "mean_track_length"}) {
+                              "mean_track_length", "matcher", "step_seconds"}) {
         if (r.contains(key)) f[key] = r[key];
       }
     } else if (stage == "mvs") {
@@ -122,6 +124,13 @@ std::string figures_text(const std::string& stage, const nlohmann::ordered_json&
   if (stage == "sfm") {
     text << num("images_registered") << "/" << num("images_given") << " images registered, " << num("points")
          << " points";
+    if (f.contains("matcher")) text << ", " << f["matcher"].get<std::string>() << " matching";
+    if (f.contains("step_seconds")) {
+      // The COLMAP steps' times, so a slow step shows in the summary.
+      text << std::fixed << std::setprecision(1);
+      for (const auto& [step, seconds] : f["step_seconds"].items())
+        text << "; " << step << " " << seconds.get<double>() << " s";
+    }
   } else if (stage == "mvs") {
     text << num("points") << " dense points";
   } else if (stage == "recon") {

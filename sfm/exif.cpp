@@ -11,6 +11,9 @@ namespace {
 constexpr std::uint16_t kTagOrientation = 0x0112;
 constexpr std::uint16_t kTagExifIfd = 0x8769;
 constexpr std::uint16_t kTagFocalLength = 0x920A;
+constexpr std::uint16_t kTagGpsIfd = 0x8825;
+constexpr std::uint16_t kTagGpsLatitude = 0x0002;
+constexpr std::uint16_t kTagGpsLongitude = 0x0004;
 constexpr std::uint16_t kTypeShort = 3;
 constexpr std::uint16_t kTypeLong = 4;
 constexpr std::uint16_t kTypeRational = 5;
@@ -63,14 +66,27 @@ void parse_tiff(const std::uint8_t* data, std::size_t size, ExifInfo& info) {
   const TiffReader tiff(data, size);
   if (!tiff.valid()) return;
   std::size_t exif_ifd = 0;
+  std::size_t gps_ifd = 0;
   for_each_entry(tiff, tiff.u32(4), [&](std::uint16_t tag, std::uint16_t type, std::size_t value) {
     if (tag == kTagOrientation && type == kTypeShort) {
       const int o = tiff.u16(value);
       if (o >= 1 && o <= 8) info.orientation = o;
     } else if (tag == kTagExifIfd && type == kTypeLong) {
       exif_ifd = tiff.u32(value);
+    } else if (tag == kTagGpsIfd && type == kTypeLong) {
+      gps_ifd = tiff.u32(value);
     }
   });
+  if (gps_ifd != 0) {
+    // Latitude and longitude are each three rationals (degrees, minutes, seconds).
+    bool latitude = false, longitude = false;
+    for_each_entry(tiff, gps_ifd, [&](std::uint16_t tag, std::uint16_t type, std::size_t) {
+      if (type != kTypeRational) return;
+      latitude = latitude || tag == kTagGpsLatitude;
+      longitude = longitude || tag == kTagGpsLongitude;
+    });
+    info.has_gps = latitude && longitude;
+  }
   if (exif_ifd == 0) return;
   for_each_entry(tiff, exif_ifd, [&](std::uint16_t tag, std::uint16_t type, std::size_t value) {
     if (tag != kTagFocalLength || type != kTypeRational) return;

@@ -1,6 +1,7 @@
-// The two EXIF fields the sfm stage needs from a JPEG: the orientation (so a
-// photo taken in portrait is fed to COLMAP upright) and the focal length (to
-// decide whether all photos share one camera). A small reader of the TIFF
+// The EXIF fields the sfm stage needs from a JPEG: the orientation (so a
+// photo taken in portrait is fed to COLMAP upright), the focal length (to
+// decide whether all photos share one camera) and whether a GPS position is
+// present (to match photos by position, COLMAP's spatial matcher). A small reader of the TIFF
 // structure inside the APP1 segment; nothing else of EXIF is interpreted.
 #pragma once
 
@@ -13,8 +14,9 @@
 namespace hos::sfm {
 
 struct ExifInfo {
-  int orientation = 1;                 // 1..8 as EXIF defines it; 1 = upright
+  int orientation = 1;  // 1..8 as EXIF defines it; 1 = upright
   std::optional<double> focal_length_mm;
+  bool has_gps = false;  // GPS IFD with latitude and longitude
 };
 
 // Parses EXIF from the bytes of a JPEG file. Files without EXIF (or not

@@ -182,6 +182,7 @@ ImageInputs prepare_images(const fs::path& folder,
     staged.name = file.filename().string();
     staged.source = file;
     staged.focal_length_mm = exif.focal_length_mm;
+    staged.has_gps = exif.has_gps;
     if (image.depth() != CV_8U) {
       image = to_8_bits(image);
       staged.rewritten = true;

@@ -25,6 +25,7 @@ struct StagedImage {
   int width = 0;                 // size as staged (upright, downscaled)
   int height = 0;
   std::optional<double> focal_length_mm;  // from EXIF
+  bool has_gps = false;                   // EXIF GPS position (spatial matching)
   bool rewritten = false;                 // re-encoded (rotated, downscaled or 16 to 8 bits) rather than linked
 };
 

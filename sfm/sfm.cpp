@@ -1,8 +1,10 @@
 #include "sfm/sfm.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -13,13 +15,16 @@
 #include "core/sparse_model.h"
 #include "core/undistorted_workspace.h"
 #include "sfm/colmap_runner.h"
+#include "sfm/colmap_steps.h"
 
 namespace hos::sfm {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr int kExhaustiveBlockSize = 50;  // COLMAP's default block size
-constexpr std::size_t kMaxListed = 20;    // names listed in messages
+constexpr std::size_t kMaxListed = 20;  // names listed in messages
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 std::string list_names(const std::vector<std::string>& names) {
   std::string out;
@@ -28,9 +33,7 @@ std::string list_names(const std::vector<std::string>& names) {
   return out;
 }
 
-bool has_model_files(const fs::path& dir) {
-  return fs::exists(dir / "cameras.bin") || fs::exists(dir / "cameras.txt");
-}
+bool has_model_files(const fs::path& dir) { return fs::exists(dir / "cameras.bin") || fs::exists(dir / "cameras.txt"); }
 
 // Models in numbered subfolders, as the mapper writes them.
 std::vector<std::pair<int, fs::path>> numbered_models(const fs::path& dir) {
@@ -51,8 +54,7 @@ std::vector<std::pair<int, fs::path>> numbered_models(const fs::path& dir) {
 void require_ok(const ColmapStepResult& step, const std::string& what) {
   if (step.exit_code != 0) {
     throw StageError("sfm", "COLMAP " + what + " failed (exit code " + std::to_string(step.exit_code) +
-                                "); the end of its output (full log in the stage log):" +
-                                format_tail(step.last_lines));
+                                "); the end of its output (full log in the stage log):" + format_tail(step.last_lines));
   }
 }
 
@@ -80,12 +82,16 @@ void remove_colmap_extras(const fs::path& dir) {
   fs::remove(dir / "run-colmap-photometric.sh", ec);
 }
 
-void undistort_with_colmap(const ColmapInfo& colmap, const fs::path& images, const fs::path& model,
-                           const fs::path& output, std::int64_t num_images, Reporter& reporter,
+void undistort_with_colmap(const ColmapInfo& colmap,
+                           const fs::path& images,
+                           const fs::path& model,
+                           const fs::path& output,
+                           std::int64_t num_images,
+                           Reporter& reporter,
                            SfmResult& result) {
   ColmapStep step{"image_undistorter",
-                  {"--image_path", images.string(), "--input_path", model.string(), "--output_path",
-                   output.string(), "--output_type", "COLMAP"},
+                  {"--image_path", images.string(), "--input_path", model.string(), "--output_path", output.string(),
+                   "--output_type", "COLMAP"},
                   "undistorting images",
                   num_images};
   const ColmapStepResult run = run_colmap_step(colmap, step, reporter);
@@ -96,7 +102,8 @@ void undistort_with_colmap(const ColmapInfo& colmap, const fs::path& images, con
 
 void clear_previous_run(const SfmPaths& paths) {
   std::error_code ec;
-  for (const auto& p : {paths.report, paths.undistorted, paths.sparse, paths.database, paths.images}) {
+  for (const auto& p :
+       {paths.report, paths.undistorted, paths.sparse, paths.database, paths.vocab_tree, paths.images}) {
     fs::remove_all(p, ec);
   }
   fs::remove(paths.database.string() + "-shm", ec);
@@ -105,7 +112,9 @@ void clear_previous_run(const SfmPaths& paths) {
 
 // Existing-model input: check it, then undistort it (or copy it when it is
 // already undistorted) into the workspace.
-SfmResult import_existing_model(const SfmInput& input, const SfmOptions& options, const SfmPaths& paths,
+SfmResult import_existing_model(const SfmInput& input,
+                                const SfmOptions& options,
+                                const SfmPaths& paths,
                                 Reporter& reporter) {
   fs::path model_dir = input.existing_model;
   if (!fs::is_directory(model_dir)) throw InputError(model_dir.string(), "sparse model folder does not exist");
@@ -140,9 +149,9 @@ SfmResult import_existing_model(const SfmInput& input, const SfmOptions& options
   result.models.push_back({0, static_cast<int>(model.images.size()), static_cast<std::int64_t>(model.points.size())});
   fill_model_figures(model, result);
   if (result.images_registered < options.min_registered_images) {
-    throw InputError(model_dir.string(), format_message("has only ", result.images_registered,
-                                                        " registered images (need ",
-                                                        options.min_registered_images, ")"));
+    throw InputError(model_dir.string(),
+                     format_message("has only ", result.images_registered, " registered images (need ",
+                                    options.min_registered_images, ")"));
   }
   write_folder_atomically(paths.undistorted, [&](const fs::path& tmp) {
     if (is_undistorted(model)) {
@@ -160,8 +169,8 @@ SfmResult import_existing_model(const SfmInput& input, const SfmOptions& options
     } else {
       const ColmapInfo colmap = locate_colmap(options.colmap);
       result.colmap_version = colmap.version;
-      undistort_with_colmap(colmap, input.images, model_dir, tmp,
-                            static_cast<std::int64_t>(model.images.size()), reporter, result);
+      undistort_with_colmap(colmap, input.images, model_dir, tmp, static_cast<std::int64_t>(model.images.size()),
+                            reporter, result);
     }
     load_undistorted_workspace(tmp);  // the consumers' own check
   });
@@ -169,114 +178,82 @@ SfmResult import_existing_model(const SfmInput& input, const SfmOptions& options
   return result;
 }
 
-}  // namespace
-
-SfmPaths sfm_paths(const fs::path& workspace) {
-  SfmPaths p;
-  p.root = workspace / "sfm";
-  p.images = p.root / "images";
-  p.database = p.root / "database.db";
-  p.sparse = p.root / "sparse";
-  p.undistorted = p.root / "undistorted";
-  p.report = p.root / "report.json";
-  return p;
-}
-
-SfmResult run_sfm(const SfmInput& input, const SfmOptions& options, Reporter& reporter) {
-  options.validate();
-  const SfmPaths paths = sfm_paths(input.workspace);
+void prepare_workspace(const SfmPaths& paths) {
   std::error_code ec;
   fs::create_directories(paths.root, ec);
   if (ec) throw OutputError(paths.root.string(), "cannot create the workspace folder: " + ec.message());
   clear_previous_run(paths);
+}
 
-  if (!input.existing_model.empty()) return import_existing_model(input, options, paths, reporter);
-
-  // Inputs first: a bad photo folder is reported even where COLMAP is missing.
-  SfmResult result;
-  const ImageInputs inputs = prepare_images(input.images, paths.images, options, reporter);
+ImageInputs stage_photos(
+    const SfmInput& input, const SfmOptions& options, const SfmPaths& paths, Reporter& reporter, SfmResult& result) {
+  const auto started = Clock::now();
+  ImageInputs inputs = prepare_images(input.images, paths.images, options, reporter);
+  result.step_seconds.emplace_back("prepare_images", seconds_since(started));
   result.skipped = inputs.skipped;
   result.images_given = static_cast<int>(inputs.images.size());
-  const auto num_images = static_cast<std::int64_t>(inputs.images.size());
+  return inputs;
+}
 
-  const ColmapInfo colmap = locate_colmap(options.colmap);
-  result.colmap_version = colmap.version;
-  const bool gpu = options.use_gpu == "yes" || (options.use_gpu == "auto" && colmap.cuda);
-  const std::string gpu_flag = gpu ? "1" : "0";
-  const std::string threads = std::to_string(options.num_threads);
-  const std::string seed = std::to_string(options.random_seed);
-  result.single_camera = options.camera_mode == "single" ||
-                         (options.camera_mode == "auto" && inputs.same_camera());
-  reporter.info(format_message(num_images, " photos, ", result.single_camera ? "one shared camera" : "one camera per photo",
-                               " (", options.camera_model, "), COLMAP ", colmap.version,
-                               gpu ? " with GPU" : " on the CPU"));
-
-  // 1. Features.
-  const ColmapStep extract{"feature_extractor",
-                           {"--random_seed", seed, "--database_path", paths.database.string(), "--image_path",
-                            paths.images.string(), "--ImageReader.camera_model", options.camera_model,
-                            "--ImageReader.single_camera", result.single_camera ? "1" : "0",
-                            "--SiftExtraction.use_gpu", gpu_flag, "--SiftExtraction.num_threads", threads,
-                            "--SiftExtraction.max_num_features", std::to_string(options.max_num_features),
-                            "--SiftExtraction.peak_threshold", format_message(options.sift_peak_threshold)},
-                           "extracting features",
-                           num_images};
-  const ColmapStepResult extracted = run_colmap_step(colmap, extract, reporter);
-  require_ok(extracted, "feature_extractor");
-  result.step_seconds.emplace_back("feature_extractor", extracted.seconds);
-
-  // 2. Matching: exhaustive is best for unordered photo sets; ordered video
-  // frames only overlap with their neighbours.
-  const bool sequential = options.matcher == "sequential" ||
-                          (options.matcher == "auto" && num_images > options.exhaustive_max_images);
-  result.matcher = sequential ? "sequential" : "exhaustive";
-  ColmapStep match;
-  match.args = {"--random_seed", seed, "--database_path", paths.database.string(), "--SiftMatching.use_gpu",
-                gpu_flag, "--SiftMatching.num_threads", threads};
-  if (sequential) {
-    match.command = "sequential_matcher";
-    match.args.insert(match.args.end(), {"--SequentialMatching.overlap", std::to_string(options.sequential_overlap)});
-    match.total = num_images;
-  } else {
-    match.command = "exhaustive_matcher";
-    const std::int64_t blocks = (num_images + kExhaustiveBlockSize - 1) / kExhaustiveBlockSize;
-    match.args.insert(match.args.end(), {"--ExhaustiveMatching.block_size", std::to_string(kExhaustiveBlockSize)});
-    match.total = blocks * blocks;
+PhotoSetFacts photo_set_facts(const ImageInputs& inputs) {
+  PhotoSetFacts facts;
+  facts.photos = static_cast<int>(inputs.images.size());
+  for (const StagedImage& image : inputs.images) {
+    facts.photos_with_gps += image.has_gps ? 1 : 0;
+    facts.longest_side_px = std::max({facts.longest_side_px, image.width, image.height});
   }
-  match.title = "matching (" + result.matcher + ")";
-  const ColmapStepResult matched = run_colmap_step(colmap, match, reporter);
-  require_ok(matched, match.command);
-  result.step_seconds.emplace_back(match.command, matched.seconds);
+  return facts;
+}
 
-  // 3. Mapping. Small secondary models are kept (min_model_size 3) so they
-  // can be reported.
-  fs::create_directories(paths.sparse);
-  const ColmapStep map{"mapper",
-                       {"--random_seed", seed, "--database_path", paths.database.string(), "--image_path",
-                        paths.images.string(), "--output_path", paths.sparse.string(), "--Mapper.num_threads",
-                        threads, "--Mapper.min_model_size", "3", "--Mapper.abs_pose_min_num_inliers",
-                        std::to_string(options.min_pose_inliers)},
-                       "mapping",
-                       num_images};
-  const ColmapStepResult mapped = run_colmap_step(colmap, map, reporter);
-  result.step_seconds.emplace_back("mapper", mapped.seconds);
-  const auto models = numbered_models(paths.sparse);
-  if (models.empty()) {
-    throw StageError("sfm", format_message(
-                                "COLMAP could not register the photos (no model from ", num_images,
-                                " photos): they may not overlap enough or lack texture. "
-                                "Photos of one object need 60-80% overlap between neighbours.",
-                                mapped.exit_code != 0 ? " COLMAP mapper output ends with:" + format_tail(mapped.last_lines)
-                                                      : std::string()));
-  }
-  require_ok(mapped, "mapper");
+ColmapRunContext run_context(const ImageInputs& inputs,
+                             const SfmOptions& options,
+                             const ColmapInfo& colmap,
+                             const SfmPaths& paths,
+                             SfmResult& result) {
+  ColmapRunContext context;
+  context.database = paths.database;
+  context.images = paths.images;
+  context.sparse = paths.sparse;
+  context.vocab_tree = paths.vocab_tree;
+  context.gpu = options.use_gpu == "yes" || (options.use_gpu == "auto" && colmap.cuda);
+  context.single_camera = options.camera_mode == "single" || (options.camera_mode == "auto" && inputs.same_camera());
+  context.num_images = static_cast<std::int64_t>(inputs.images.size());
+  result.single_camera = context.single_camera;
+  return context;
+}
 
-  // 4. Read every model; the largest is the result.
+void announce_plan(const ColmapRunContext& context,
+                   const ColmapInfo& colmap,
+                   const SfmOptions& options,
+                   const SfmResult& result,
+                   Reporter& reporter) {
+  const SfmPlan& plan = result.plan;
+  reporter.info(format_message(
+      context.num_images, " photos, ", context.single_camera ? "one shared camera" : "one camera per photo", " (",
+      options.camera_model, "), COLMAP ", colmap.version, context.gpu ? " with GPU" : " on the CPU"));
+  reporter.info(format_message("SIFT at most ", plan.sift_max_image_size, " px", plan.sift_upsample ? " (and 2x)" : "",
+                               ", ", plan.max_num_features, " features per photo, ", plan.max_num_matches,
+                               " matches per pair; ", plan.matcher, " matching (", plan.matcher_reason, ")"));
+}
+
+// Runs one COLMAP command, fails the stage on an error exit, keeps its time.
+void run_timed(const ColmapInfo& colmap, const ColmapStep& step, Reporter& reporter, SfmResult& result) {
+  const ColmapStepResult run = run_colmap_step(colmap, step, reporter);
+  require_ok(run, step.command);
+  result.step_seconds.emplace_back(step.command, run.seconds);
+}
+
+// Reads every model the mapper wrote and picks the largest; returns its folder.
+fs::path select_largest_model(const std::vector<std::pair<int, fs::path>>& models,
+                              const ImageInputs& inputs,
+                              Reporter& reporter,
+                              SfmResult& result) {
   SparseModel best;
   fs::path best_dir;
   for (const auto& [index, dir] : models) {
     SparseModel model = read_colmap_model(dir);
-    result.models.push_back({index, static_cast<int>(model.images.size()), static_cast<std::int64_t>(model.points.size())});
+    result.models.push_back(
+        {index, static_cast<int>(model.images.size()), static_cast<std::int64_t>(model.points.size())});
     if (best_dir.empty() || model.images.size() > best.images.size()) {
       best = std::move(model);
       best_dir = dir;
@@ -290,24 +267,100 @@ SfmResult run_sfm(const SfmInput& input, const SfmOptions& options, Reporter& re
   if (result.models.size() > 1) {
     std::string others;
     for (const auto& m : result.models) {
-      if (m.index != result.used_model) others += format_message(others.empty() ? "" : ", ", "model ", m.index, " (", m.images, " images)");
+      if (m.index != result.used_model)
+        others += format_message(others.empty() ? "" : ", ", "model ", m.index, " (", m.images, " images)");
     }
     reporter.warn(format_message("COLMAP split the photos into ", result.models.size(), " models; using model ",
                                  result.used_model, " (", result.images_registered, " images), ignoring ", others));
   }
+  return best_dir;
+}
+
+// The mapper, then the largest model; fails the stage when too few photos
+// registered. Returns the chosen model's folder.
+fs::path map_photos(const ColmapInfo& colmap,
+                    const ColmapRunContext& context,
+                    const SfmOptions& options,
+                    const ImageInputs& inputs,
+                    Reporter& reporter,
+                    SfmResult& result) {
+  fs::create_directories(context.sparse);
+  const ColmapStepResult mapped = run_colmap_step(colmap, mapping_step(context, options), reporter);
+  result.step_seconds.emplace_back("mapper", mapped.seconds);
+  const auto models = numbered_models(context.sparse);
+  if (models.empty()) {
+    throw StageError("sfm", format_message("COLMAP could not register the photos (no model from ", context.num_images,
+                                           " photos): they may not overlap enough or lack texture. "
+                                           "Photos of one object need 60-80% overlap between neighbours.",
+                                           mapped.exit_code != 0
+                                               ? " COLMAP mapper output ends with:" + format_tail(mapped.last_lines)
+                                               : std::string()));
+  }
+  require_ok(mapped, "mapper");
+  const fs::path best_dir = select_largest_model(models, inputs, reporter, result);
   if (result.images_registered < options.min_registered_images) {
-    throw StageError("sfm", format_message("only ", result.images_registered, " of ", num_images,
+    throw StageError("sfm", format_message("only ", result.images_registered, " of ", context.num_images,
                                            " photos registered (need ", options.min_registered_images,
                                            "): the photos may not overlap enough. Not registered: ",
                                            list_names(result.unregistered)));
   }
+  return best_dir;
+}
 
-  // 5. Undistortion into the workspace the later stages read.
+}  // namespace
+
+std::string step_times_text(const SfmResult& r) {
+  std::ostringstream times;
+  times << std::fixed << std::setprecision(1) << "times: total " << r.total_seconds << " s";
+  for (const auto& [name, seconds] : r.step_seconds) times << "; " << name << " " << seconds << " s";
+  return times.str();
+}
+
+SfmPaths sfm_paths(const fs::path& workspace) {
+  SfmPaths p;
+  p.root = workspace / "sfm";
+  p.images = p.root / "images";
+  p.database = p.root / "database.db";
+  p.vocab_tree = p.root / "vocab_tree.bin";
+  p.sparse = p.root / "sparse";
+  p.undistorted = p.root / "undistorted";
+  p.report = p.root / "report.json";
+  return p;
+}
+
+SfmResult run_sfm(const SfmInput& input, const SfmOptions& options, Reporter& reporter) {
+  const auto started = Clock::now();
+  options.validate();
+  const SfmPaths paths = sfm_paths(input.workspace);
+  prepare_workspace(paths);
+  if (!input.existing_model.empty()) {
+    SfmResult result = import_existing_model(input, options, paths, reporter);
+    result.total_seconds = seconds_since(started);
+    return result;
+  }
+
+  // Inputs first: a bad photo folder is reported even where COLMAP is missing.
+  SfmResult result;
+  const ImageInputs inputs = stage_photos(input, options, paths, reporter, result);
+  const ColmapInfo colmap = locate_colmap(options.colmap);
+  result.colmap_version = colmap.version;
+  const ColmapRunContext context = run_context(inputs, options, colmap, paths, result);
+  result.plan = plan_sfm(photo_set_facts(inputs), options);
+  result.matcher = result.plan.matcher;
+  announce_plan(context, colmap, options, result, reporter);
+
+  run_timed(colmap, feature_extraction_step(context, result.plan, options), reporter, result);
+  for (const ColmapStep& step : matching_steps(context, result.plan, options)) {
+    run_timed(colmap, step, reporter, result);
+  }
+  const fs::path model_dir = map_photos(colmap, context, options, inputs, reporter, result);
+  // Undistortion into the workspace the later stages read.
   write_folder_atomically(paths.undistorted, [&](const fs::path& tmp) {
-    undistort_with_colmap(colmap, paths.images, best_dir, tmp, result.images_registered, reporter, result);
+    undistort_with_colmap(colmap, paths.images, model_dir, tmp, result.images_registered, reporter, result);
     load_undistorted_workspace(tmp);  // the consumers' own check
   });
   result.undistorted = paths.undistorted;
+  result.total_seconds = seconds_since(started);
   return result;
 }
 
@@ -322,14 +375,25 @@ void write_sfm_report(const SfmResult& r, const fs::path& file) {
   j["mean_reprojection_error_px"] = r.mean_reprojection_error_px;
   j["mean_track_length"] = r.mean_track_length;
   j["models"] = nlohmann::json::array();
-  for (const auto& m : r.models) j["models"].push_back({{"index", m.index}, {"images", m.images}, {"points", m.points}});
+  for (const auto& m : r.models)
+    j["models"].push_back({{"index", m.index}, {"images", m.images}, {"points", m.points}});
   j["used_model"] = r.used_model;
   j["matcher"] = r.matcher;
+  if (!r.plan.matcher.empty()) {
+    j["plan"] = {{"matcher", r.plan.matcher},
+                 {"matcher_reason", r.plan.matcher_reason},
+                 {"max_num_features", r.plan.max_num_features},
+                 {"max_num_matches", r.plan.max_num_matches},
+                 {"sift_max_image_size", r.plan.sift_max_image_size},
+                 {"sift_upsample", r.plan.sift_upsample},
+                 {"vocab_tree_words", r.plan.vocab_tree_words}};
+  }
   j["single_camera"] = r.single_camera;
   j["colmap_version"] = r.colmap_version;
   nlohmann::ordered_json steps = nlohmann::ordered_json::object();
   for (const auto& [name, seconds] : r.step_seconds) steps[name] = seconds;
   j["step_seconds"] = steps;
+  j["total_seconds"] = r.total_seconds;
   write_atomically(file, [&](const fs::path& tmp) {
     std::ofstream out(tmp);
     out << j.dump(2) << "\n";
@@ -339,21 +403,20 @@ void write_sfm_report(const SfmResult& r, const fs::path& file) {
 
 std::vector<std::string> sfm_summary_lines(const SfmResult& r) {
   std::vector<std::string> lines;
-  lines.push_back(format_message("registered ", r.images_registered, " of ", r.images_given, " photos",
-                                 r.skipped.empty() ? std::string() : format_message(" (", r.skipped.size(), " files skipped)")));
+  lines.push_back(
+      format_message("registered ", r.images_registered, " of ", r.images_given, " photos",
+                     r.skipped.empty() ? std::string() : format_message(" (", r.skipped.size(), " files skipped)")));
   if (!r.unregistered.empty()) lines.push_back("not registered: " + list_names(r.unregistered));
   std::ostringstream figures;
   figures.precision(3);
   figures << r.points << " 3D points, mean reprojection error " << r.mean_reprojection_error_px
           << " px, mean track length " << r.mean_track_length;
   lines.push_back(figures.str());
-  if (!r.step_seconds.empty()) {
-    std::ostringstream times;
-    times.precision(3);
-    times << "COLMAP times:";
-    for (const auto& [name, seconds] : r.step_seconds) times << " " << name << " " << seconds << " s;";
-    lines.push_back(times.str());
+  if (!r.plan.matcher.empty()) {
+    lines.push_back(format_message(r.plan.matcher, " matching (", r.plan.matcher_reason, "), ", r.plan.max_num_features,
+                                   " SIFT features per photo at most ", r.plan.sift_max_image_size, " px"));
   }
+  if (!r.step_seconds.empty()) lines.push_back(step_times_text(r));
   lines.push_back("undistorted workspace: " + r.undistorted.string());
   return lines;
 }

@@ -4,6 +4,7 @@
 // Workspace layout (under the stage's workspace root WS):
 //   WS/sfm/images/           the usable photos (links, or upright/downscaled copies)
 //   WS/sfm/database.db       COLMAP's feature and match database
+//   WS/sfm/vocab_tree.bin    vocabulary tree learnt from the photos (vocab_tree matcher)
 //   WS/sfm/sparse/<k>/       COLMAP's models (several if the photos split)
 //   WS/sfm/undistorted/      the result: images/ + sparse/ (PINHOLE), see
 //                            core/undistorted_workspace.h; written atomically
@@ -19,6 +20,7 @@
 #include "core/reporter.h"
 #include "sfm/image_inputs.h"
 #include "sfm/sfm_options.h"
+#include "sfm/sfm_plan.h"
 
 namespace hos::sfm {
 
@@ -26,6 +28,7 @@ struct SfmPaths {
   std::filesystem::path root;  // WS/sfm
   std::filesystem::path images;
   std::filesystem::path database;
+  std::filesystem::path vocab_tree;
   std::filesystem::path sparse;
   std::filesystem::path undistorted;
   std::filesystem::path report;
@@ -58,10 +61,13 @@ struct SfmResult {
   double mean_track_length = 0.0;
   std::vector<SfmModelSummary> models;  // every model COLMAP produced
   int used_model = 0;
-  std::string matcher;      // "exhaustive", "sequential" or "existing model"
+  std::string matcher;  // plan.matcher, or "existing model"
+  SfmPlan plan;         // what COLMAP was asked to do (empty for an existing model)
   bool single_camera = false;
   std::string colmap_version;
-  std::vector<std::pair<std::string, double>> step_seconds;  // COLMAP step -> wall time
+  // Step -> wall time: "prepare_images", then each COLMAP command.
+  std::vector<std::pair<std::string, double>> step_seconds;
+  double total_seconds = 0.0;  // the whole stage
 };
 
 // Runs the stage. Throws InputError (bad photo folder or model), StageError
@@ -71,7 +77,11 @@ SfmResult run_sfm(const SfmInput& input, const SfmOptions& options, Reporter& re
 // The figures as JSON (WS/sfm/report.json), written atomically.
 void write_sfm_report(const SfmResult& result, const std::filesystem::path& file);
 
-// A few lines for the terminal: registered/given, points, errors, timings.
+// "times: total 41.2 s; prepare_images 0.3 s; feature_extractor 12.0 s; ...".
+std::string step_times_text(const SfmResult& result);
+
+// A few lines for the terminal: registered/given, points, errors, the
+// matching plan, per-step times.
 std::vector<std::string> sfm_summary_lines(const SfmResult& result);
 
 }  // namespace hos::sfm

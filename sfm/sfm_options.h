@@ -16,26 +16,52 @@ struct SfmOptions {
   // "auto": one shared camera when all photos have the same size and EXIF
   // focal length; "single": always one; "per_image": one camera per photo.
   std::string camera_mode = "auto";
-  // "auto": exhaustive up to exhaustive_max_images photos, else sequential.
+  // How photo pairs are chosen for matching (sfm/sfm_plan.h):
+  // "auto": exhaustive up to exhaustive_max_images photos; above that spatial
+  // when most photos carry GPS EXIF, else a vocabulary tree built from the
+  // photos' own features. "sequential" suits ordered video frames.
   std::string matcher = "auto";
-  int exhaustive_max_images = 200;
+  int exhaustive_max_images = 60;
   int sequential_overlap = 10;  // neighbours matched per frame by the sequential matcher
+  // Vocabulary tree matching: photos retrieved (and matched) per photo, and
+  // the tree's visual words (0 = auto: about 100 features per word).
+  int vocab_tree_neighbors = 20;
+  int vocab_tree_words = 0;
+  int spatial_neighbors = 20;  // nearest photos by GPS position matched per photo
   // Photos larger than this (longest side, pixels) are downscaled into the
-  // workspace before COLMAP sees them; 0 keeps the original size.
+  // workspace before COLMAP sees them (so the undistorted images for mvs and
+  // texture shrink too); 0 keeps the original size.
   int max_image_size = 0;
-  int min_image_size = 64;      // photos with a shorter side are skipped
-  int max_num_features = 8192;  // SIFT features per photo
+  // Longest side SIFT works at (COLMAP's SiftExtraction.max_image_size):
+  // keypoints come back in full-size coordinates and the undistorted images
+  // keep the full size; 0 = no bound.
+  int sift_max_image_size = 2400;
+  // Photos whose SIFT size is below this (longest side, pixels) are also
+  // searched at twice their size (COLMAP first_octave -1): small photos need
+  // those fine features, large ones have plenty without, at a quarter of the
+  // work. 0 = never upsample.
+  int sift_upsample_below = 1200;
+  int min_image_size = 64;  // photos with a shorter side are skipped
+  // SIFT features per photo; 0 = auto (sfm_plan.h: 4096 for up to 20
+  // photos, falling as 1/sqrt(count) to 2048 from 80 photos on).
+  int max_num_features = 0;
+  // Verified matches kept per photo pair; 0 = auto (half the features).
+  int max_num_matches = 0;
   // SIFT contrast threshold. Below COLMAP's 0.0067 so that small photos and
   // sparsely textured objects get enough features; large photos reach
   // max_num_features either way.
   double sift_peak_threshold = 0.003;
-  int num_threads = -1;         // COLMAP threads; -1 = all cores
+  int num_threads = -1;  // COLMAP threads; -1 = all cores
   // "auto" uses the GPU only if the COLMAP binary reports CUDA support.
   std::string use_gpu = "auto";
   // Inliers the mapper needs to register a photo. COLMAP's default (30) drops
   // views of small, sparsely textured objects that match their neighbours
   // with only 15-30 features; 15 still rejects chance matches.
   int min_pose_inliers = 15;
+  // Global bundle adjustment runs when the model grew by this factor since
+  // the last one (COLMAP Mapper.ba_global_images_ratio / points_ratio, default
+  // 1.1); the final global adjustment always runs.
+  double ba_global_ratio = 1.1;
   int min_registered_images = 3;  // fewer registered photos is a failure
   int random_seed = 0;            // COLMAP's random seed, for repeatable runs
 

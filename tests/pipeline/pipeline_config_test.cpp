@@ -55,7 +55,7 @@ TEST(PipelineConfig, LaterSourcesOverrideEarlierOnes) {
   std::ofstream(dir / "c.yaml") << "sfm:\n  max_num_features: 5000\n  matcher: sequential\n";
   PipelineConfig config;
   config.apply_preset("fast");
-  EXPECT_THAT(config.section_yaml("sfm"), HasSubstr("max_num_features: 4096"));
+  EXPECT_THAT(config.section_yaml("sfm"), HasSubstr("max_num_features: 2048"));
   config.apply_file((dir / "c.yaml").string());
   config.apply_assignment("sfm.max_num_features=6000");
   const std::string sfm = config.section_yaml("sfm");
@@ -120,8 +120,8 @@ TEST(PipelineConfig, CommittedDefaultConfigIsTheGeneratedOne) {
     ASSERT_TRUE(committed_sections.count(stage))
         << "config/default.yaml has no " << stage
         << " section; regenerate it: hos-pipeline --print-default-config > config/default.yaml";
-    EXPECT_EQ(committed_sections.at(stage), text)
-        << "config/default.yaml is out of date; regenerate it: hos-pipeline --print-default-config > config/default.yaml";
+    EXPECT_EQ(committed_sections.at(stage), text) << "config/default.yaml is out of date; regenerate it: hos-pipeline "
+                                                     "--print-default-config > config/default.yaml";
   }
   PipelineConfig config;
   EXPECT_NO_THROW(config.apply_file((hos::testing::source_dir() / "config" / "default.yaml").string()));

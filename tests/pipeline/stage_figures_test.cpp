@@ -19,8 +19,9 @@ void append32(std::string& s, std::uint32_t v) {
 
 TEST(StageFigures, PlyElementCounts) {
   hos::testing::TempDir dir;
-  std::ofstream(dir / "m.ply") << "ply\nformat binary_little_endian 1.0\ncomment x\nelement vertex 12\n"
-                                   "property float x\nelement face 7\nproperty list uchar int vertex_indices\nend_header\n";
+  std::ofstream(dir / "m.ply")
+      << "ply\nformat binary_little_endian 1.0\ncomment x\nelement vertex 12\n"
+         "property float x\nelement face 7\nproperty list uchar int vertex_indices\nend_header\n";
   const auto counts = ply_element_counts(dir / "m.ply");
   EXPECT_EQ(counts.at("vertex"), 12);
   EXPECT_EQ(counts.at("face"), 7);
@@ -58,6 +59,19 @@ TEST(StageFigures, GlbMeshAndTextureSizes) {
   EXPECT_EQ(f.texture_sizes[0], std::make_pair(40, 30));
   std::ofstream(dir / "x.glb") << "nope";
   EXPECT_THROW(read_glb_figures(dir / "x.glb"), InputError);
+}
+
+TEST(StageFigures, SfmStepTimesReachTheSummary) {
+  hos::testing::TempDir dir;
+  fs::create_directories(dir / "sfm");
+  std::ofstream(dir / "sfm" / "report.json")
+      << R"({"images_given": 11, "images_registered": 10, "points": 5000, "matcher": "vocab_tree",)"
+      << R"( "step_seconds": {"feature_extractor": 12.25, "vocab_tree_builder": 2.0, "mapper": 8.0}})";
+  const auto figures = stage_figures("sfm", dir.path());
+  EXPECT_EQ(figures["step_seconds"].size(), 3u);
+  EXPECT_EQ(figures_text("sfm", figures),
+            "10/11 images registered, 5000 points, vocab_tree matching; feature_extractor 12.2 s; "
+            "vocab_tree_builder 2.0 s; mapper 8.0 s");
 }
 
 }  // namespace

@@ -19,12 +19,22 @@ TEST(Exif, ReadsOrientationAndFocalLengthInBothByteOrders) {
   }
 }
 
+TEST(Exif, GpsPositionIsDetectedInBothByteOrders) {
+  for (bool little_endian : {true, false}) {
+    EXPECT_TRUE(parse_jpeg_exif(testing::jpeg_with_gps(testing::gradient_image(64, 48), little_endian)).has_gps);
+    // Orientation and focal length only: no position.
+    EXPECT_FALSE(
+        parse_jpeg_exif(testing::jpeg_with_exif(testing::gradient_image(64, 48), 1, 35.0, little_endian)).has_gps);
+  }
+}
+
 TEST(Exif, NoExifGivesDefaults) {
   std::vector<std::uint8_t> jpeg;
   cv::imencode(".jpg", testing::gradient_image(32, 32), jpeg);
   const ExifInfo info = parse_jpeg_exif(jpeg);
   EXPECT_EQ(info.orientation, 1);
   EXPECT_FALSE(info.focal_length_mm.has_value());
+  EXPECT_FALSE(info.has_gps);
 }
 
 TEST(Exif, GarbageIsNotFatal) {

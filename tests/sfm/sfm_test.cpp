@@ -20,16 +20,16 @@
 namespace hos::sfm {
 namespace {
 namespace fs = std::filesystem;
-using ::testing::HasSubstr;
 using hos::testing::read_text;
 using hos::testing::shell_quote;
+using ::testing::HasSubstr;
 
 bool have_colmap() { return !find_executable("colmap").empty(); }
 
 // Runs hos-sfm; returns the exit code, output in log.
 int run_sfm_exe(const std::string& args, const fs::path& log, const std::string& env = "") {
-  const std::string command = env + " " + shell_quote(hos::testing::executable("hos-sfm").string()) +
-                              " --progress plain " + args;
+  const std::string command =
+      env + " " + shell_quote(hos::testing::executable("hos-sfm").string()) + " --progress plain " + args;
   return hos::testing::run_command(command, log);
 }
 
@@ -58,6 +58,40 @@ Similarity umeyama(const std::vector<Eigen::Vector3d>& from, const std::vector<E
 double rotation_angle_deg(const Eigen::Matrix3d& r) {
   const double c = std::clamp((r.trace() - 1.0) / 2.0, -1.0, 1.0);
   return std::acos(c) * 180.0 / M_PI;
+}
+
+// Worst camera errors of result against truth after a similarity alignment
+// of the centres; the centre error as a fraction of the diagonal of the true
+// centres' bounding box. Every true image must be in the result.
+struct PoseErrors {
+  double worst_centre = 0;
+  double worst_rotation_deg = 0;
+};
+
+PoseErrors pose_errors(const SparseModel& truth, const SparseModel& result) {
+  std::vector<Eigen::Vector3d> estimated, expected;
+  Eigen::AlignedBox3d box;
+  for (const auto& [id, image] : truth.images) {
+    const ImageRecord* match = result.find_image(image.name);
+    EXPECT_NE(match, nullptr) << image.name;
+    if (!match) return {1e9, 180};
+    estimated.push_back(match->center());
+    expected.push_back(image.center());
+    box.extend(image.center());
+  }
+  const double scene_size = box.diagonal().norm();
+  const Similarity align = umeyama(estimated, expected);
+  PoseErrors errors;
+  for (const auto& [id, image] : truth.images) {
+    const ImageRecord* match = result.find_image(image.name);
+    errors.worst_centre =
+        std::max(errors.worst_centre, (align.apply(match->center()) - image.center()).norm() / scene_size);
+    // cam_from_world of the aligned estimate is R_est * R_align^T.
+    const Eigen::Matrix3d aligned = match->rotation() * align.rotation.transpose();
+    errors.worst_rotation_deg =
+        std::max(errors.worst_rotation_deg, rotation_angle_deg(image.rotation().transpose() * aligned));
+  }
+  return errors;
 }
 
 class SfmTest : public ::testing::Test {
@@ -104,9 +138,12 @@ TEST_F(SfmTest, SyntheticSceneRegistersEveryViewAccurately) {
   fs::copy(scene / "images", photos);
   std::ofstream(photos / "zero.jpg");
   std::vector<std::uint8_t> jpeg;
-  cv::imencode(".jpg", cv::imread((scene / "images" / fs::directory_iterator(scene / "images")->path().filename()).string()), jpeg);
+  cv::imencode(".jpg",
+               cv::imread((scene / "images" / fs::directory_iterator(scene / "images")->path().filename()).string()),
+               jpeg);
   jpeg.resize(jpeg.size() / 2);
-  std::ofstream(photos / "corrupt.jpg", std::ios::binary).write(reinterpret_cast<const char*>(jpeg.data()), jpeg.size());
+  std::ofstream(photos / "corrupt.jpg", std::ios::binary)
+      .write(reinterpret_cast<const char*>(jpeg.data()), jpeg.size());
 
   const fs::path ws = dir_ / "ws";
   const int code = run_sfm_exe("--images " + shell_quote(photos.string()) + " --workspace " + shell_quote(ws.string()),
@@ -124,34 +161,52 @@ TEST_F(SfmTest, SyntheticSceneRegistersEveryViewAccurately) {
   ASSERT_EQ(result.images.size(), truth.images.size()) << "every view registers";
   for (const auto& [id, camera] : result.cameras) EXPECT_FALSE(camera.has_distortion());
 
-  std::vector<Eigen::Vector3d> estimated, expected;
-  Eigen::AlignedBox3d box;
-  for (const auto& [id, image] : truth.images) {
-    const ImageRecord* match = result.find_image(image.name);
-    ASSERT_NE(match, nullptr) << image.name;
-    estimated.push_back(match->center());
-    expected.push_back(image.center());
-    box.extend(image.center());
-  }
-  // Scene size: diagonal of the bounding box of the true camera centres.
-  const double scene_size = box.diagonal().norm();
-  const Similarity align = umeyama(estimated, expected);
-  double worst_centre = 0, worst_rotation = 0;
-  for (const auto& [id, image] : truth.images) {
-    const ImageRecord* match = result.find_image(image.name);
-    worst_centre = std::max(worst_centre, (align.apply(match->center()) - image.center()).norm());
-    // cam_from_world of the aligned estimate is R_est * R_align^T.
-    const Eigen::Matrix3d aligned = match->rotation() * align.rotation.transpose();
-    worst_rotation = std::max(worst_rotation, rotation_angle_deg(image.rotation().transpose() * aligned));
-  }
-  EXPECT_LT(worst_centre, 0.01 * scene_size);
-  EXPECT_LT(worst_rotation, 1.0);
-  std::cout << "worst centre error " << worst_centre / scene_size * 100 << "% of the scene size, worst rotation error "
-            << worst_rotation << " deg\n";
+  const PoseErrors errors = pose_errors(truth, result);
+  EXPECT_LT(errors.worst_centre, 0.01);
+  EXPECT_LT(errors.worst_rotation_deg, 1.0);
+  std::cout << "worst centre error " << errors.worst_centre * 100 << "% of the scene size, worst rotation error "
+            << errors.worst_rotation_deg << " deg\n";
 
   const std::string report = read_text(ws / "sfm" / "report.json");
   EXPECT_THAT(report, HasSubstr("\"images_registered\": " + std::to_string(truth.images.size())));
   EXPECT_THAT(report, HasSubstr("corrupt.jpg"));
+}
+
+// Many photos for matcher=auto (a limit of 6): a vocabulary tree learnt from
+// the photos; SIFT bounded to half the photo size. The cameras must still be
+// accurate and full size (keypoints in full-size pixels).
+TEST_F(SfmTest, VocabularyTreeAndBoundedSiftKeepFullSizeCameras) {
+  if (!have_colmap()) GTEST_SKIP() << "colmap is not installed";
+  const fs::path scene = synth_scene(12);
+  if (scene.empty()) GTEST_SKIP() << "hos-synth is not built";
+  const fs::path ws = dir_ / "ws";
+  const int code =
+      run_sfm_exe("--images " + shell_quote((scene / "images").string()) + " --workspace " + shell_quote(ws.string()) +
+                      " --set sfm.exhaustive_max_images=6 --set sfm.sift_max_image_size=320",
+                  dir_ / "sfm.out");
+  const std::string out = read_text(dir_ / "sfm.out");
+  ASSERT_EQ(code, 0) << out;
+  EXPECT_THAT(out, HasSubstr("vocab_tree matching (12 photos > sfm.exhaustive_max_images (6)"));
+  const std::string report = read_text(ws / "sfm" / "report.json");
+  EXPECT_THAT(report, HasSubstr("\"sift_max_image_size\": 320"));
+  EXPECT_THAT(report, HasSubstr("\"vocab_tree_builder\": "));
+  EXPECT_THAT(report, HasSubstr("\"vocab_tree_matcher\": "));
+
+  const SparseModel truth = read_colmap_model(scene / "sparse");
+  const SparseModel result = read_colmap_model(ws / "sfm" / "undistorted" / "sparse");
+  ASSERT_EQ(result.images.size(), truth.images.size()) << "every view registers";
+  const PoseErrors errors = pose_errors(truth, result);
+  EXPECT_LT(errors.worst_centre, 0.01);
+  EXPECT_LT(errors.worst_rotation_deg, 1.0);
+  // Full-size cameras: the true focal length (pixels) within 2%, and images
+  // at the photos' size rather than SIFT's 320 px.
+  const Camera& true_camera = truth.cameras.begin()->second;
+  for (const auto& [id, camera] : result.cameras) {
+    EXPECT_NEAR(camera.focal_x(), true_camera.focal_x(), 0.02 * true_camera.focal_x());
+    EXPECT_GT(camera.width, 0.9 * true_camera.width);
+  }
+  const fs::path first = ws / "sfm" / "undistorted" / "images" / result.images.begin()->second.name;
+  EXPECT_GT(cv::imread(first.string()).cols, 0.9 * true_camera.width);
 }
 
 TEST_F(SfmTest, ExistingUndistortedModelIsUsedAsIs) {
@@ -159,9 +214,10 @@ TEST_F(SfmTest, ExistingUndistortedModelIsUsedAsIs) {
   if (scene.empty()) GTEST_SKIP() << "hos-synth is not built";
   const fs::path ws = dir_ / "ws";
   // Without COLMAP on PATH: an undistorted model needs none.
-  const int code = run_sfm_exe("--images " + shell_quote((scene / "images").string()) + " --sparse " +
-                                   shell_quote((scene / "sparse").string()) + " --workspace " + shell_quote(ws.string()),
-                               dir_ / "sfm.out", "env PATH=/nonexistent");
+  const int code =
+      run_sfm_exe("--images " + shell_quote((scene / "images").string()) + " --sparse " +
+                      shell_quote((scene / "sparse").string()) + " --workspace " + shell_quote(ws.string()),
+                  dir_ / "sfm.out", "env PATH=/nonexistent");
   ASSERT_EQ(code, 0) << read_text(dir_ / "sfm.out");
   const SparseModel truth = read_colmap_model(scene / "sparse");
   const SparseModel copy = read_colmap_model(ws / "sfm" / "undistorted" / "sparse");
@@ -176,9 +232,9 @@ TEST_F(SfmTest, ExistingUndistortedModelIsUsedAsIs) {
 
 TEST_F(SfmTest, EmptyFolderIsBadInput) {
   fs::create_directories(dir_ / "empty");
-  const int code = run_sfm_exe("--images " + shell_quote((dir_ / "empty").string()) + " --workspace " +
-                                   shell_quote((dir_ / "ws").string()),
-                               dir_ / "out");
+  const int code = run_sfm_exe(
+      "--images " + shell_quote((dir_ / "empty").string()) + " --workspace " + shell_quote((dir_ / "ws").string()),
+      dir_ / "out");
   EXPECT_EQ(code, kExitBadInput);
   EXPECT_THAT(read_text(dir_ / "out"), HasSubstr("contains no photos"));
   expect_no_result(dir_ / "ws");
@@ -187,9 +243,9 @@ TEST_F(SfmTest, EmptyFolderIsBadInput) {
 TEST_F(SfmTest, FolderOfTextFilesIsBadInput) {
   fs::create_directories(dir_ / "text");
   for (const char* name : {"notes.txt", "README.md", "photo.jpg"}) std::ofstream(dir_ / "text" / name) << "text\n";
-  const int code = run_sfm_exe("--images " + shell_quote((dir_ / "text").string()) + " --workspace " +
-                                   shell_quote((dir_ / "ws").string()),
-                               dir_ / "out");
+  const int code = run_sfm_exe(
+      "--images " + shell_quote((dir_ / "text").string()) + " --workspace " + shell_quote((dir_ / "ws").string()),
+      dir_ / "out");
   EXPECT_EQ(code, kExitBadInput);
   const std::string out = read_text(dir_ / "out");
   EXPECT_THAT(out, HasSubstr("only 0 usable photo"));
@@ -201,8 +257,8 @@ TEST_F(SfmTest, FolderOfTextFilesIsBadInput) {
 TEST_F(SfmTest, NonOverlappingImagesFailCleanly) {
   if (!have_colmap()) GTEST_SKIP() << "colmap is not installed";
   const fs::path photos = unrelated_images(4);
-  const int code = run_sfm_exe("--images " + shell_quote(photos.string()) + " --workspace " + shell_quote((dir_ / "ws").string()),
-                               dir_ / "out");
+  const int code = run_sfm_exe(
+      "--images " + shell_quote(photos.string()) + " --workspace " + shell_quote((dir_ / "ws").string()), dir_ / "out");
   EXPECT_EQ(code, kExitStageFailed);
   const std::string out = read_text(dir_ / "out");
   EXPECT_THAT(out, HasSubstr("overlap"));
@@ -211,8 +267,9 @@ TEST_F(SfmTest, NonOverlappingImagesFailCleanly) {
 
 TEST_F(SfmTest, MissingColmapSaysHowToInstall) {
   const fs::path photos = unrelated_images(3);
-  int code = run_sfm_exe("--images " + shell_quote(photos.string()) + " --workspace " + shell_quote((dir_ / "ws").string()),
-                         dir_ / "out", "env PATH=/nonexistent");
+  int code =
+      run_sfm_exe("--images " + shell_quote(photos.string()) + " --workspace " + shell_quote((dir_ / "ws").string()),
+                  dir_ / "out", "env PATH=/nonexistent");
   EXPECT_EQ(code, kExitStageFailed);
   EXPECT_THAT(read_text(dir_ / "out"), HasSubstr("apt-get install colmap"));
   code = run_sfm_exe("--images " + shell_quote(photos.string()) + " --workspace " + shell_quote((dir_ / "ws").string()),
@@ -223,7 +280,8 @@ TEST_F(SfmTest, MissingColmapSaysHowToInstall) {
 }
 
 TEST_F(SfmTest, UnknownOptionNamesClosestKey) {
-  const int code = run_sfm_exe("--images x --workspace " + shell_quote((dir_ / "ws").string()) + " --set sfm.matchr=exhaustive", dir_ / "out");
+  const int code = run_sfm_exe(
+      "--images x --workspace " + shell_quote((dir_ / "ws").string()) + " --set sfm.matchr=exhaustive", dir_ / "out");
   EXPECT_EQ(code, kExitUsage);
   EXPECT_THAT(read_text(dir_ / "out"), HasSubstr("did you mean sfm.matcher"));
 }

@@ -1,0 +1,36 @@
+// The COLMAP commands of one sfm run with their arguments: feature
+// extraction, matching (one or two commands), mapping. Built from the plan
+// (sfm_plan.h) and the options, so tests can check what COLMAP is asked to do.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "sfm/colmap_runner.h"
+#include "sfm/sfm_options.h"
+#include "sfm/sfm_plan.h"
+
+namespace hos::sfm {
+
+// What every step of one run shares.
+struct ColmapRunContext {
+  std::filesystem::path database;    // WS/sfm/database.db
+  std::filesystem::path images;      // the staged photos
+  std::filesystem::path sparse;      // mapper output folder
+  std::filesystem::path vocab_tree;  // the tree built from the photos (vocab_tree matcher)
+  bool gpu = false;                  // SIFT on the GPU
+  bool single_camera = false;        // one shared camera
+  std::int64_t num_images = 0;
+};
+
+ColmapStep feature_extraction_step(const ColmapRunContext& context, const SfmPlan& plan, const SfmOptions& options);
+
+// One command, or two for the vocabulary tree (vocab_tree_builder over the
+// photos' own features, then vocab_tree_matcher).
+std::vector<ColmapStep> matching_steps(const ColmapRunContext& context, const SfmPlan& plan, const SfmOptions& options);
+
+ColmapStep mapping_step(const ColmapRunContext& context, const SfmOptions& options);
+
+}  // namespace hos::sfm
