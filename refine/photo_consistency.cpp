@@ -47,24 +47,53 @@ ViewChoice choose_views(const Eigen::Vector3d& x,
   return choice;
 }
 
-// Samples a planar patch (centre, tangent axes scaled to one sample spacing)
-// in one view; false when any sample leaves the image.
-bool sample_patch(const RefineView& view,
-                  int level,
-                  const Eigen::Vector3d& centre,
-                  const Eigen::Vector3d& t1,
-                  const Eigen::Vector3d& t2,
-                  int half,
-                  std::vector<float>& out) {
-  out.clear();
+// The patch: the current surface as the reference view sees it around the
+// vertex (one point per pixel of the level, from the depth buffer), with the
+// reference's grey levels. Following the surface instead of a tangent plane
+// keeps curvature from biasing the offset.
+struct Patch {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<float> reference;
+};
+
+std::optional<Patch> surface_patch(const RefineView& ref,
+                                   int level,
+                                   const Eigen::Vector3d& x,
+                                   int half,
+                                   double step,
+                                   double max_depth_jump) {
+  const std::optional<Eigen::Vector3d> centre = ref.project(x, level);
+  if (!centre) return std::nullopt;
+  Patch patch;
   for (int b = -half; b <= half; ++b) {
     for (int a = -half; a <= half; ++a) {
-      const std::optional<Eigen::Vector3d> p = view.project(centre + a * t1 + b * t2, level);
-      if (!p) return false;
-      const std::optional<float> g = sample(view, level, p->head<2>());
-      if (!g) return false;
-      out.push_back(*g);
+      // Pixel centres of the level nearest to the vertex's projection.
+      const Eigen::Vector2d pixel(std::floor(centre->x()) + 0.5 + a * step,
+                                  std::floor(centre->y()) + 0.5 + b * step);
+      const std::optional<Eigen::Vector3d> point = surface_point(ref, level, pixel, max_depth_jump);
+      const std::optional<float> grey = sample(ref, level, pixel);
+      if (!point || !grey) return std::nullopt;
+      patch.points.push_back(*point);
+      patch.reference.push_back(*grey);
     }
+  }
+  return patch;
+}
+
+// Grey levels of the patch moved by `shift` in another view; false when a
+// point leaves the image.
+bool sample_moved_patch(const RefineView& view,
+                        int level,
+                        const Patch& patch,
+                        const Eigen::Vector3d& shift,
+                        std::vector<float>& out) {
+  out.clear();
+  for (const Eigen::Vector3d& point : patch.points) {
+    const std::optional<Eigen::Vector3d> p = view.project(point + shift, level);
+    if (!p) return false;
+    const std::optional<float> g = sample(view, level, p->head<2>());
+    if (!g) return false;
+    out.push_back(*g);
   }
   return true;
 }
@@ -91,20 +120,18 @@ VertexTarget search_vertex(const Eigen::Vector3d& x,
   const double depth = ref.pose.cam_from_world(x).z();
   const double footprint = depth / ref.camera.focal_x() * static_cast<double>(1 << level);
   const double step = o.step_pixels * footprint;
-  const Eigen::Vector3d t1 = n.unitOrthogonal() * (o.sample_pixels * footprint);
-  const Eigen::Vector3d t2 = n.cross(t1);
-  const int half = o.patch_size / 2;
-  // Step 2: the score of each offset along the normal.
   const int steps = o.search_steps;
+  const std::optional<Patch> patch =
+      surface_patch(ref, level, x, o.patch_size / 2, o.sample_pixels, visibility_tolerance);
+  if (!patch) return target;
+  // Step 2: the score of each offset of the patch along the normal.
   std::vector<float> scores(2 * steps + 1, -2.0f);
-  std::vector<float> ref_samples, other_samples, view_scores;
+  std::vector<float> samples, view_scores;
   for (int k = -steps; k <= steps; ++k) {
-    const Eigen::Vector3d centre = x + (k * step) * n;
-    if (!sample_patch(ref, level, centre, t1, t2, half, ref_samples)) continue;
     view_scores.clear();
     for (int j : choice.compared) {
-      if (!sample_patch(views[j], level, centre, t1, t2, half, other_samples)) continue;
-      if (const std::optional<float> s = zncc(ref_samples, other_samples, kMinPatchStd))
+      if (!sample_moved_patch(views[j], level, *patch, (k * step) * n, samples)) continue;
+      if (const std::optional<float> s = zncc(patch->reference, samples, kMinPatchStd))
         view_scores.push_back(*s);
     }
     if (!view_scores.empty()) scores[k + steps] = robust_mean(view_scores);

@@ -56,8 +56,3 @@ struct RefineOptions {
 void register_options(OptionSet& set, RefineOptions& options);
 
 }  // namespace hos::refine
-
-namespace hos {
-using refine::RefineOptions;
-using refine::register_options;
-}  // namespace hos

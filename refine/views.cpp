@@ -98,6 +98,27 @@ bool sees(const RefineView& view, const Eigen::Vector3d& x_in_world, double tole
   return p->z() <= nearest + tolerance;
 }
 
+std::optional<Eigen::Vector3d> surface_point(const RefineView& view,
+                                             int level,
+                                             const Eigen::Vector2d& pixel,
+                                             double max_depth_jump) {
+  const double scale = static_cast<double>(1 << level);
+  const double x = pixel.x() * scale - 0.5, y = pixel.y() * scale - 0.5;
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  if (x0 < 0 || y0 < 0 || x0 + 1 >= view.depth.cols || y0 + 1 >= view.depth.rows)
+    return std::nullopt;
+  const float d00 = view.depth.at<float>(y0, x0), d01 = view.depth.at<float>(y0, x0 + 1);
+  const float d10 = view.depth.at<float>(y0 + 1, x0), d11 = view.depth.at<float>(y0 + 1, x0 + 1);
+  const float lo = std::min({d00, d01, d10, d11}), hi = std::max({d00, d01, d10, d11});
+  if (lo <= 0.0f || hi - lo > max_depth_jump) return std::nullopt;
+  const double fx = x - x0, fy = y - y0;
+  const double z = (1 - fy) * ((1 - fx) * d00 + fx * d01) + fy * ((1 - fx) * d10 + fx * d11);
+  const Eigen::Vector3d ray((pixel.x() * scale - view.camera.principal_x()) / view.camera.focal_x(),
+                            (pixel.y() * scale - view.camera.principal_y()) / view.camera.focal_y(),
+                            1.0);
+  return view.pose.world_from_cam(z * ray);
+}
+
 std::optional<float> sample(const RefineView& view, int level, const Eigen::Vector2d& pixel) {
   const cv::Mat& image = view.pyramid[level];
   // COLMAP's pixel centres sit at +0.5.

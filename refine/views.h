@@ -52,6 +52,14 @@ void render_depths(const TriangleMesh& mesh, std::vector<RefineView>& views);
 // projection, so a vertex on a silhouette still counts).
 bool sees(const RefineView& view, const Eigen::Vector3d& x_in_world, double tolerance);
 
+// The point of the current mesh seen at a pixel of pyramid level `level`
+// (depth buffer, bilinear over four covered pixels); nothing where the
+// pixel is not covered, or lies on a depth edge wider than max_depth_jump.
+std::optional<Eigen::Vector3d> surface_point(const RefineView& view,
+                                             int level,
+                                             const Eigen::Vector2d& pixel,
+                                             double max_depth_jump);
+
 // Bilinear grey level of pyramid level `level` at a pixel (COLMAP
 // convention); nothing outside the image.
 std::optional<float> sample(const RefineView& view, int level, const Eigen::Vector2d& pixel);
