@@ -2,17 +2,16 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "core/exit_codes.h"
 #include "apps/stage_main.h"
+#include "core/exit_codes.h"
 #include "refine/run_refine.h"
 
 int main(int argc, char** argv) {
   hos::refine::RefineOptions options;
   hos::OptionSet option_set("refine");
-  hos::refine::register_options(option_set, options);
-  hos::CommonStageFlags flags;
+  register_options(option_set, options);
+  hos::apps::CommonStageFlags flags;
   std::string mesh_path, workspace_path, output_path;
-  double max_seconds = -1.0;
 
   CLI::App app{
       "hos-refine: moves the mesh until the photos agree on it (ZNCC), with a thin-plate "
@@ -21,19 +20,16 @@ int main(int argc, char** argv) {
   app.add_option("--workspace", workspace_path,
                  "undistorted workspace (images/ + sparse/ PINHOLE model)");
   app.add_option("--output", output_path, "refined mesh PLY");
-  app.add_option("--max-seconds", max_seconds, "time budget in seconds (= refine.max_seconds)");
-  hos::add_common_stage_flags(app, flags, "refine");
-  if (const auto code = hos::parse_stage_command_line(app, argc, argv, flags, option_set))
+  hos::apps::add_common_stage_flags(app, flags, option_set);
+  if (const auto code = hos::apps::parse_stage_command_line(app, argc, argv, flags, option_set))
     return *code;
   if (mesh_path.empty() || workspace_path.empty() || output_path.empty()) {
     std::cerr << "hos-refine: error: --mesh, --workspace and --output are required (see --help)\n";
     return hos::kExitUsage;
   }
-  // The dedicated flag is a shorthand for --set and wins over the config file.
-  if (max_seconds >= 0.0) flags.assignments.push_back("max_seconds=" + std::to_string(max_seconds));
 
-  return hos::run_stage_main("refine", flags, [&](hos::Reporter& reporter) {
-    hos::apply_config_and_overrides(option_set, flags);
+  return hos::apps::run_stage_main("refine", flags, [&](hos::Reporter& reporter) {
+    hos::apps::apply_config_and_overrides(option_set, flags);
     options.validate();
     hos::refine::run_refine(mesh_path, workspace_path, output_path, options, reporter);
   });

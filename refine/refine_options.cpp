@@ -6,31 +6,12 @@
 namespace hos::refine {
 
 void RefineOptions::validate() const {
-  if (!(lambda >= 0.0)) throw ConfigError("refine.lambda", "must be >= 0");
-  if (levels < 1 || levels > 6) throw ConfigError("refine.levels", "must be in [1, 6]");
-  if (iterations < 0 || iterations > 100)
-    throw ConfigError("refine.iterations", "must be in [0, 100]");
-  if (search_steps < 1 || search_steps > 32)
-    throw ConfigError("refine.search_steps", "must be in [1, 32]");
-  if (!(step_pixels > 0.0)) throw ConfigError("refine.step_pixels", "must be > 0");
-  if (patch_size < 3 || patch_size > 15 || patch_size % 2 == 0) {
-    throw ConfigError("refine.patch_size", "must be odd and in [3, 15]");
-  }
-  if (!(sample_pixels > 0.0)) throw ConfigError("refine.sample_pixels", "must be > 0");
-  if (max_views < 1) throw ConfigError("refine.max_views", "must be >= 1");
-  if (!(min_angle_deg >= 0.0 && min_angle_deg < max_angle_deg)) {
-    throw ConfigError("refine.min_angle_deg", "must be >= 0 and below refine.max_angle_deg");
-  }
-  if (!(max_angle_deg <= 90.0)) throw ConfigError("refine.max_angle_deg", "must be <= 90");
-  if (!(max_incidence_deg > 0.0 && max_incidence_deg < 90.0)) {
-    throw ConfigError("refine.max_incidence_deg", "must be in (0, 90)");
-  }
-  if (!(min_zncc >= -1.0 && min_zncc < 1.0))
-    throw ConfigError("refine.min_zncc", "must be in [-1, 1)");
-  if (!(anchor_weight > 0.0)) throw ConfigError("refine.anchor_weight", "must be > 0");
-  if (!(max_seconds > 0.0)) throw ConfigError("refine.max_seconds", "must be > 0");
-  if (max_faces < 1000) throw ConfigError("refine.max_faces", "must be >= 1000");
-  if (threads < 0) throw ConfigError("refine.threads", "must be >= 0");
+  check_option_table("refine", *this);
+  // The rules that involve the parity or two options.
+  if (patch_size % 2 == 0)
+    throw ConfigError("refine.patch_size", "must be odd (a window centred on the vertex)");
+  if (!(min_angle_deg < max_angle_deg))
+    throw ConfigError("refine.min_angle_deg", "must be below refine.max_angle_deg");
 }
 
 void register_options(OptionSet& set, RefineOptions& o) {
@@ -64,6 +45,7 @@ void register_options(OptionSet& set, RefineOptions& o) {
           1e6);
   set.add("max_faces", o.max_faces, "simplify larger meshes first (quadric error)", 1000, 1 << 30);
   set.add("threads", o.threads, "OpenMP threads (0 = all cores)", 0, 1024);
+  set.add_flag("--max-seconds", "max_seconds");
 }
 
 }  // namespace hos::refine

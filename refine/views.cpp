@@ -73,14 +73,14 @@ std::vector<RefineView> load_views(const UndistortedWorkspace& workspace,
 
 void render_depths(const TriangleMesh& mesh, std::vector<RefineView>& views) {
   // Only the depth is used: one sample per pixel, no lighting.
-  std::vector<RenderObject> objects(1);
+  std::vector<render::RenderObject> objects(1);
   objects[0].mesh.vertices = mesh.vertices;
   objects[0].mesh.faces = mesh.faces;
-  RenderOptions options;
+  render::RenderOptions options;
   options.supersampling = 1;
   options.lighting.unlit = true;
   for (RefineView& view : views)
-    view.depth = render_view(objects, view.camera, view.pose, options).depth;
+    view.depth = render::render_view(objects, view.camera, view.pose, options).depth;
 }
 
 bool sees(const RefineView& view, const Eigen::Vector3d& x_in_world, double tolerance) {

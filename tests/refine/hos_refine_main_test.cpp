@@ -37,7 +37,8 @@ TEST(HosRefine, DisabledPassesTheMeshThroughAndBadInputsNameTheFile) {
   std::filesystem::remove(dir / "refined.ply");
   // Enabled: a missing workspace is bad input naming it, and nothing is written.
   EXPECT_EQ(run_refine("--mesh " + shell_quote((dir / "mesh.ply").string()) + " --workspace " +
-                           shell_quote((dir / "no_workspace").string()) + out,
+                           shell_quote((dir / "no_workspace").string()) + out +
+                           " --set refine.enabled=true",
                        dir),
             kExitBadInput);
   EXPECT_NE(read_text(dir / "log.txt").find("no_workspace"), std::string::npos);

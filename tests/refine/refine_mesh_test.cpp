@@ -18,11 +18,11 @@
 namespace hos::refine {
 namespace {
 
-SurfaceComparison compare(const TriangleMesh& mesh, const TriangleMesh& truth) {
-  SurfaceDistanceOptions options;
+eval::SurfaceComparison compare(const TriangleMesh& mesh, const TriangleMesh& truth) {
+  eval::SurfaceDistanceOptions options;
   options.num_samples = 30000;
   options.thresholds = {0.0025, 0.005, 0.01};
-  return compare_surfaces(mesh, truth, options, null_reporter());
+  return eval::compare_surfaces(mesh, truth, options, null_reporter());
 }
 
 // Faces whose normal turned against the true mesh's (same topology).
@@ -38,8 +38,8 @@ TEST(RefineMesh, SmoothedRockComesBackTowardsTheTruth) {
   testing::RockScene scene = testing::make_rock_scene(16, options.levels);
   const TriangleMesh input = testing::smoothed(scene.truth, 40);
   const RefineResult result = refine_mesh(input, std::move(scene.views), options, null_reporter());
-  const SurfaceComparison before = compare(input, scene.truth),
-                          after = compare(result.mesh, scene.truth);
+  const eval::SurfaceComparison before = compare(input, scene.truth),
+                                after = compare(result.mesh, scene.truth);
   std::cout << "[ figures  ] F at 0.5%: " << before.primary().f_score << " -> "
             << after.primary().f_score << ", F at 0.25%: " << before.scores[0].f_score << " -> "
             << after.scores[0].f_score << ", Chamfer " << before.chamfer << " -> " << after.chamfer
@@ -50,7 +50,7 @@ TEST(RefineMesh, SmoothedRockComesBackTowardsTheTruth) {
   EXPECT_GT(after.primary().f_score, before.primary().f_score + 0.1);
   EXPECT_LT(after.chamfer, 0.6 * before.chamfer);
   // The topology is the input's, so the mesh stays closed and manifold; and no face turned over.
-  const MeshSanity sanity = check_mesh_sanity(result.mesh);
+  const eval::MeshSanity sanity = eval::check_mesh_sanity(result.mesh);
   EXPECT_TRUE(sanity.watertight && sanity.vertex_manifold && sanity.consistently_oriented);
   EXPECT_EQ(flipped_faces(result.mesh, scene.truth), 0);
   // The smoothing shrank the rock; the photos give the volume back.

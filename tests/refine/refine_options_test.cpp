@@ -14,9 +14,9 @@ TEST(RefineOptions, DefaultsAreValidAndEveryFieldHasAKey) {
   OptionSet set("refine");
   register_options(set, options);
   set.apply_assignment("regularizer", "membrane");
-  set.apply_assignment("enabled", "false");
+  set.apply_assignment("enabled", "true");
   EXPECT_EQ(options.regularizer, Regularizer::kMembrane);
-  EXPECT_FALSE(options.enabled);
+  EXPECT_TRUE(options.enabled);
   EXPECT_THROW(set.apply_assignment("regularizer", "bending"), ConfigError);
   EXPECT_THROW(set.apply_assignment("levels", "0"), ConfigError);
 }

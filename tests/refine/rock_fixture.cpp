@@ -8,26 +8,26 @@ namespace hos::refine::testing {
 
 namespace {
 
-Scene rock_scene() {
-  SceneOptions options;
+synth::Scene rock_scene() {
+  synth::SceneOptions options;
   options.name = "rock";
-  return make_scene(options);
+  return synth::make_scene(options);
 }
 
 }  // namespace
 
-TriangleMesh rock_truth() { return merged_mesh(rock_scene(), false); }
+TriangleMesh rock_truth() { return synth::merged_mesh(rock_scene(), false); }
 
 RockScene make_rock_scene(int num_views, int levels) {
-  const Scene scene = rock_scene();
-  DatasetOptions options;
+  const synth::Scene scene = rock_scene();
+  synth::DatasetOptions options;
   options.num_views = num_views;
   options.width = 400;
   options.height = 300;
   options.num_points = 100;
-  const RenderedDataset data = render_dataset(scene, options);
+  const synth::RenderedDataset data = synth::render_dataset(scene, options);
   RockScene rock;
-  rock.truth = merged_mesh(scene, false);
+  rock.truth = synth::merged_mesh(scene, false);
   std::size_t k = 0;
   for (const auto& [id, image] : data.model.images) {
     rock.views.push_back(
