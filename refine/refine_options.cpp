@@ -43,7 +43,6 @@ void register_options(OptionSet& set, RefineOptions& o) {
           0.0, 1.0);
   set.add("max_seconds", o.max_seconds, "time budget (s); the last finished round is kept", 0.1,
           1e6);
-  set.add("max_faces", o.max_faces, "simplify larger meshes first (quadric error)", 1000, 1 << 30);
   set.add("threads", o.threads, "OpenMP threads (0 = all cores)", 0, 1024);
   set.add_flag("--max-seconds", "max_seconds");
 }

@@ -49,7 +49,6 @@ struct RefineOptions {
   // Rounds stop when the mean photometric score improves by less than this.
   double min_improvement = 1e-3;
   double max_seconds = 120.0;  // time budget; the mesh after the last finished round is kept
-  int max_faces = 400000;      // larger meshes are simplified first (texture takes them)
   int threads = 0;             // OpenMP threads; 0 = all cores
 
   // Throws ConfigError naming the offending option.
