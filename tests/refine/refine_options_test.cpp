@@ -31,7 +31,7 @@ TEST(RefineOptions, ValidateNamesTheOption) {
     EXPECT_EQ(e.key(), "refine.patch_size");
   }
   options = RefineOptions{};
-  options.min_angle_deg = 50.0;
+  options.min_angle_deg = 70.0;  // above max_angle_deg
   EXPECT_THROW(options.validate(), ConfigError);
 }
 
