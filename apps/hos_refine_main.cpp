@@ -17,12 +17,10 @@ int main(int argc, char** argv) {
       "hos-refine: moves the mesh until the photos agree on it (ZNCC), with a thin-plate "
       "regulariser"};
   app.add_option("--mesh", mesh_path, "mesh PLY (model coordinates of the workspace)");
-  app.add_option("--workspace", workspace_path,
-                 "undistorted workspace (images/ + sparse/ PINHOLE model)");
+  app.add_option("--workspace", workspace_path, "undistorted workspace (images/ + sparse/ PINHOLE model)");
   app.add_option("--output", output_path, "refined mesh PLY");
   hos::apps::add_common_stage_flags(app, flags, option_set);
-  if (const auto code = hos::apps::parse_stage_command_line(app, argc, argv, flags, option_set))
-    return *code;
+  if (const auto code = hos::apps::parse_stage_command_line(app, argc, argv, flags, option_set)) return *code;
   if (mesh_path.empty() || workspace_path.empty() || output_path.empty()) {
     std::cerr << "hos-refine: error: --mesh, --workspace and --output are required (see --help)\n";
     return hos::kExitUsage;

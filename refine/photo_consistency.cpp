@@ -37,10 +37,8 @@ ViewChoice choose_views(const Eigen::Vector3d& x,
   // baseline range are compared with it (too narrow: depth is ill-conditioned).
   choice.reference = candidates[0].second;
   const Eigen::Vector3d ray_ref = (views[choice.reference].center - x).normalized();
-  const double cos_min = std::cos(o.min_angle_deg * kDegToRad),
-               cos_max = std::cos(o.max_angle_deg * kDegToRad);
-  for (std::size_t k = 1;
-       k < candidates.size() && static_cast<int>(choice.compared.size()) < o.max_views; ++k) {
+  const double cos_min = std::cos(o.min_angle_deg * kDegToRad), cos_max = std::cos(o.max_angle_deg * kDegToRad);
+  for (std::size_t k = 1; k < candidates.size() && static_cast<int>(choice.compared.size()) < o.max_views; ++k) {
     const double c = ray_ref.dot((views[candidates[k].second].center - x).normalized());
     if (c <= cos_min && c >= cos_max) choice.compared.push_back(candidates[k].second);
   }
@@ -56,20 +54,15 @@ struct Patch {
   std::vector<float> reference;
 };
 
-std::optional<Patch> surface_patch(const RefineView& ref,
-                                   int level,
-                                   const Eigen::Vector3d& x,
-                                   int half,
-                                   double step,
-                                   double max_depth_jump) {
+std::optional<Patch> surface_patch(
+    const RefineView& ref, int level, const Eigen::Vector3d& x, int half, double step, double max_depth_jump) {
   const std::optional<Eigen::Vector3d> centre = ref.project(x, level);
   if (!centre) return std::nullopt;
   Patch patch;
   for (int b = -half; b <= half; ++b) {
     for (int a = -half; a <= half; ++a) {
       // Pixel centres of the level nearest to the vertex's projection.
-      const Eigen::Vector2d pixel(std::floor(centre->x()) + 0.5 + a * step,
-                                  std::floor(centre->y()) + 0.5 + b * step);
+      const Eigen::Vector2d pixel(std::floor(centre->x()) + 0.5 + a * step, std::floor(centre->y()) + 0.5 + b * step);
       const std::optional<Eigen::Vector3d> point = surface_point(ref, level, pixel, max_depth_jump);
       const std::optional<float> grey = sample(ref, level, pixel);
       if (!point || !grey) return std::nullopt;
@@ -82,11 +75,8 @@ std::optional<Patch> surface_patch(const RefineView& ref,
 
 // Grey levels of the patch moved by `shift` in another view; false when a
 // point leaves the image.
-bool sample_moved_patch(const RefineView& view,
-                        int level,
-                        const Patch& patch,
-                        const Eigen::Vector3d& shift,
-                        std::vector<float>& out) {
+bool sample_moved_patch(
+    const RefineView& view, int level, const Patch& patch, const Eigen::Vector3d& shift, std::vector<float>& out) {
   out.clear();
   for (const Eigen::Vector3d& point : patch.points) {
     const std::optional<Eigen::Vector3d> p = view.project(point + shift, level);
@@ -131,14 +121,12 @@ VertexTarget search_vertex(const Eigen::Vector3d& x,
     view_scores.clear();
     for (int j : choice.compared) {
       if (!sample_moved_patch(views[j], level, *patch, (k * step) * n, samples)) continue;
-      if (const std::optional<float> s = zncc(patch->reference, samples, kMinPatchStd))
-        view_scores.push_back(*s);
+      if (const std::optional<float> s = zncc(patch->reference, samples, kMinPatchStd)) view_scores.push_back(*s);
     }
     if (!view_scores.empty()) scores[k + steps] = robust_mean(view_scores);
   }
   // Step 3: the best offset, refined by a parabola through its neighbours.
-  const int best =
-      static_cast<int>(std::max_element(scores.begin(), scores.end()) - scores.begin());
+  const int best = static_cast<int>(std::max_element(scores.begin(), scores.end()) - scores.begin());
   const float best_score = scores[best];
   if (best_score < o.min_zncc) return target;
   double offset = (best - steps) * step;
@@ -151,8 +139,7 @@ VertexTarget search_vertex(const Eigen::Vector3d& x,
   // lie beyond it, so it counts half (the next round searches from there).
   target.offset = static_cast<float>(offset);
   target.score = best_score;
-  target.weight =
-      static_cast<float>((best_score - o.min_zncc) / (1.0 - o.min_zncc)) * (at_end ? 0.5f : 1.0f);
+  target.weight = static_cast<float>((best_score - o.min_zncc) / (1.0 - o.min_zncc)) * (at_end ? 0.5f : 1.0f);
   return target;
 }
 
@@ -189,8 +176,8 @@ std::vector<VertexTarget> search_normal_offsets(const TriangleMesh& mesh,
 #pragma omp parallel for schedule(dynamic, 64)
     for (int v = begin; v < end; ++v) {
       if (normals[v].squaredNorm() == 0.0f) continue;
-      targets[v] = search_vertex(mesh.vertices[v].cast<double>(), normals[v].cast<double>(), views,
-                                 level, visibility_tolerance, options);
+      targets[v] = search_vertex(mesh.vertices[v].cast<double>(), normals[v].cast<double>(), views, level,
+                                 visibility_tolerance, options);
     }
   }
   return targets;

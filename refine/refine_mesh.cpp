@@ -22,8 +22,7 @@ std::pair<double, double> score_summary(const std::vector<VertexTarget>& targets
   for (const VertexTarget& t : targets) {
     if (t.weight > 0.0f) sum += t.score, ++count;
   }
-  return {count ? sum / count : 0.0,
-          targets.empty() ? 0.0 : static_cast<double>(count) / targets.size()};
+  return {count ? sum / count : 0.0, targets.empty() ? 0.0 : static_cast<double>(count) / targets.size()};
 }
 
 double largest_offset(const std::vector<VertexTarget>& targets) {
@@ -36,15 +35,12 @@ double largest_offset(const std::vector<VertexTarget>& targets) {
 // (its normal against the old one), the steps of its vertices are halved
 // until none does, so a round adds no fold-overs. Returns how many vertices
 // had their step shortened.
-int move_without_folds(TriangleMesh& mesh,
-                       const std::vector<Eigen::Vector3f>& normals,
-                       std::vector<float> s) {
+int move_without_folds(TriangleMesh& mesh, const std::vector<Eigen::Vector3f>& normals, std::vector<float> s) {
   const std::vector<Eigen::Vector3f> before = face_area_normals(mesh);
   const std::vector<Eigen::Vector3f> start = mesh.vertices;
   std::vector<char> shortened(mesh.vertices.size(), 0);
   for (int attempt = 0; attempt <= kFoldHalvings; ++attempt) {
-    for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
-      mesh.vertices[v] = start[v] + s[v] * normals[v];
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) mesh.vertices[v] = start[v] + s[v] * normals[v];
     const std::vector<Eigen::Vector3f> after = face_area_normals(mesh);
     bool any = false;
     for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
@@ -70,17 +66,14 @@ RefineResult refine_mesh(const TriangleMesh& input,
   options.validate();
   if (options.threads > 0) omp_set_num_threads(options.threads);
   const auto start = std::chrono::steady_clock::now();
-  const auto elapsed = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
+  const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   RefineResult result;
   result.mesh = input;
   TriangleMesh& mesh = result.mesh;
   RefineStats& stats = result.stats;
   const VertexRings rings = vertex_rings(mesh);
   const double edge = mean_edge_length(mesh);
-  const int levels =
-      std::min<int>(options.levels, views.empty() ? 1 : static_cast<int>(views[0].pyramid.size()));
+  const int levels = std::min<int>(options.levels, views.empty() ? 1 : static_cast<int>(views[0].pyramid.size()));
   // Coarse to fine: the coarse level's wider steps catch larger errors, the
   // fine level's narrow ones place the surface to a fraction of a pixel.
   for (int level = levels - 1; level >= 0 && !stats.out_of_time; --level) {
@@ -102,21 +95,20 @@ RefineResult refine_mesh(const TriangleMesh& input,
       stats.targeted_fraction = fraction;
       // Step 3: the regularised displacements, applied without fold-overs.
       SolveStats solve;
-      const std::vector<float> s = solve_displacements(mesh, rings, normals, targets,
-                                                       largest_offset(targets), options, &solve);
+      const std::vector<float> s =
+          solve_displacements(mesh, rings, normals, targets, largest_offset(targets), options, &solve);
       stats.folds_prevented += move_without_folds(mesh, normals, s);
       ++stats.rounds;
-      reporter.info(format_message("refine level ", level, " round ", round + 1, ": mean ZNCC ",
-                                   score, " over ", 100.0 * fraction, "% of the vertices, ",
-                                   solve.iterations, " CG iterations, ", elapsed(), " s"));
+      reporter.info(format_message("refine level ", level, " round ", round + 1, ": mean ZNCC ", score, " over ",
+                                   100.0 * fraction, "% of the vertices, ", solve.iterations, " CG iterations, ",
+                                   elapsed(), " s"));
       // The energy stalls: the next level (or the end).
       if (score - previous_score < options.min_improvement) break;
       previous_score = score;
     }
   }
   double moved = 0.0;
-  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
-    moved += (mesh.vertices[v] - input.vertices[v]).norm();
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) moved += (mesh.vertices[v] - input.vertices[v]).norm();
   stats.mean_displacement = mesh.vertices.empty() ? 0.0 : moved / mesh.vertices.size();
   if (!mesh.normals.empty()) mesh.normals = vertex_normals(mesh);
   stats.seconds = elapsed();

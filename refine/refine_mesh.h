@@ -20,8 +20,8 @@ struct RefineStats {
   std::vector<double> round_scores;  // mean best ZNCC of the vertices with a target, per round
   double targeted_fraction = 0.0;    // vertices with a target in the last round
   double mean_displacement = 0.0;    // mean |final - input| over the vertices, scene units
-  int folds_prevented = 0;   // vertices whose step was shortened to keep faces from flipping
-  bool out_of_time = false;  // stopped by max_seconds
+  int folds_prevented = 0;           // vertices whose step was shortened to keep faces from flipping
+  bool out_of_time = false;          // stopped by max_seconds
   double seconds = 0.0;
 };
 

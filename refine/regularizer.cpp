@@ -36,8 +36,7 @@ SparseMatrix regularizer_matrix(const VertexRings& rings, Regularizer regularize
 
 Eigen::MatrixX3d positions(const TriangleMesh& mesh) {
   Eigen::MatrixX3d x(mesh.vertices.size(), 3);
-  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
-    x.row(v) = mesh.vertices[v].cast<double>().transpose();
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) x.row(v) = mesh.vertices[v].cast<double>().transpose();
   return x;
 }
 
@@ -77,22 +76,18 @@ std::vector<float> solve_displacements(const TriangleMesh& mesh,
   cg.setMaxIterations(1000);
   cg.compute(a);
   const Eigen::VectorXd s = cg.solve(b);
-  if (!s.allFinite())
-    throw NumericalError("refine", "the displacement solve gave non-finite values");
+  if (!s.allFinite()) throw NumericalError("refine", "the displacement solve gave non-finite values");
   if (stats) {
     stats->iterations = static_cast<int>(cg.iterations());
     stats->relative_residual = cg.error();
   }
   // Step 3: no vertex moves farther than the search reached.
   std::vector<float> out(n);
-  for (int i = 0; i < n; ++i)
-    out[i] = static_cast<float>(std::clamp(s[i], -max_offset, max_offset));
+  for (int i = 0; i < n; ++i) out[i] = static_cast<float>(std::clamp(s[i], -max_offset, max_offset));
   return out;
 }
 
-double regularizer_energy(const TriangleMesh& mesh,
-                          const VertexRings& rings,
-                          Regularizer regularizer) {
+double regularizer_energy(const TriangleMesh& mesh, const VertexRings& rings, Regularizer regularizer) {
   const Eigen::MatrixX3d x = positions(mesh);
   return (x.transpose() * (regularizer_matrix(rings, regularizer) * x)).trace();
 }

@@ -39,8 +39,6 @@ std::vector<float> solve_displacements(const TriangleMesh& mesh,
                                        SolveStats* stats = nullptr);
 
 // R(x) for the mesh as it is (the regulariser's share of the energy, per vertex).
-double regularizer_energy(const TriangleMesh& mesh,
-                          const VertexRings& rings,
-                          Regularizer regularizer);
+double regularizer_energy(const TriangleMesh& mesh, const VertexRings& rings, Regularizer regularizer);
 
 }  // namespace hos::refine

@@ -9,8 +9,7 @@
 
 namespace hos::refine {
 
-std::optional<Eigen::Vector3d> RefineView::project(const Eigen::Vector3d& x_in_world,
-                                                   int level) const {
+std::optional<Eigen::Vector3d> RefineView::project(const Eigen::Vector3d& x_in_world, int level) const {
   const Eigen::Vector3d x = pose.cam_from_world(x_in_world);
   if (x.z() <= 0.0) return std::nullopt;
   const double scale = 1.0 / static_cast<double>(1 << level);
@@ -19,15 +18,11 @@ std::optional<Eigen::Vector3d> RefineView::project(const Eigen::Vector3d& x_in_w
   return Eigen::Vector3d(u, v, x.z());
 }
 
-RefineView make_view(const Camera& camera,
-                     const ImageRecord& pose,
-                     const cv::Mat& photo,
-                     int levels,
-                     const std::string& source) {
+RefineView make_view(
+    const Camera& camera, const ImageRecord& pose, const cv::Mat& photo, int levels, const std::string& source) {
   if (photo.cols != camera.width || photo.rows != camera.height) {
-    throw InputError(source, "image is " + std::to_string(photo.cols) + "x" +
-                                 std::to_string(photo.rows) + " but its camera is " +
-                                 std::to_string(camera.width) + "x" +
+    throw InputError(source, "image is " + std::to_string(photo.cols) + "x" + std::to_string(photo.rows) +
+                                 " but its camera is " + std::to_string(camera.width) + "x" +
                                  std::to_string(camera.height));
   }
   RefineView view;
@@ -49,17 +44,14 @@ RefineView make_view(const Camera& camera,
   for (int l = 1; l < levels; ++l) {
     const cv::Mat& previous = view.pyramid.back();
     cv::Mat next;
-    cv::resize(previous, next,
-               cv::Size(std::max(1, previous.cols / 2), std::max(1, previous.rows / 2)), 0, 0,
+    cv::resize(previous, next, cv::Size(std::max(1, previous.cols / 2), std::max(1, previous.rows / 2)), 0, 0,
                cv::INTER_AREA);
     view.pyramid.push_back(next);
   }
   return view;
 }
 
-std::vector<RefineView> load_views(const UndistortedWorkspace& workspace,
-                                   int levels,
-                                   Reporter& reporter) {
+std::vector<RefineView> load_views(const UndistortedWorkspace& workspace, int levels, Reporter& reporter) {
   std::vector<RefineView> views;
   for (const auto& [id, image] : workspace.model.images) {
     reporter.throw_if_cancelled();
@@ -79,8 +71,7 @@ void render_depths(const TriangleMesh& mesh, std::vector<RefineView>& views) {
   render::RenderOptions options;
   options.supersampling = 1;
   options.lighting.unlit = true;
-  for (RefineView& view : views)
-    view.depth = render::render_view(objects, view.camera, view.pose, options).depth;
+  for (RefineView& view : views) view.depth = render::render_view(objects, view.camera, view.pose, options).depth;
 }
 
 bool sees(const RefineView& view, const Eigen::Vector3d& x_in_world, double tolerance) {
@@ -105,8 +96,7 @@ std::optional<Eigen::Vector3d> surface_point(const RefineView& view,
   const double scale = static_cast<double>(1 << level);
   const double x = pixel.x() * scale - 0.5, y = pixel.y() * scale - 0.5;
   const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
-  if (x0 < 0 || y0 < 0 || x0 + 1 >= view.depth.cols || y0 + 1 >= view.depth.rows)
-    return std::nullopt;
+  if (x0 < 0 || y0 < 0 || x0 + 1 >= view.depth.cols || y0 + 1 >= view.depth.rows) return std::nullopt;
   const float d00 = view.depth.at<float>(y0, x0), d01 = view.depth.at<float>(y0, x0 + 1);
   const float d10 = view.depth.at<float>(y0 + 1, x0), d11 = view.depth.at<float>(y0 + 1, x0 + 1);
   const float lo = std::min({d00, d01, d10, d11}), hi = std::max({d00, d01, d10, d11});
@@ -114,8 +104,7 @@ std::optional<Eigen::Vector3d> surface_point(const RefineView& view,
   const double fx = x - x0, fy = y - y0;
   const double z = (1 - fy) * ((1 - fx) * d00 + fx * d01) + fy * ((1 - fx) * d10 + fx * d11);
   const Eigen::Vector3d ray((pixel.x() * scale - view.camera.principal_x()) / view.camera.focal_x(),
-                            (pixel.y() * scale - view.camera.principal_y()) / view.camera.focal_y(),
-                            1.0);
+                            (pixel.y() * scale - view.camera.principal_y()) / view.camera.focal_y(), 1.0);
   return view.pose.world_from_cam(z * ray);
 }
 
@@ -123,10 +112,8 @@ std::optional<float> sample(const RefineView& view, int level, const Eigen::Vect
   const cv::Mat& image = view.pyramid[level];
   // COLMAP's pixel centres sit at +0.5.
   const double x = pixel.x() - 0.5, y = pixel.y() - 0.5;
-  if (!(x >= 0.0 && y >= 0.0 && x <= image.cols - 1.0 && y <= image.rows - 1.0))
-    return std::nullopt;
-  const int x0 = std::min(static_cast<int>(x), image.cols - 2),
-            y0 = std::min(static_cast<int>(y), image.rows - 2);
+  if (!(x >= 0.0 && y >= 0.0 && x <= image.cols - 1.0 && y <= image.rows - 1.0)) return std::nullopt;
+  const int x0 = std::min(static_cast<int>(x), image.cols - 2), y0 = std::min(static_cast<int>(y), image.rows - 2);
   const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
   const float* row0 = image.ptr<float>(y0);
   const float* row1 = image.ptr<float>(y0 + 1);

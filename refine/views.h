@@ -32,17 +32,12 @@ struct RefineView {
 
 // A view from a photo (CV_8UC3 BGR or CV_8U). Throws InputError (naming
 // `source`) when the photo's size differs from the camera's.
-RefineView make_view(const Camera& camera,
-                     const ImageRecord& pose,
-                     const cv::Mat& photo,
-                     int levels,
-                     const std::string& source);
+RefineView make_view(
+    const Camera& camera, const ImageRecord& pose, const cv::Mat& photo, int levels, const std::string& source);
 
 // Every registered image of the workspace. Throws InputError naming an
 // unreadable photo.
-std::vector<RefineView> load_views(const UndistortedWorkspace& workspace,
-                                   int levels,
-                                   Reporter& reporter);
+std::vector<RefineView> load_views(const UndistortedWorkspace& workspace, int levels, Reporter& reporter);
 
 // Renders the mesh's depth into every view (OpenMP over views).
 void render_depths(const TriangleMesh& mesh, std::vector<RefineView>& views);

@@ -16,9 +16,8 @@ using hos::testing::run_command;
 using hos::testing::shell_quote;
 
 int run_refine(const std::string& args, const hos::testing::TempDir& dir) {
-  return run_command(
-      shell_quote((hos::testing::bin_dir() / "hos-refine").string()) + " --progress none " + args,
-      dir / "log.txt");
+  return run_command(shell_quote((hos::testing::bin_dir() / "hos-refine").string()) + " --progress none " + args,
+                     dir / "log.txt");
 }
 
 TEST(HosRefine, DisabledPassesTheMeshThroughAndBadInputsNameTheFile) {
@@ -28,8 +27,7 @@ TEST(HosRefine, DisabledPassesTheMeshThroughAndBadInputsNameTheFile) {
   const std::string out = " --output " + shell_quote((dir / "refined.ply").string());
   // Disabled: the mesh as it was, and no workspace is read.
   ASSERT_EQ(run_refine("--mesh " + shell_quote((dir / "mesh.ply").string()) + " --workspace " +
-                           shell_quote((dir / "no_workspace").string()) + out +
-                           " --set refine.enabled=false",
+                           shell_quote((dir / "no_workspace").string()) + out + " --set refine.enabled=false",
                        dir),
             kExitSuccess)
       << read_text(dir / "log.txt");
@@ -37,17 +35,14 @@ TEST(HosRefine, DisabledPassesTheMeshThroughAndBadInputsNameTheFile) {
   std::filesystem::remove(dir / "refined.ply");
   // Enabled: a missing workspace is bad input naming it, and nothing is written.
   EXPECT_EQ(run_refine("--mesh " + shell_quote((dir / "mesh.ply").string()) + " --workspace " +
-                           shell_quote((dir / "no_workspace").string()) + out +
-                           " --set refine.enabled=true",
+                           shell_quote((dir / "no_workspace").string()) + out + " --set refine.enabled=true",
                        dir),
             kExitBadInput);
   EXPECT_NE(read_text(dir / "log.txt").find("no_workspace"), std::string::npos);
   EXPECT_FALSE(std::filesystem::exists(dir / "refined.ply"));
   // A missing mesh, and an option out of range.
-  EXPECT_EQ(
-      run_refine("--mesh " + shell_quote((dir / "missing.ply").string()) + " --workspace x" + out,
-                 dir),
-      kExitBadInput);
+  EXPECT_EQ(run_refine("--mesh " + shell_quote((dir / "missing.ply").string()) + " --workspace x" + out, dir),
+            kExitBadInput);
   EXPECT_NE(read_text(dir / "log.txt").find("missing.ply"), std::string::npos);
   EXPECT_EQ(run_refine("--mesh m --workspace x" + out + " --set refine.levels=0", dir), kExitUsage);
   EXPECT_EQ(run_refine("--mesh m --workspace x", dir), kExitUsage);

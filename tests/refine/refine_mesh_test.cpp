@@ -38,13 +38,11 @@ TEST(RefineMesh, SmoothedRockComesBackTowardsTheTruth) {
   testing::RockScene scene = testing::make_rock_scene(16, options.levels);
   const TriangleMesh input = testing::smoothed(scene.truth, 40);
   const RefineResult result = refine_mesh(input, std::move(scene.views), options, null_reporter());
-  const eval::SurfaceComparison before = compare(input, scene.truth),
-                                after = compare(result.mesh, scene.truth);
-  std::cout << "[ figures  ] F at 0.5%: " << before.primary().f_score << " -> "
-            << after.primary().f_score << ", F at 0.25%: " << before.scores[0].f_score << " -> "
-            << after.scores[0].f_score << ", Chamfer " << before.chamfer << " -> " << after.chamfer
-            << " (diagonal " << after.truth_diagonal << "), " << result.stats.rounds << " rounds, "
-            << result.stats.seconds << " s, mean ZNCC by round";
+  const eval::SurfaceComparison before = compare(input, scene.truth), after = compare(result.mesh, scene.truth);
+  std::cout << "[ figures  ] F at 0.5%: " << before.primary().f_score << " -> " << after.primary().f_score
+            << ", F at 0.25%: " << before.scores[0].f_score << " -> " << after.scores[0].f_score << ", Chamfer "
+            << before.chamfer << " -> " << after.chamfer << " (diagonal " << after.truth_diagonal << "), "
+            << result.stats.rounds << " rounds, " << result.stats.seconds << " s, mean ZNCC by round";
   for (double score : result.stats.round_scores) std::cout << " " << score;
   std::cout << "\n";
   EXPECT_GT(after.primary().f_score, before.primary().f_score + 0.1);
@@ -57,8 +55,7 @@ TEST(RefineMesh, SmoothedRockComesBackTowardsTheTruth) {
   const double truth_volume = testing::enclosed_volume(scene.truth);
   const double volume_before = testing::enclosed_volume(input) / truth_volume;
   const double volume_after = testing::enclosed_volume(result.mesh) / truth_volume;
-  std::cout << "[ figures  ] volume / true volume " << volume_before << " -> " << volume_after
-            << "\n";
+  std::cout << "[ figures  ] volume / true volume " << volume_before << " -> " << volume_after << "\n";
   EXPECT_LT(std::abs(volume_after - 1.0), 0.5 * std::abs(volume_before - 1.0));
 }
 

@@ -32,8 +32,8 @@ TEST(Regularizer, ThinPlateKeepsTheVolumeWhereMembraneShrinks) {
   const TriangleMesh rock = testing::smoothed(testing::rock_truth(), 10);
   const double thin_plate = volume_ratio_after_rounds(rock, Regularizer::kThinPlate);
   const double membrane = volume_ratio_after_rounds(rock, Regularizer::kMembrane);
-  std::cout << "[ figures  ] volume after 5 rounds without data: thin plate " << thin_plate
-            << ", membrane " << membrane << "\n";
+  std::cout << "[ figures  ] volume after 5 rounds without data: thin plate " << thin_plate << ", membrane " << membrane
+            << "\n";
   EXPECT_NEAR(thin_plate, 1.0, 0.005);
   EXPECT_LT(membrane, 1.0 - 4.0 * std::abs(1.0 - thin_plate));
 }
@@ -43,8 +43,7 @@ TEST(Regularizer, FollowsExactTargetsWithoutRegularisation) {
   RefineOptions options;
   options.lambda = 0.0;
   std::vector<VertexTarget> targets(rock.vertices.size());
-  for (std::size_t v = 0; v < targets.size(); ++v)
-    targets[v] = {0.01f * std::sin(static_cast<float>(v)), 1.0f, 1.0f};
+  for (std::size_t v = 0; v < targets.size(); ++v) targets[v] = {0.01f * std::sin(static_cast<float>(v)), 1.0f, 1.0f};
   const std::vector<float> s =
       solve_displacements(rock, vertex_rings(rock), vertex_normals(rock), targets, 1.0, options);
   for (std::size_t v = 0; v < s.size(); ++v) {

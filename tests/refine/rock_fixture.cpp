@@ -30,8 +30,7 @@ RockScene make_rock_scene(int num_views, int levels) {
   rock.truth = synth::merged_mesh(scene, false);
   std::size_t k = 0;
   for (const auto& [id, image] : data.model.images) {
-    rock.views.push_back(
-        make_view(data.model.camera_of(image), image, data.views[k++].color, levels, image.name));
+    rock.views.push_back(make_view(data.model.camera_of(image), image, data.views[k++].color, levels, image.name));
   }
   return rock;
 }
@@ -43,10 +42,8 @@ TriangleMesh smoothed(const TriangleMesh& mesh, int rounds) {
     std::vector<Eigen::Vector3f> next = out.vertices;
     for (std::size_t v = 0; v < next.size(); ++v) {
       Eigen::Vector3f mean = Eigen::Vector3f::Zero();
-      for (int k = rings.offsets[v]; k < rings.offsets[v + 1]; ++k)
-        mean += out.vertices[rings.neighbors[k]];
-      next[v] =
-          0.5f * (out.vertices[v] + mean / static_cast<float>(rings.degree(static_cast<int>(v))));
+      for (int k = rings.offsets[v]; k < rings.offsets[v + 1]; ++k) mean += out.vertices[rings.neighbors[k]];
+      next[v] = 0.5f * (out.vertices[v] + mean / static_cast<float>(rings.degree(static_cast<int>(v))));
     }
     out.vertices = std::move(next);
   }
@@ -56,8 +53,7 @@ TriangleMesh smoothed(const TriangleMesh& mesh, int rounds) {
 double enclosed_volume(const TriangleMesh& mesh) {
   double six_v = 0.0;
   for (const Eigen::Vector3i& f : mesh.faces) {
-    const Eigen::Vector3d a = mesh.vertices[f[0]].cast<double>(),
-                          b = mesh.vertices[f[1]].cast<double>(),
+    const Eigen::Vector3d a = mesh.vertices[f[0]].cast<double>(), b = mesh.vertices[f[1]].cast<double>(),
                           c = mesh.vertices[f[2]].cast<double>();
     six_v += a.dot(b.cross(c));
   }
