@@ -98,8 +98,8 @@ nlohmann::ordered_json stage_figures(const std::string& stage, const fs::path& w
       }
     } else if (stage == "mvs") {
       f["points"] = ply_element_counts(paths.points)["vertex"];
-    } else if (stage == "recon") {
-      auto counts = ply_element_counts(paths.mesh);
+    } else if (stage == "recon" || stage == "refine") {
+      auto counts = ply_element_counts(stage == "recon" ? paths.mesh : paths.refined_mesh);
       f["vertices"] = counts["vertex"];
       f["faces"] = counts["face"];
     } else if (stage == "texture") {
@@ -133,7 +133,7 @@ std::string figures_text(const std::string& stage, const nlohmann::ordered_json&
     }
   } else if (stage == "mvs") {
     text << num("points") << " dense points";
-  } else if (stage == "recon") {
+  } else if (stage == "recon" || stage == "refine") {
     text << num("vertices") << " vertices, " << num("faces") << " faces";
   } else if (stage == "texture") {
     text << num("triangles") << " triangles";

@@ -16,6 +16,7 @@ struct StagePaths {
         undistorted(workspace / "sfm" / "undistorted"),
         points(workspace / "mvs" / "points.ply"),
         mesh(workspace / "recon" / "mesh.ply"),
+        refined_mesh(workspace / "refine" / "mesh.ply"),
         textured_model(workspace / "texture" / "model.glb") {}
 
   std::filesystem::path root;
@@ -27,6 +28,7 @@ struct StagePaths {
   std::filesystem::path undistorted;     // sfm output: images + PINHOLE model
   std::filesystem::path points;          // mvs output: oriented dense points
   std::filesystem::path mesh;            // recon output: surface
+  std::filesystem::path refined_mesh;    // refine output: the surface the photos agree on
   std::filesystem::path textured_model;  // texture output: binary glTF
 
   std::filesystem::path log(const std::string& stage) const { return logs / (stage + ".log"); }

@@ -6,6 +6,7 @@
 #include "mvs/mvs_options.h"
 #include "pipeline/output_checks.h"
 #include "recon/recon_options.h"
+#include "refine/refine_options.h"
 #include "sfm/sfm_options.h"
 #include "texture/texture_options.h"
 
@@ -50,13 +51,23 @@ const std::vector<StageSpec>& pipeline_stages() {
        },
        [](Fingerprint& f, const DriverOptions&, const StagePaths& p) { f.add_file_contents(p.points); },
        [](const StagePaths& p) { return fs::exists(p.mesh); }, typed_config<recon::ReconOptions>("recon")},
-      {"texture", "hos-texture",
+      {"refine", "hos-refine",
        [](const DriverOptions&, const StagePaths& p) {
-         return std::vector<std::string>{"--workspace", p.undistorted.string(),   "--mesh", p.mesh.string(),
-                                         "--output",    p.textured_model.string()};
+         return std::vector<std::string>{"--workspace", p.undistorted.string(), "--mesh", p.mesh.string(),
+                                         "--output",    p.refined_mesh.string()};
        },
        [](Fingerprint& f, const DriverOptions&, const StagePaths& p) {
          f.add_file_contents(p.mesh);
+         add_undistorted_workspace(f, p);
+       },
+       [](const StagePaths& p) { return fs::exists(p.refined_mesh); }, typed_config<refine::RefineOptions>("refine")},
+      {"texture", "hos-texture",
+       [](const DriverOptions&, const StagePaths& p) {
+         return std::vector<std::string>{"--workspace", p.undistorted.string(),   "--mesh", p.refined_mesh.string(),
+                                         "--output",    p.textured_model.string()};
+       },
+       [](Fingerprint& f, const DriverOptions&, const StagePaths& p) {
+         f.add_file_contents(p.refined_mesh);
          add_undistorted_workspace(f, p);
        },
        [](const StagePaths& p) { return fs::exists(p.textured_model); },

@@ -53,7 +53,7 @@ case "$stage" in
   mvs)
     printf 'ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nend_header\n1\n2\n' > "$out.tmp"
     cat "$ws/sparse/cameras.txt" >> "$out.tmp"; mv "$out.tmp" "$out" ;;
-  recon)
+  recon|refine)
     printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nelement face 1\nend_header\n' > "$out" ;;
   texture)
     echo "glb from $input" > "$out" ;;
@@ -69,7 +69,7 @@ class DriverTest : public ::testing::Test {
     for (const char* name : {"a.jpg", "b.jpg", "c.jpg", "d.jpg"}) std::ofstream(dir_ / "photos" / name) << name;
     std::ofstream(bin_ / "fake-stage") << kFakeStage;
     ::chmod((bin_ / "fake-stage").c_str(), 0755);
-    for (const char* stage : {"sfm", "mvs", "recon", "texture"}) {
+    for (const char* stage : {"sfm", "mvs", "recon", "refine", "texture"}) {
       const fs::path exe = bin_ / (std::string("hos-") + stage);
       std::ofstream(exe) << "#!/bin/sh\nexec \"$(dirname \"$0\")/fake-stage\" " << stage << " \"$@\"\n";
       ::chmod(exe.c_str(), 0755);
@@ -104,7 +104,7 @@ class DriverTest : public ::testing::Test {
 };
 
 TEST_F(DriverTest, FirstRunRunsEverythingAndCopiesTheResult) {
-  EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "texture"));
+  EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "refine", "texture"));
   ASSERT_TRUE(fs::exists(options_.output));
   std::ifstream in(options_.output);
   std::string text;
@@ -112,7 +112,7 @@ TEST_F(DriverTest, FirstRunRunsEverythingAndCopiesTheResult) {
   EXPECT_THAT(text, HasSubstr("mesh.ply"));
   EXPECT_TRUE(fs::exists(workspace() / "config.yaml"));
   const RunRecord record = load_run_record(workspace() / "run.json");
-  ASSERT_EQ(record.stages.size(), 4u);
+  ASSERT_EQ(record.stages.size(), 5u);
   EXPECT_EQ(record.stages.at("texture").state, "done");
   EXPECT_EQ(record.stages.at("sfm").figures.value("images_registered", 0), 3);
   EXPECT_EQ(record.stages.at("mvs").figures.value("points", 0), 2);
@@ -133,13 +133,13 @@ TEST_F(DriverTest, DeletedTextureOutputRerunsOnlyTexture) {
 TEST_F(DriverTest, DeletedDensePointsRerunFromMvs) {
   run();
   fs::remove(workspace() / "mvs" / "points.ply");
-  EXPECT_THAT(run(), ElementsAre("mvs", "recon", "texture"));
+  EXPECT_THAT(run(), ElementsAre("mvs", "recon", "refine", "texture"));
 }
 
 TEST_F(DriverTest, ChangedOptionRerunsThatStageAndLaterOnes) {
   run();
   options_.assignments = {"sfm.max_num_features=5000"};
-  EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "texture"));
+  EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "refine", "texture"));
   EXPECT_TRUE(run().empty());
 }
 
@@ -147,14 +147,14 @@ TEST_F(DriverTest, ChangedReconLambdaRerunsReconAndTextureOnly) {
   if (!PipelineConfig().has_stage("recon")) GTEST_SKIP() << "the recon stage is not part of this build";
   run();
   options_.assignments = {"recon.lambda=0.25"};
-  EXPECT_THAT(run(), ElementsAre("recon", "texture"));
+  EXPECT_THAT(run(), ElementsAre("recon", "refine", "texture"));
   EXPECT_TRUE(run().empty());
 }
 
 TEST_F(DriverTest, ChangedPhotosRerunEverything) {
   run();
   std::ofstream(dir_ / "photos" / "e.jpg") << "e";
-  EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "texture"));
+  EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "refine", "texture"));
 }
 
 TEST_F(DriverTest, FromToAndForce) {
@@ -163,10 +163,10 @@ TEST_F(DriverTest, FromToAndForce) {
   EXPECT_FALSE(fs::exists(options_.output));
   options_.to.clear();
   options_.from = "recon";
-  EXPECT_THAT(run(), ElementsAre("recon", "texture"));
+  EXPECT_THAT(run(), ElementsAre("recon", "refine", "texture"));
   options_.from.clear();
   options_.force = true;
-  EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "texture"));
+  EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "refine", "texture"));
 }
 
 TEST_F(DriverTest, FromNeedsEarlierResults) {
@@ -189,7 +189,7 @@ TEST_F(DriverTest, FailedStageKeepsItsExitCauseAndResumesThere) {
   ::setenv("HOS_FAKE_EXIT", "4", 1);
   EXPECT_THROW(run(), StageError);
   ::unsetenv("HOS_FAKE_FAIL");
-  EXPECT_THAT(run(), ElementsAre("mvs", "recon", "texture"));
+  EXPECT_THAT(run(), ElementsAre("mvs", "recon", "refine", "texture"));
 }
 
 TEST_F(DriverTest, MissingStageExecutableIsNamedBeforeAnythingRuns) {
@@ -223,7 +223,7 @@ TEST_F(DriverTest, InterruptStopsTheStageAndTheNextRunResumes) {
   EXPECT_EQ(load_run_record(workspace() / "run.json").stages.at("mvs").state, "interrupted");
   EXPECT_FALSE(fs::exists(workspace() / "mvs" / "points.ply"));
   ::unsetenv("HOS_FAKE_SLEEP");
-  EXPECT_THAT(run(), ElementsAre("mvs", "recon", "texture"));
+  EXPECT_THAT(run(), ElementsAre("mvs", "recon", "refine", "texture"));
 }
 
 TEST_F(DriverTest, BadInvocations) {

@@ -91,7 +91,7 @@ std::optional<double> find_number(const nlohmann::json& j, const std::vector<std
 std::map<std::string, std::string> outputs_after_mvs(const fs::path& workspace, const fs::path& result) {
   const StagePaths paths(workspace);
   std::map<std::string, std::string> out;
-  for (const fs::path& file : {paths.points, paths.mesh, paths.textured_model, result}) {
+  for (const fs::path& file : {paths.points, paths.mesh, paths.refined_mesh, paths.textured_model, result}) {
     Fingerprint fingerprint;
     fingerprint.add_file_contents(file);
     out[file.filename().string()] = fingerprint.hex();
@@ -179,7 +179,7 @@ class StopDuringMvs : public Reporter {
 
 TEST_F(HosPipelineTest, SyntheticSceneEndToEndWithResume) {
   const std::string missing =
-      hos::testing::missing_executables({"hos-synth", "hos-sfm", "hos-mvs", "hos-recon", "hos-texture"});
+      hos::testing::missing_executables({"hos-synth", "hos-sfm", "hos-mvs", "hos-recon", "hos-refine", "hos-texture"});
   if (!missing.empty()) GTEST_SKIP() << "not built:" << missing;
   if (find_executable("colmap").empty()) GTEST_SKIP() << "colmap is not installed";
   const fs::path scene = dir_ / "scene";
@@ -191,7 +191,7 @@ TEST_F(HosPipelineTest, SyntheticSceneEndToEndWithResume) {
   // 1. The whole pipeline (the .glb's vertices stay in the cameras' frame, the
   // viewer's up axis is only in its root node, so the camera alignment applies).
   ASSERT_EQ(pipeline(base, "run1"), 0) << log("run1");
-  EXPECT_THAT(stages_run(log("run1")), ::testing::ElementsAre("sfm", "mvs", "recon", "texture"));
+  EXPECT_THAT(stages_run(log("run1")), ::testing::ElementsAre("sfm", "mvs", "recon", "refine", "texture"));
   ASSERT_TRUE(fs::exists(out));
   EXPECT_THAT(log("run1"), HasSubstr("result: " + out.string()));
 
@@ -256,9 +256,9 @@ TEST_F(HosPipelineTest, SyntheticSceneEndToEndWithResume) {
   ASSERT_EQ(pipeline(base, "run3"), 0) << log("run3");
   EXPECT_THAT(stages_run(log("run3")), ::testing::ElementsAre("texture"));
 
-  // 6. A changed recon option re-runs recon and texture only.
+  // 6. A changed recon option re-runs recon, refine and texture only.
   ASSERT_EQ(pipeline(base + " --set recon.lambda=0.25", "run4"), 0) << log("run4");
-  EXPECT_THAT(stages_run(log("run4")), ::testing::ElementsAre("recon", "texture"));
+  EXPECT_THAT(stages_run(log("run4")), ::testing::ElementsAre("recon", "refine", "texture"));
   const auto uninterrupted = outputs_after_mvs(ws, out);
 
   // 7. Interrupted during mvs (SIGTERM to the driver): exit 130 with the
@@ -279,7 +279,7 @@ TEST_F(HosPipelineTest, SyntheticSceneEndToEndWithResume) {
   EXPECT_THAT(interrupted_output, HasSubstr("Re-run the same command to resume"));
   EXPECT_EQ(load_run_record(ws / "run.json").stages.at("mvs").state, "interrupted");
   ASSERT_EQ(pipeline(base + " --set recon.lambda=0.25", "run5"), 0) << log("run5");
-  EXPECT_THAT(stages_run(log("run5")), ::testing::ElementsAre("mvs", "recon", "texture"));
+  EXPECT_THAT(stages_run(log("run5")), ::testing::ElementsAre("mvs", "recon", "refine", "texture"));
   EXPECT_EQ(load_run_record(ws / "run.json").stages.at("sfm").finished_at, sfm_finished);
   EXPECT_TRUE(fs::exists(out));
   EXPECT_EQ(outputs_after_mvs(ws, out), uninterrupted);

@@ -1,0 +1,186 @@
+#include "refine/photo_consistency.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace hos::refine {
+namespace {
+
+constexpr float kMinPatchStd = 0.01f;  // grey levels in [0, 1]; as mvs.min_texture_std
+constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+
+// The reference view (most frontal) and the views compared with it, for one vertex.
+struct ViewChoice {
+  int reference = -1;
+  std::vector<int> compared;
+};
+
+ViewChoice choose_views(const Eigen::Vector3d& x,
+                        const Eigen::Vector3d& n,
+                        const std::vector<RefineView>& views,
+                        double visibility_tolerance,
+                        const RefineOptions& o) {
+  // Step 1: the views that see the vertex not too grazingly, by how frontally.
+  std::vector<std::pair<double, int>> candidates;
+  const double min_cos_incidence = std::cos(o.max_incidence_deg * kDegToRad);
+  for (std::size_t i = 0; i < views.size(); ++i) {
+    const double c = n.dot((views[i].center - x).normalized());
+    if (c > min_cos_incidence && sees(views[i], x, visibility_tolerance))
+      candidates.emplace_back(c, static_cast<int>(i));
+  }
+  std::sort(candidates.begin(), candidates.end(), std::greater<>());
+  ViewChoice choice;
+  if (candidates.empty()) return choice;
+  // Step 2: the most frontal is the reference; the others within the
+  // baseline range are compared with it (too narrow: depth is ill-conditioned).
+  choice.reference = candidates[0].second;
+  const Eigen::Vector3d ray_ref = (views[choice.reference].center - x).normalized();
+  const double cos_min = std::cos(o.min_angle_deg * kDegToRad), cos_max = std::cos(o.max_angle_deg * kDegToRad);
+  for (std::size_t k = 1; k < candidates.size() && static_cast<int>(choice.compared.size()) < o.max_views; ++k) {
+    const double c = ray_ref.dot((views[candidates[k].second].center - x).normalized());
+    if (c <= cos_min && c >= cos_max) choice.compared.push_back(candidates[k].second);
+  }
+  return choice;
+}
+
+// The patch: the current surface as the reference view sees it around the
+// vertex (one point per pixel of the level, from the depth buffer), with the
+// reference's grey levels. Following the surface instead of a tangent plane
+// keeps curvature from biasing the offset.
+struct Patch {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<float> reference;
+};
+
+std::optional<Patch> surface_patch(
+    const RefineView& ref, int level, const Eigen::Vector3d& x, int half, double step, double max_depth_jump) {
+  const std::optional<Eigen::Vector3d> centre = ref.project(x, level);
+  if (!centre) return std::nullopt;
+  Patch patch;
+  for (int b = -half; b <= half; ++b) {
+    for (int a = -half; a <= half; ++a) {
+      // Pixel centres of the level nearest to the vertex's projection.
+      const Eigen::Vector2d pixel(std::floor(centre->x()) + 0.5 + a * step, std::floor(centre->y()) + 0.5 + b * step);
+      const std::optional<Eigen::Vector3d> point = surface_point(ref, level, pixel, max_depth_jump);
+      const std::optional<float> grey = sample(ref, level, pixel);
+      if (!point || !grey) return std::nullopt;
+      patch.points.push_back(*point);
+      patch.reference.push_back(*grey);
+    }
+  }
+  return patch;
+}
+
+// Grey levels of the patch moved by `shift` in another view; false when a
+// point leaves the image.
+bool sample_moved_patch(
+    const RefineView& view, int level, const Patch& patch, const Eigen::Vector3d& shift, std::vector<float>& out) {
+  out.clear();
+  for (const Eigen::Vector3d& point : patch.points) {
+    const std::optional<Eigen::Vector3d> p = view.project(point + shift, level);
+    if (!p) return false;
+    const std::optional<float> g = sample(view, level, p->head<2>());
+    if (!g) return false;
+    out.push_back(*g);
+  }
+  return true;
+}
+
+// Mean of the better half of the scores (at least one): an occluder in one
+// view does not veto a surface the others agree on.
+float robust_mean(std::vector<float>& scores) {
+  std::sort(scores.begin(), scores.end(), std::greater<>());
+  const std::size_t keep = std::max<std::size_t>(1, (scores.size() + 1) / 2);
+  return std::accumulate(scores.begin(), scores.begin() + keep, 0.0f) / static_cast<float>(keep);
+}
+
+VertexTarget search_vertex(const Eigen::Vector3d& x,
+                           const Eigen::Vector3d& n,
+                           const std::vector<RefineView>& views,
+                           int level,
+                           double visibility_tolerance,
+                           const RefineOptions& o) {
+  VertexTarget target;
+  const ViewChoice choice = choose_views(x, n, views, visibility_tolerance, o);
+  if (choice.compared.empty()) return target;
+  // Step 1: sizes in scene units from the reference view's pixel footprint.
+  const RefineView& ref = views[choice.reference];
+  const double depth = ref.pose.cam_from_world(x).z();
+  const double footprint = depth / ref.camera.focal_x() * static_cast<double>(1 << level);
+  const double step = o.step_pixels * footprint;
+  const int steps = o.search_steps;
+  const std::optional<Patch> patch =
+      surface_patch(ref, level, x, o.patch_size / 2, o.sample_pixels, visibility_tolerance);
+  if (!patch) return target;
+  // Step 2: the score of each offset of the patch along the normal.
+  std::vector<float> scores(2 * steps + 1, -2.0f);
+  std::vector<float> samples, view_scores;
+  for (int k = -steps; k <= steps; ++k) {
+    view_scores.clear();
+    for (int j : choice.compared) {
+      if (!sample_moved_patch(views[j], level, *patch, (k * step) * n, samples)) continue;
+      if (const std::optional<float> s = zncc(patch->reference, samples, kMinPatchStd)) view_scores.push_back(*s);
+    }
+    if (!view_scores.empty()) scores[k + steps] = robust_mean(view_scores);
+  }
+  // Step 3: the best offset, refined by a parabola through its neighbours.
+  const int best = static_cast<int>(std::max_element(scores.begin(), scores.end()) - scores.begin());
+  const float best_score = scores[best];
+  if (best_score < o.min_zncc) return target;
+  double offset = (best - steps) * step;
+  const bool at_end = best == 0 || best == 2 * steps;
+  if (!at_end && scores[best - 1] > -2.0f && scores[best + 1] > -2.0f) {
+    const double denom = scores[best - 1] - 2.0 * best_score + scores[best + 1];
+    if (denom < 0.0) offset += 0.5 * (scores[best - 1] - scores[best + 1]) / denom * step;
+  }
+  // Step 4: trust grows with the score; a peak at the end of the range may
+  // lie beyond it, so it counts half (the next round searches from there).
+  target.offset = static_cast<float>(offset);
+  target.score = best_score;
+  target.weight = static_cast<float>((best_score - o.min_zncc) / (1.0 - o.min_zncc)) * (at_end ? 0.5f : 1.0f);
+  return target;
+}
+
+}  // namespace
+
+std::optional<float> zncc(const std::vector<float>& a, const std::vector<float>& b, float min_std) {
+  const float n = static_cast<float>(a.size());
+  float mean_a = 0, mean_b = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) mean_a += a[i], mean_b += b[i];
+  mean_a /= n, mean_b /= n;
+  float var_a = 0, var_b = 0, cov = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const float da = a[i] - mean_a, db = b[i] - mean_b;
+    var_a += da * da, var_b += db * db, cov += da * db;
+  }
+  const float min_var = min_std * min_std * n;
+  if (var_a < min_var || var_b < min_var) return std::nullopt;
+  return cov / std::sqrt(var_a * var_b);
+}
+
+std::vector<VertexTarget> search_normal_offsets(const TriangleMesh& mesh,
+                                                const std::vector<Eigen::Vector3f>& normals,
+                                                const std::vector<RefineView>& views,
+                                                int level,
+                                                double visibility_tolerance,
+                                                const RefineOptions& options,
+                                                Reporter& reporter) {
+  const int n = static_cast<int>(mesh.vertices.size());
+  std::vector<VertexTarget> targets(n);
+  constexpr int kChunk = 4096;
+  for (int begin = 0; begin < n; begin += kChunk) {
+    reporter.throw_if_cancelled();
+    const int end = std::min(n, begin + kChunk);
+#pragma omp parallel for schedule(dynamic, 64)
+    for (int v = begin; v < end; ++v) {
+      if (normals[v].squaredNorm() == 0.0f) continue;
+      targets[v] = search_vertex(mesh.vertices[v].cast<double>(), normals[v].cast<double>(), views, level,
+                                 visibility_tolerance, options);
+    }
+  }
+  return targets;
+}
+
+}  // namespace hos::refine

@@ -1,0 +1,128 @@
+#include "refine/refine_mesh.h"
+
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "core/error.h"
+#include "refine/mesh_geometry.h"
+#include "refine/photo_consistency.h"
+#include "refine/regularizer.h"
+
+namespace hos::refine {
+namespace {
+
+constexpr int kFoldHalvings = 6;  // a flipping face's vertices try 1/2, 1/4, ... of their step
+
+// Mean best score of the vertices with a target, and their fraction.
+std::pair<double, double> score_summary(const std::vector<VertexTarget>& targets) {
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (const VertexTarget& t : targets) {
+    if (t.weight > 0.0f) sum += t.score, ++count;
+  }
+  return {count ? sum / count : 0.0, targets.empty() ? 0.0 : static_cast<double>(count) / targets.size()};
+}
+
+double largest_offset(const std::vector<VertexTarget>& targets) {
+  double m = 0.0;
+  for (const VertexTarget& t : targets) m = std::max(m, static_cast<double>(std::abs(t.offset)));
+  return m;
+}
+
+// Moves every vertex by s along its normal; where a face would turn over
+// (its normal against the old one), the steps of its vertices are halved
+// until none does, so a round adds no fold-overs. Returns how many vertices
+// had their step shortened.
+int move_without_folds(TriangleMesh& mesh, const std::vector<Eigen::Vector3f>& normals, std::vector<float> s) {
+  const std::vector<Eigen::Vector3f> before = face_area_normals(mesh);
+  const std::vector<Eigen::Vector3f> start = mesh.vertices;
+  std::vector<char> shortened(mesh.vertices.size(), 0);
+  for (int attempt = 0; attempt <= kFoldHalvings; ++attempt) {
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) mesh.vertices[v] = start[v] + s[v] * normals[v];
+    const std::vector<Eigen::Vector3f> after = face_area_normals(mesh);
+    bool any = false;
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+      if (after[f].dot(before[f]) > 0.0f || before[f].squaredNorm() == 0.0f) continue;
+      any = true;
+      for (int c = 0; c < 3; ++c) {
+        const int v = mesh.faces[f][c];
+        s[v] = attempt == kFoldHalvings - 1 ? 0.0f : 0.5f * s[v];
+        shortened[v] = 1;
+      }
+    }
+    if (!any) break;
+  }
+  return static_cast<int>(std::count(shortened.begin(), shortened.end(), 1));
+}
+
+}  // namespace
+
+RefineResult refine_mesh(const TriangleMesh& input,
+                         std::vector<RefineView> views,
+                         const RefineOptions& options,
+                         Reporter& reporter) {
+  options.validate();
+  if (options.threads > 0) omp_set_num_threads(options.threads);
+  const auto start = std::chrono::steady_clock::now();
+  const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  RefineResult result;
+  result.mesh = input;
+  TriangleMesh& mesh = result.mesh;
+  RefineStats& stats = result.stats;
+  const VertexRings rings = vertex_rings(mesh);
+  const double edge = mean_edge_length(mesh);
+  const int levels = std::min<int>(options.levels, views.empty() ? 1 : static_cast<int>(views[0].pyramid.size()));
+  // Coarse to fine: the coarse level's wider steps catch larger errors, the
+  // fine level's narrow ones place the surface to a fraction of a pixel.
+  for (int level = levels - 1; level >= 0 && !stats.out_of_time; --level) {
+    double previous_score = -2.0;
+    for (int round = 0; round < options.iterations; ++round) {
+      if (elapsed() > options.max_seconds) {
+        stats.out_of_time = true;
+        break;
+      }
+      reporter.throw_if_cancelled();
+      // Step 1: visibility and normals of the current surface.
+      const std::vector<Eigen::Vector3f> normals = vertex_normals(mesh);
+      render_depths(mesh, views);
+      // Step 2: photometric targets along the normals.
+      const std::vector<VertexTarget> targets =
+          search_normal_offsets(mesh, normals, views, level, 2.0 * edge, options, reporter);
+      const auto [score, fraction] = score_summary(targets);
+      stats.round_scores.push_back(score);
+      stats.targeted_fraction = fraction;
+      // Step 3: the regularised displacements, applied without fold-overs.
+      SolveStats solve;
+      const std::vector<float> s =
+          solve_displacements(mesh, rings, normals, targets, largest_offset(targets), options, &solve);
+      stats.folds_prevented += move_without_folds(mesh, normals, s);
+      ++stats.rounds;
+      reporter.info(format_message("refine level ", level, " round ", round + 1, ": mean ZNCC ", score, " over ",
+                                   100.0 * fraction, "% of the vertices, ", solve.iterations, " CG iterations, ",
+                                   elapsed(), " s"));
+      // The energy stalls: the next level (or the end).
+      if (score - previous_score < options.min_improvement) break;
+      previous_score = score;
+    }
+  }
+  double moved = 0.0;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) moved += (mesh.vertices[v] - input.vertices[v]).norm();
+  stats.mean_displacement = mesh.vertices.empty() ? 0.0 : moved / mesh.vertices.size();
+  if (!mesh.normals.empty()) mesh.normals = vertex_normals(mesh);
+  stats.seconds = elapsed();
+  return result;
+}
+
+RefineResult refine_mesh(const TriangleMesh& mesh,
+                         const std::string& mesh_source,
+                         const UndistortedWorkspace& workspace,
+                         const RefineOptions& options,
+                         Reporter& reporter) {
+  options.validate();
+  if (mesh.faces.empty()) throw InputError(mesh_source, "the mesh has no faces");
+  return refine_mesh(mesh, load_views(workspace, options.levels, reporter), options, reporter);
+}
+
+}  // namespace hos::refine

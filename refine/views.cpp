@@ -1,0 +1,125 @@
+#include "refine/views.h"
+
+#include <cmath>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/error.h"
+#include "render/rasterizer.h"
+
+namespace hos::refine {
+
+std::optional<Eigen::Vector3d> RefineView::project(const Eigen::Vector3d& x_in_world, int level) const {
+  const Eigen::Vector3d x = pose.cam_from_world(x_in_world);
+  if (x.z() <= 0.0) return std::nullopt;
+  const double scale = 1.0 / static_cast<double>(1 << level);
+  const double u = (camera.focal_x() * x.x() / x.z() + camera.principal_x()) * scale;
+  const double v = (camera.focal_y() * x.y() / x.z() + camera.principal_y()) * scale;
+  return Eigen::Vector3d(u, v, x.z());
+}
+
+RefineView make_view(
+    const Camera& camera, const ImageRecord& pose, const cv::Mat& photo, int levels, const std::string& source) {
+  if (photo.cols != camera.width || photo.rows != camera.height) {
+    throw InputError(source, "image is " + std::to_string(photo.cols) + "x" + std::to_string(photo.rows) +
+                                 " but its camera is " + std::to_string(camera.width) + "x" +
+                                 std::to_string(camera.height));
+  }
+  RefineView view;
+  view.camera = camera;
+  view.pose = pose;
+  view.center = pose.center();
+  // Step 1: grey levels in [0, 1]; ZNCC removes each view's gain and offset.
+  cv::Mat grey;
+  if (photo.channels() == 3) {
+    cv::cvtColor(photo, grey, cv::COLOR_BGR2GRAY);
+  } else {
+    grey = photo;
+  }
+  cv::Mat level0;
+  grey.convertTo(level0, CV_32F, 1.0 / 255.0);
+  // Step 2: 2x2 box averages, so a level's pixel centre is the mean of its
+  // four parents and x_l = x_0 / 2^l holds exactly.
+  view.pyramid.push_back(level0);
+  for (int l = 1; l < levels; ++l) {
+    const cv::Mat& previous = view.pyramid.back();
+    cv::Mat next;
+    cv::resize(previous, next, cv::Size(std::max(1, previous.cols / 2), std::max(1, previous.rows / 2)), 0, 0,
+               cv::INTER_AREA);
+    view.pyramid.push_back(next);
+  }
+  return view;
+}
+
+std::vector<RefineView> load_views(const UndistortedWorkspace& workspace, int levels, Reporter& reporter) {
+  std::vector<RefineView> views;
+  for (const auto& [id, image] : workspace.model.images) {
+    reporter.throw_if_cancelled();
+    const std::string path = workspace.image_path(image).string();
+    const cv::Mat photo = cv::imread(path, cv::IMREAD_COLOR);
+    if (photo.empty()) throw InputError(path, "cannot be read as an image");
+    views.push_back(make_view(workspace.model.camera_of(image), image, photo, levels, path));
+  }
+  return views;
+}
+
+void render_depths(const TriangleMesh& mesh, std::vector<RefineView>& views) {
+  // Only the depth is used: one sample per pixel, no lighting.
+  std::vector<render::RenderObject> objects(1);
+  objects[0].mesh.vertices = mesh.vertices;
+  objects[0].mesh.faces = mesh.faces;
+  render::RenderOptions options;
+  options.supersampling = 1;
+  options.lighting.unlit = true;
+  for (RefineView& view : views) view.depth = render::render_view(objects, view.camera, view.pose, options).depth;
+}
+
+bool sees(const RefineView& view, const Eigen::Vector3d& x_in_world, double tolerance) {
+  const std::optional<Eigen::Vector3d> p = view.project(x_in_world, 0);
+  if (!p) return false;
+  const int cx = static_cast<int>(std::floor(p->x())), cy = static_cast<int>(std::floor(p->y()));
+  if (cx < 0 || cy < 0 || cx >= view.depth.cols || cy >= view.depth.rows) return false;
+  float nearest = std::numeric_limits<float>::max();
+  for (int y = std::max(0, cy - 1); y <= std::min(view.depth.rows - 1, cy + 1); ++y) {
+    for (int x = std::max(0, cx - 1); x <= std::min(view.depth.cols - 1, cx + 1); ++x) {
+      const float d = view.depth.at<float>(y, x);
+      if (d > 0.0f) nearest = std::min(nearest, d);
+    }
+  }
+  return p->z() <= nearest + tolerance;
+}
+
+std::optional<Eigen::Vector3d> surface_point(const RefineView& view,
+                                             int level,
+                                             const Eigen::Vector2d& pixel,
+                                             double max_depth_jump) {
+  const double scale = static_cast<double>(1 << level);
+  const double x = pixel.x() * scale - 0.5, y = pixel.y() * scale - 0.5;
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  if (x0 < 0 || y0 < 0 || x0 + 1 >= view.depth.cols || y0 + 1 >= view.depth.rows) return std::nullopt;
+  const float d00 = view.depth.at<float>(y0, x0), d01 = view.depth.at<float>(y0, x0 + 1);
+  const float d10 = view.depth.at<float>(y0 + 1, x0), d11 = view.depth.at<float>(y0 + 1, x0 + 1);
+  const float lo = std::min({d00, d01, d10, d11}), hi = std::max({d00, d01, d10, d11});
+  if (lo <= 0.0f || hi - lo > max_depth_jump) return std::nullopt;
+  const double fx = x - x0, fy = y - y0;
+  const double z = (1 - fy) * ((1 - fx) * d00 + fx * d01) + fy * ((1 - fx) * d10 + fx * d11);
+  const Eigen::Vector3d ray((pixel.x() * scale - view.camera.principal_x()) / view.camera.focal_x(),
+                            (pixel.y() * scale - view.camera.principal_y()) / view.camera.focal_y(), 1.0);
+  return view.pose.world_from_cam(z * ray);
+}
+
+std::optional<float> sample(const RefineView& view, int level, const Eigen::Vector2d& pixel) {
+  const cv::Mat& image = view.pyramid[level];
+  // COLMAP's pixel centres sit at +0.5.
+  const double x = pixel.x() - 0.5, y = pixel.y() - 0.5;
+  if (!(x >= 0.0 && y >= 0.0 && x <= image.cols - 1.0 && y <= image.rows - 1.0)) return std::nullopt;
+  const int x0 = std::min(static_cast<int>(x), image.cols - 2), y0 = std::min(static_cast<int>(y), image.rows - 2);
+  const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
+  const float* row0 = image.ptr<float>(y0);
+  const float* row1 = image.ptr<float>(y0 + 1);
+  const float top = row0[x0] + fx * (row0[x0 + 1] - row0[x0]);
+  const float bottom = row1[x0] + fx * (row1[x0 + 1] - row1[x0]);
+  return top + fy * (bottom - top);
+}
+
+}  // namespace hos::refine

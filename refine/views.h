@@ -1,0 +1,62 @@
+// The photos the refinement compares: posed pinhole cameras with grey-level
+// image pyramids, and per-view depth buffers of the current mesh for
+// visibility (render/rasterizer.h).
+#pragma once
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/reporter.h"
+#include "core/sparse_model.h"
+#include "core/types.h"
+#include "core/undistorted_workspace.h"
+
+namespace hos::refine {
+
+struct RefineView {
+  Camera camera;  // undistorted (PINHOLE or SIMPLE_PINHOLE)
+  ImageRecord pose;
+  // Grey levels in [0, 1], CV_32F; pyramid[l] is 1/2^l of the photo (box
+  // filtered, so pixel centres map as x_l = x_0 / 2^l).
+  std::vector<cv::Mat> pyramid;
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();  // camera centre in world coordinates
+  cv::Mat depth;  // CV_32F camera z of the current mesh at full resolution, 0 where empty
+
+  // World point to the pixel of pyramid level `level` (COLMAP pixel
+  // convention), with the camera-frame depth; nothing behind the camera.
+  std::optional<Eigen::Vector3d> project(const Eigen::Vector3d& x_in_world, int level) const;
+};
+
+// A view from a photo (CV_8UC3 BGR or CV_8U). Throws InputError (naming
+// `source`) when the photo's size differs from the camera's.
+RefineView make_view(
+    const Camera& camera, const ImageRecord& pose, const cv::Mat& photo, int levels, const std::string& source);
+
+// Every registered image of the workspace. Throws InputError naming an
+// unreadable photo.
+std::vector<RefineView> load_views(const UndistortedWorkspace& workspace, int levels, Reporter& reporter);
+
+// Renders the mesh's depth into every view (OpenMP over views).
+void render_depths(const TriangleMesh& mesh, std::vector<RefineView>& views);
+
+// Whether view sees x: in the image, in front of the camera, and no nearer
+// than `tolerance` behind the depth buffer (over the 3x3 pixels around its
+// projection, so a vertex on a silhouette still counts).
+bool sees(const RefineView& view, const Eigen::Vector3d& x_in_world, double tolerance);
+
+// The point of the current mesh seen at a pixel of pyramid level `level`
+// (depth buffer, bilinear over four covered pixels); nothing where the
+// pixel is not covered, or lies on a depth edge wider than max_depth_jump.
+std::optional<Eigen::Vector3d> surface_point(const RefineView& view,
+                                             int level,
+                                             const Eigen::Vector2d& pixel,
+                                             double max_depth_jump);
+
+// Bilinear grey level of pyramid level `level` at a pixel (COLMAP
+// convention); nothing outside the image.
+std::optional<float> sample(const RefineView& view, int level, const Eigen::Vector2d& pixel);
+
+}  // namespace hos::refine

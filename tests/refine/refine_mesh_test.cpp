@@ -1,0 +1,74 @@
+// Refinement against ground truth: the rock of hos-synth, its true mesh
+// smoothed (bumps gone, shrunk) as a too-smooth reconstruction would be, is
+// refined from 16 photos and must come back towards the true surface.
+#include "refine/refine_mesh.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <iostream>
+
+#include "core/error.h"
+#include "eval/mesh_sanity.h"
+#include "eval/surface_distance.h"
+#include "refine/mesh_geometry.h"
+#include "tests/refine/rock_fixture.h"
+
+namespace hos::refine {
+namespace {
+
+eval::SurfaceComparison compare(const TriangleMesh& mesh, const TriangleMesh& truth) {
+  eval::SurfaceDistanceOptions options;
+  options.num_samples = 30000;
+  options.thresholds = {0.0025, 0.005, 0.01};
+  return eval::compare_surfaces(mesh, truth, options, null_reporter());
+}
+
+// Faces whose normal turned against the true mesh's (same topology).
+int flipped_faces(const TriangleMesh& mesh, const TriangleMesh& reference) {
+  const std::vector<Eigen::Vector3f> a = face_area_normals(mesh), b = face_area_normals(reference);
+  int flipped = 0;
+  for (std::size_t f = 0; f < a.size(); ++f) flipped += a[f].dot(b[f]) <= 0.0f;
+  return flipped;
+}
+
+TEST(RefineMesh, SmoothedRockComesBackTowardsTheTruth) {
+  RefineOptions options;
+  testing::RockScene scene = testing::make_rock_scene(16, options.levels);
+  const TriangleMesh input = testing::smoothed(scene.truth, 40);
+  const RefineResult result = refine_mesh(input, std::move(scene.views), options, null_reporter());
+  const eval::SurfaceComparison before = compare(input, scene.truth), after = compare(result.mesh, scene.truth);
+  std::cout << "[ figures  ] F at 0.5%: " << before.primary().f_score << " -> " << after.primary().f_score
+            << ", F at 0.25%: " << before.scores[0].f_score << " -> " << after.scores[0].f_score << ", Chamfer "
+            << before.chamfer << " -> " << after.chamfer << " (diagonal " << after.truth_diagonal << "), "
+            << result.stats.rounds << " rounds, " << result.stats.seconds << " s, mean ZNCC by round";
+  for (double score : result.stats.round_scores) std::cout << " " << score;
+  std::cout << "\n";
+  EXPECT_GT(after.primary().f_score, before.primary().f_score + 0.1);
+  EXPECT_LT(after.chamfer, 0.6 * before.chamfer);
+  // The topology is the input's, so the mesh stays closed and manifold; and no face turned over.
+  const eval::MeshSanity sanity = eval::check_mesh_sanity(result.mesh);
+  EXPECT_TRUE(sanity.watertight && sanity.vertex_manifold && sanity.consistently_oriented);
+  EXPECT_EQ(flipped_faces(result.mesh, scene.truth), 0);
+  // The smoothing shrank the rock; the photos give the volume back.
+  const double truth_volume = testing::enclosed_volume(scene.truth);
+  const double volume_before = testing::enclosed_volume(input) / truth_volume;
+  const double volume_after = testing::enclosed_volume(result.mesh) / truth_volume;
+  std::cout << "[ figures  ] volume / true volume " << volume_before << " -> " << volume_after << "\n";
+  EXPECT_LT(std::abs(volume_after - 1.0), 0.5 * std::abs(volume_before - 1.0));
+}
+
+TEST(RefineMesh, MeshWithoutFacesIsBadInputNamingTheFile) {
+  TriangleMesh points;
+  points.vertices = {Eigen::Vector3f::Zero(), Eigen::Vector3f::UnitX(), Eigen::Vector3f::UnitY()};
+  try {
+    refine_mesh(points, "empty.ply", UndistortedWorkspace{}, RefineOptions{}, null_reporter());
+    FAIL() << "a mesh without faces was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.path(), "empty.ply");
+  }
+}
+
+}  // namespace
+}  // namespace hos::refine
