@@ -36,8 +36,7 @@ std::vector<std::string> log_warnings(const fs::path& log) {
   std::vector<std::string> lines;
   std::ifstream in(log);
   for (std::string line; std::getline(in, line) && int(lines.size()) < kMaxWarningsPerStage;) {
-    if (line.find("] warning: ") != std::string::npos ||
-        line.find("] error: ") != std::string::npos) {
+    if (line.find("] warning: ") != std::string::npos || line.find("] error: ") != std::string::npos) {
       lines.push_back(line);
     }
   }
@@ -70,19 +69,18 @@ Failure find_failure(const RunRecord& record) {
 // 1. Banner: how the run ended.
 void write_summary(std::ostream& html, const RunRecord& record) {
   const Failure failure = find_failure(record);
-  html << "<h1>hos run report</h1>\n<p>photos: <code>" << html_escape(record.photos)
-       << "</code><br>result: <code>" << html_escape(record.output) << "</code></p>\n";
+  html << "<h1>hos run report</h1>\n<p>photos: <code>" << html_escape(record.photos) << "</code><br>result: <code>"
+       << html_escape(record.output) << "</code></p>\n";
   if (failure.stage.empty()) {
     html << "<p class=\"ok\" id=\"outcome\">The run finished.</p>\n";
     return;
   }
-  const std::string how = failure.state == "failed"
-                              ? "failed (exit code " + std::to_string(failure.exit_code) + ")"
+  const std::string how = failure.state == "failed" ? "failed (exit code " + std::to_string(failure.exit_code) + ")"
                           : failure.state == "interrupted" ? "was interrupted"
                                                            : "did not finish (the driver stopped)";
-  html << "<p class=\"failed\" id=\"outcome\">The run stopped at stage <b id=\"failed-stage\">"
-       << failure.stage << "</b>: it " << how << ". See <a href=\"logs/" << failure.stage
-       << ".log\">logs/" << failure.stage << ".log</a>.</p>\n";
+  html << "<p class=\"failed\" id=\"outcome\">The run stopped at stage <b id=\"failed-stage\">" << failure.stage
+       << "</b>: it " << how << ". See <a href=\"logs/" << failure.stage << ".log\">logs/" << failure.stage
+       << ".log</a>.</p>\n";
 }
 
 // 3. Per stage: state, time, peak memory, key counts, warnings.
@@ -95,14 +93,11 @@ void write_stage_table(std::ostream& html, const RunRecord& record, const StageP
     const bool known = it != record.stages.end();
     const StageRecord stage = known ? it->second : StageRecord{};
     const bool ended = known && stage.state != "running";
-    html << "<tr class=\"stage-" << html_escape(known ? stage.state : "not-run") << "\"><td>"
-         << spec.name << "</td><td>" << html_escape(known ? stage.state : "not run") << "</td><td>"
+    html << "<tr class=\"stage-" << html_escape(known ? stage.state : "not-run") << "\"><td>" << spec.name
+         << "</td><td>" << html_escape(known ? stage.state : "not run") << "</td><td>"
          << (ended ? format_fixed(stage.wall_seconds, 1) + " s" : "-") << "</td><td>"
-         << (ended ? format_fixed(double(stage.peak_memory_bytes) / (1024.0 * 1024.0), 0) + " MB"
-                   : "-")
-         << "</td><td>"
-         << html_escape(stage.state == "done" ? figures_text(spec.name, stage.figures) : "")
-         << "</td><td>";
+         << (ended ? format_fixed(double(stage.peak_memory_bytes) / (1024.0 * 1024.0), 0) + " MB" : "-") << "</td><td>"
+         << html_escape(stage.state == "done" ? figures_text(spec.name, stage.figures) : "") << "</td><td>";
     for (const auto& line : log_warnings(paths.log(spec.name))) html << html_escape(line) << "<br>";
     html << "</td></tr>\n";
   }
@@ -115,26 +110,24 @@ void write_photos(std::ostream& html, const StagePaths& paths, const nlohmann::j
   const fs::path images = paths.undistorted / "images";
   std::vector<std::string> registered;
   std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(images, ec))
-    registered.push_back(entry.path().filename().string());
+  for (const auto& entry : fs::directory_iterator(images, ec)) registered.push_back(entry.path().filename().string());
   std::sort(registered.begin(), registered.end());
   for (const auto& name : registered) {
     // Relative to the page: it stays valid when the workspace is moved.
     html << "<figure class=\"registered\"><img loading=\"lazy\" width=\"160\" "
             "src=\"sfm/undistorted/images/"
-         << html_escape(name) << "\" alt=\"" << html_escape(name) << "\"><figcaption>"
-         << html_escape(name) << ": registered</figcaption></figure>\n";
+         << html_escape(name) << "\" alt=\"" << html_escape(name) << "\"><figcaption>" << html_escape(name)
+         << ": registered</figcaption></figure>\n";
   }
   for (const auto& name : sfm_report.value("unregistered", std::vector<std::string>{})) {
     html << "<figure class=\"skipped\"><figcaption>" << html_escape(name)
          << ": not registered (COLMAP found no pose for it)</figcaption></figure>\n";
   }
   for (const auto& s : sfm_report.value("skipped", nlohmann::json::array())) {
-    html << "<figure class=\"skipped\"><figcaption>" << html_escape(s.value("file", ""))
-         << ": skipped (" << html_escape(s.value("reason", "")) << ")</figcaption></figure>\n";
+    html << "<figure class=\"skipped\"><figcaption>" << html_escape(s.value("file", "")) << ": skipped ("
+         << html_escape(s.value("reason", "")) << ")</figcaption></figure>\n";
   }
-  if (registered.empty() && sfm_report.empty())
-    html << "<p>The sfm stage has not written its results.</p>\n";
+  if (registered.empty() && sfm_report.empty()) html << "<p>The sfm stage has not written its results.</p>\n";
   html << "</div>\n";
 }
 
@@ -158,11 +151,9 @@ void write_sfm_plots(std::ostream& html, const StagePaths& paths) {
   error_plot.title = "sfm: reprojection error per 3D point";
   error_plot.x_label = "mean reprojection error (px)";
   // One bin per track length from 2, the longer ones in the last bin.
-  Histogram track_plot =
-      make_histogram(tracks, kMaxTrackLength - 1, 2.0, double(kMaxTrackLength + 1));
+  Histogram track_plot = make_histogram(tracks, kMaxTrackLength - 1, 2.0, double(kMaxTrackLength + 1));
   track_plot.title = "sfm: track length per 3D point";
-  track_plot.x_label =
-      "photos observing the point (last bin: " + std::to_string(kMaxTrackLength) + " or more)";
+  track_plot.x_label = "photos observing the point (last bin: " + std::to_string(kMaxTrackLength) + " or more)";
   html << "<div id=\"plot-reprojection-error\">" << svg_histogram(error_plot) << "</div>\n";
   html << "<div id=\"plot-track-length\">" << svg_histogram(track_plot) << "</div>\n";
 }

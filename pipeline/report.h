@@ -16,12 +16,10 @@ struct ReportOptions {
 };
 
 // The page's HTML. Throws InputError if WS has no run.json.
-std::string run_report_html(const std::filesystem::path& workspace,
-                            const ReportOptions& options = {});
+std::string run_report_html(const std::filesystem::path& workspace, const ReportOptions& options = {});
 
 // Writes WS/report.html atomically and returns its path. Throws InputError
 // (no run.json), OutputError (cannot write).
-std::filesystem::path write_run_report(const std::filesystem::path& workspace,
-                                       const ReportOptions& options = {});
+std::filesystem::path write_run_report(const std::filesystem::path& workspace, const ReportOptions& options = {});
 
 }  // namespace hos::pipeline

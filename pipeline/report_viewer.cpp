@@ -29,8 +29,7 @@ std::string viewer_script_text(const fs::path& script) {
 
 // Camera centres in the model's coordinates: the glb's root transform
 // applied to the sfm centres (-R^T t), as the mesh's vertices are.
-std::vector<Eigen::Vector3d> camera_centres(const StagePaths& paths,
-                                            const std::array<double, 16>& root) {
+std::vector<Eigen::Vector3d> camera_centres(const StagePaths& paths, const std::array<double, 16>& root) {
   std::vector<Eigen::Vector3d> centres;
   SparseModel model;
   try {
@@ -75,21 +74,17 @@ std::string model_viewer_html(const StagePaths& paths, const fs::path& viewer_sc
     html << "<p id=\"model\">texture/model.glb is not a valid binary glTF.</p>\n";
     return html.str();
   }
-  html << kViewerStyle
-       << "\n<model-viewer id=\"viewer\" camera-controls alt=\"the textured model\" "
-       << "src=\"data:model/gltf-binary;base64," << base64(read_bytes(paths.textured_model))
-       << "\">\n";
+  html << kViewerStyle << "\n<model-viewer id=\"viewer\" camera-controls alt=\"the textured model\" "
+       << "src=\"data:model/gltf-binary;base64," << base64(read_bytes(paths.textured_model)) << "\">\n";
   int index = 0;
   for (const Eigen::Vector3d& c : camera_centres(paths, glb.root_matrix)) {
     ++index;
-    html << "<button class=\"camera\" slot=\"hotspot-camera-" << index << "\" data-position=\""
-         << c.x() << " " << c.y() << " " << c.z() << "\" title=\"camera " << index
-         << "\"></button>\n";
+    html << "<button class=\"camera\" slot=\"hotspot-camera-" << index << "\" data-position=\"" << c.x() << " " << c.y()
+         << " " << c.z() << "\" title=\"camera " << index << "\"></button>\n";
   }
   html << "</model-viewer>\n<p><label><input type=\"checkbox\" id=\"show-cameras\" checked> show "
           "the "
-       << index
-       << " camera positions</label> · <a href=\"texture/model.glb\">texture/model.glb</a></p>\n";
+       << index << " camera positions</label> · <a href=\"texture/model.glb\">texture/model.glb</a></p>\n";
   html << "<script>\n" << viewer_script_text(viewer_script) << "\n</script>\n";
   html << "<script>\ndocument.getElementById('show-cameras').addEventListener('change', (e) =>\n"
           "  document.getElementById('viewer').classList.toggle('hide-cameras', "
@@ -98,15 +93,13 @@ std::string model_viewer_html(const StagePaths& paths, const fs::path& viewer_sc
 }
 
 std::string base64(const std::string& bytes) {
-  static constexpr char kAlphabet[] =
-      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out;
   out.reserve((bytes.size() + 2) / 3 * 4);
   for (std::size_t i = 0; i < bytes.size(); i += 3) {
     const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
     std::uint32_t v = 0;
-    for (std::size_t k = 0; k < 3; ++k)
-      v = (v << 8) | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
+    for (std::size_t k = 0; k < 3; ++k) v = (v << 8) | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
     for (std::size_t k = 0; k < 4; ++k) out += k <= n ? kAlphabet[(v >> (18 - 6 * k)) & 63] : '=';
   }
   return out;

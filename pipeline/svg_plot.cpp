@@ -35,37 +35,36 @@ Histogram make_histogram(const std::vector<double>& values, int bins, double lo,
 }
 
 std::string svg_histogram(const Histogram& h) {
-  const std::int64_t top =
-      std::max<std::int64_t>(1, *std::max_element(h.counts.begin(), h.counts.end()));
+  const std::int64_t top = std::max<std::int64_t>(1, *std::max_element(h.counts.begin(), h.counts.end()));
   const double plot_w = kWidth - kLeft - kRight, plot_h = kHeight - kTop - kBottom;
   const double bar_w = plot_w / double(h.counts.size());
   std::ostringstream svg;
-  svg << "<svg class=\"plot\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << kWidth
-      << "\" height=\"" << kHeight << "\" viewBox=\"0 0 " << kWidth << " " << kHeight
-      << "\" role=\"img\" aria-label=\"" << html_escape(h.title) << "\">\n";
-  svg << "<text x=\"" << kWidth / 2 << "\" y=\"16\" text-anchor=\"middle\" font-size=\"13\">"
-      << html_escape(h.title) << "</text>\n";
+  svg << "<svg class=\"plot\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << kWidth << "\" height=\"" << kHeight
+      << "\" viewBox=\"0 0 " << kWidth << " " << kHeight << "\" role=\"img\" aria-label=\"" << html_escape(h.title)
+      << "\">\n";
+  svg << "<text x=\"" << kWidth / 2 << "\" y=\"16\" text-anchor=\"middle\" font-size=\"13\">" << html_escape(h.title)
+      << "</text>\n";
   for (std::size_t i = 0; i < h.counts.size(); ++i) {
     const double bar_h = plot_h * double(h.counts[i]) / double(top);
-    svg << "<rect x=\"" << kLeft + bar_w * double(i) << "\" y=\"" << kTop + plot_h - bar_h
-        << "\" width=\"" << std::max(bar_w - 1.0, 0.5) << "\" height=\"" << bar_h
-        << "\" fill=\"#4a7ab7\"><title>" << h.counts[i] << "</title></rect>\n";
+    svg << "<rect x=\"" << kLeft + bar_w * double(i) << "\" y=\"" << kTop + plot_h - bar_h << "\" width=\""
+        << std::max(bar_w - 1.0, 0.5) << "\" height=\"" << bar_h << "\" fill=\"#4a7ab7\"><title>" << h.counts[i]
+        << "</title></rect>\n";
   }
   // Axes with their end values: enough to read the shape and the scale.
-  svg << "<line x1=\"" << kLeft << "\" y1=\"" << kTop + plot_h << "\" x2=\"" << kLeft + plot_w
-      << "\" y2=\"" << kTop + plot_h << "\" stroke=\"#333\"/>\n";
-  svg << "<line x1=\"" << kLeft << "\" y1=\"" << kTop << "\" x2=\"" << kLeft << "\" y2=\""
+  svg << "<line x1=\"" << kLeft << "\" y1=\"" << kTop + plot_h << "\" x2=\"" << kLeft + plot_w << "\" y2=\""
       << kTop + plot_h << "\" stroke=\"#333\"/>\n";
-  svg << "<text x=\"" << kLeft - 4 << "\" y=\"" << kTop + 10
-      << "\" text-anchor=\"end\" font-size=\"11\">" << top << "</text>\n";
+  svg << "<line x1=\"" << kLeft << "\" y1=\"" << kTop << "\" x2=\"" << kLeft << "\" y2=\"" << kTop + plot_h
+      << "\" stroke=\"#333\"/>\n";
+  svg << "<text x=\"" << kLeft - 4 << "\" y=\"" << kTop + 10 << "\" text-anchor=\"end\" font-size=\"11\">" << top
+      << "</text>\n";
   svg << "<text x=\"" << kLeft - 4 << "\" y=\"" << kTop + plot_h
       << "\" text-anchor=\"end\" font-size=\"11\">0</text>\n";
-  svg << "<text x=\"" << kLeft << "\" y=\"" << kTop + plot_h + 14 << "\" font-size=\"11\">"
-      << number(h.lo) << "</text>\n";
-  svg << "<text x=\"" << kLeft + plot_w << "\" y=\"" << kTop + plot_h + 14
-      << "\" text-anchor=\"end\" font-size=\"11\">" << number(h.hi) << "</text>\n";
-  svg << "<text x=\"" << kLeft + plot_w / 2 << "\" y=\"" << kHeight - 6
-      << "\" text-anchor=\"middle\" font-size=\"11\">" << html_escape(h.x_label) << "</text>\n";
+  svg << "<text x=\"" << kLeft << "\" y=\"" << kTop + plot_h + 14 << "\" font-size=\"11\">" << number(h.lo)
+      << "</text>\n";
+  svg << "<text x=\"" << kLeft + plot_w << "\" y=\"" << kTop + plot_h + 14 << "\" text-anchor=\"end\" font-size=\"11\">"
+      << number(h.hi) << "</text>\n";
+  svg << "<text x=\"" << kLeft + plot_w / 2 << "\" y=\"" << kHeight - 6 << "\" text-anchor=\"middle\" font-size=\"11\">"
+      << html_escape(h.x_label) << "</text>\n";
   svg << "</svg>\n";
   return svg.str();
 }

@@ -46,11 +46,9 @@ int red_pixels(const cv::Mat& bgr) {
 
 TEST(RunReportBrowser, ViewerShowsTheModelWithoutConsoleErrors) {
   const std::string chromium = find_executable("chromium");
-  if (chromium.empty())
-    GTEST_SKIP() << "chromium is not installed (scripts/install-deps.sh installs it)";
+  if (chromium.empty()) GTEST_SKIP() << "chromium is not installed (scripts/install-deps.sh installs it)";
   const fs::path script = default_viewer_script(hos::testing::bin_dir());
-  if (!fs::exists(script))
-    GTEST_SKIP() << "model-viewer was not fetched at build time (npm missing)";
+  if (!fs::exists(script)) GTEST_SKIP() << "model-viewer was not fetched at build time (npm missing)";
 
   hos::testing::TempDir dir;
   const StagePaths paths(dir.path());

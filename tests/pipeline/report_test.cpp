@@ -16,9 +16,7 @@ namespace hos::pipeline {
 namespace {
 namespace fs = std::filesystem;
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // Two photos seeing three points (tracks of 2), one unregistered photo, one
 // skipped file, 100 dense points with confidence 2..5.
@@ -48,10 +46,8 @@ void write_stage_outputs(const StagePaths& paths) {
   }
   write_colmap_model(model, paths.undistorted / "sparse", ColmapFormat::kBinary);
   fs::create_directories(paths.undistorted / "images");
-  for (const auto& image : model.images)
-    std::ofstream(paths.undistorted / "images" / image.second.name) << "x";
-  std::ofstream(paths.sfm_report)
-      << R"({"images_given": 3, "images_registered": 2, "unregistered": ["view_003.png"],
+  for (const auto& image : model.images) std::ofstream(paths.undistorted / "images" / image.second.name) << "x";
+  std::ofstream(paths.sfm_report) << R"({"images_given": 3, "images_registered": 2, "unregistered": ["view_003.png"],
     "skipped": [{"file": "notes.txt", "reason": "not an image"}]})";
 
   PointCloud cloud;
@@ -85,15 +81,13 @@ TEST(RunReport, FinishedRunHasEveryTableAndPlot) {
   hos::testing::TempDir dir;
   const StagePaths paths(dir.path());
   write_stage_outputs(paths);
-  save_run_record(
-      record_with({{"sfm", "done"}, {"mvs", "done"}, {"recon", "done"}, {"texture", "done"}}),
-      paths.run_record);
+  save_run_record(record_with({{"sfm", "done"}, {"mvs", "done"}, {"recon", "done"}, {"texture", "done"}}),
+                  paths.run_record);
   const fs::path file = write_run_report(dir.path());
   EXPECT_EQ(file, dir.path() / "report.html");
   const std::string html = hos::testing::read_text(file);
-  for (const char* id :
-       {"id=\"outcome\"", "id=\"stages\"", "id=\"photos\"", "id=\"plot-reprojection-error\"",
-        "id=\"plot-track-length\"", "id=\"plot-mvs-confidence\"", "id=\"config\""}) {
+  for (const char* id : {"id=\"outcome\"", "id=\"stages\"", "id=\"photos\"", "id=\"plot-reprojection-error\"",
+                         "id=\"plot-track-length\"", "id=\"plot-mvs-confidence\"", "id=\"config\""}) {
     EXPECT_TRUE(contains(html, id)) << id;
   }
   EXPECT_TRUE(contains(html, "The run finished."));
@@ -112,8 +106,7 @@ TEST(RunReport, FinishedRunHasEveryTableAndPlot) {
 TEST(RunReport, FailedRunNamesTheFailingStage) {
   hos::testing::TempDir dir;
   const StagePaths paths(dir.path());
-  save_run_record(record_with({{"sfm", "done"}, {"mvs", "done"}, {"recon", "failed"}}),
-                  paths.run_record);
+  save_run_record(record_with({{"sfm", "done"}, {"mvs", "done"}, {"recon", "failed"}}), paths.run_record);
   const std::string html = run_report_html(dir.path());
   EXPECT_TRUE(contains(html, "id=\"failed-stage\">recon</b>"));
   EXPECT_TRUE(contains(html, "failed (exit code 5)"));
@@ -125,8 +118,7 @@ TEST(RunReport, FailedRunNamesTheFailingStage) {
 
 TEST(RunReport, InterruptedRunIsNamed) {
   hos::testing::TempDir dir;
-  save_run_record(record_with({{"sfm", "done"}, {"mvs", "interrupted"}}),
-                  StagePaths(dir.path()).run_record);
+  save_run_record(record_with({{"sfm", "done"}, {"mvs", "interrupted"}}), StagePaths(dir.path()).run_record);
   const std::string html = run_report_html(dir.path());
   EXPECT_TRUE(contains(html, "id=\"failed-stage\">mvs</b>: it was interrupted"));
 }
