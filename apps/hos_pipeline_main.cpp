@@ -8,6 +8,8 @@
 #include "core/exit_codes.h"
 #include "pipeline/driver.h"
 #include "pipeline/pipeline_config.h"
+#include "pipeline/report.h"
+#include "pipeline/report_viewer.h"
 #include "pipeline/stages.h"
 #include "apps/stage_main.h"
 
@@ -27,6 +29,7 @@ int main(int argc, char** argv) {
   hos::pipeline::DriverOptions options;
   hos::apps::CommonStageFlags flags;
   bool print_default_config = false;
+  std::filesystem::path report_workspace;
 
   CLI::App app{"hos-pipeline: a folder of photos in, a textured mesh (.glb) out.\n"
                "Re-running the same command resumes: stages whose inputs and options are unchanged are skipped."};
@@ -43,6 +46,8 @@ int main(int argc, char** argv) {
   app.add_option("--progress", flags.progress, "auto | bar | plain | json | none");
   app.add_option("--log", flags.log_file, "also write the driver's messages to this file");
   app.add_flag("--verbose", flags.verbose, "show debug messages (and the stages' commands)");
+  app.add_option("--report", report_workspace, "rewrite WORKSPACE/report.html from the workspace alone and exit")
+      ->option_text("WORKSPACE");
   app.add_flag("--print-default-config", print_default_config,
                "print every option of every stage with its default (config/default.yaml) and exit");
   try {
@@ -53,6 +58,12 @@ int main(int argc, char** argv) {
   if (print_default_config) {
     std::cout << hos::pipeline::default_config_text();
     return hos::kExitSuccess;
+  }
+  if (!report_workspace.empty()) {
+    return hos::apps::run_stage_main("pipeline", flags, [&](hos::Reporter& reporter) {
+      const hos::pipeline::ReportOptions report{hos::pipeline::default_viewer_script(own_folder(argv[0]))};
+      reporter.info("report: " + hos::pipeline::write_run_report(report_workspace, report).string());
+    });
   }
   if (options.photos.empty() || options.output.empty()) {
     std::cerr << "hos-pipeline: error: usage: hos-pipeline PHOTOS OUT.glb [options] (see --help)\n";

@@ -13,6 +13,8 @@
 #include "pipeline/file_hash.h"
 #include "pipeline/output_checks.h"
 #include "pipeline/pipeline_config.h"
+#include "pipeline/report.h"
+#include "pipeline/report_viewer.h"
 #include "pipeline/stage_figures.h"
 #include "pipeline/stage_paths.h"
 #include "pipeline/stages.h"
@@ -261,6 +263,36 @@ StageOutcome run_or_skip_stage(const StageSpec& spec,
   return outcome;
 }
 
+// Runs or skips every stage of the range and copies the result to OUT.
+void run_stage_range(const DriverOptions& options, const StageRange& range, const StagePaths& paths,
+                     const PipelineConfig& config, RunRecord& record, DriverResult& result, Reporter& reporter) {
+  const auto& specs = pipeline_stages();
+  bool rerun = options.force;
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    if (range.contains(i)) {
+      reporter.throw_if_cancelled();
+      result.stages.push_back(run_or_skip_stage(specs[i], options, paths, config, record, rerun, reporter));
+    } else {
+      StageOutcome outcome{specs[i].name, "not run", {}};
+      if (record.stages.count(specs[i].name)) outcome.record = record.stages[specs[i].name];
+      result.stages.push_back(outcome);
+    }
+  }
+  if (range.last == specs.size() - 1) {
+    copy_result(paths.textured_model, options.output);
+    result.output = options.output;
+  }
+}
+
+// A report that cannot be written must not hide how the run went.
+void write_report_or_warn(const DriverOptions& options, const fs::path& workspace, Reporter& reporter) {
+  try {
+    reporter.info("report: " + write_run_report(workspace, {default_viewer_script(options.bin_dir)}).string());
+  } catch (const std::exception& e) {
+    reporter.warn(std::string("could not write the run report: ") + e.what());
+  }
+}
+
 }  // namespace
 
 DriverResult run_pipeline(const DriverOptions& options, Reporter& reporter) {
@@ -281,22 +313,15 @@ DriverResult run_pipeline(const DriverOptions& options, Reporter& reporter) {
   record.photos = fs::absolute(options.photos).string();
   record.output = fs::absolute(options.output).string();
 
-  bool rerun = options.force;
-  for (std::size_t i = 0; i < specs.size(); ++i) {
-    if (range.contains(i)) {
-      reporter.throw_if_cancelled();
-      result.stages.push_back(run_or_skip_stage(specs[i], options, paths, config, record, rerun, reporter));
-    } else {
-      StageOutcome outcome{specs[i].name, "not run", {}};
-      if (record.stages.count(specs[i].name)) outcome.record = record.stages[specs[i].name];
-      result.stages.push_back(outcome);
-    }
+  // The report is written however the run ends: a failed or interrupted
+  // run's page shows how far it got.
+  try {
+    run_stage_range(options, range, paths, config, record, result, reporter);
+  } catch (...) {
+    write_report_or_warn(options, paths.root, reporter);
+    throw;
   }
-
-  if (range.last == specs.size() - 1) {
-    copy_result(paths.textured_model, options.output);
-    result.output = options.output;
-  }
+  write_report_or_warn(options, paths.root, reporter);
   return result;
 }
 

@@ -52,6 +52,10 @@ GlbFigures read_glb_figures(const fs::path& file) {
   } catch (const nlohmann::json::exception& e) {
     throw InputError(file.string(), std::string("invalid glTF JSON: ") + e.what());
   }
+  const auto& nodes = j.value("nodes", nlohmann::json::array());
+  if (!nodes.empty() && nodes[0].contains("matrix") && nodes[0]["matrix"].size() == 16) {
+    for (std::size_t i = 0; i < 16; ++i) out.root_matrix[i] = nodes[0]["matrix"][i].get<double>();
+  }
   // Binary chunk follows the (4-byte aligned) JSON chunk.
   const std::size_t bin_header = 20 + json_length;
   const std::size_t bin_start = bin_header + 8;

@@ -2,6 +2,7 @@
 // not the whole data) for run.json and the summary table.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -19,6 +20,9 @@ struct GlbFigures {
   std::int64_t vertices = 0;   // sum of POSITION accessor counts
   std::int64_t triangles = 0;  // sum of index counts / 3
   std::vector<std::pair<int, int>> texture_sizes;  // width, height of each image
+  // The first node's transform (column-major; identity when it has none):
+  // model coordinates of the scene's points.
+  std::array<double, 16> root_matrix{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
 };
 // Throws InputError if the file is not a binary glTF.
 GlbFigures read_glb_figures(const std::filesystem::path& file);

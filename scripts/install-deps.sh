@@ -9,9 +9,11 @@ packages=(
   libopencv-dev libeigen3-dev libceres-dev libtinygltf-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libcli11-dev nlohmann-json3-dev libstb-dev
   libnanoflann-dev libmaxflow-dev libmeshoptimizer-dev
-  clang-tidy
+  clang-tidy chromium
 )
-# Node.js and npm run the glTF validator in the texture and pipeline tests.
+# Chromium opens the run report in the browser test (tests/pipeline).
+# Node.js and npm run the glTF validator in the texture and pipeline tests
+# and fetch the report's model viewer at build time.
 # Many machines already carry them from another source, and Debian's npm
 # package then conflicts with it, so they are only installed when absent.
 if ! command -v node >/dev/null 2>&1; then packages+=(nodejs); fi
