@@ -85,7 +85,7 @@ TEST(HosRecon, BadInputsGetAClearMessageAndExitCode) {
 
 TEST(HosRecon, OutputThatIsAFolderIsRefusedBeforeTheSolve) {
   hos::testing::TempDir dir;
-  write_point_cloud_ply(dir / "sphere.ply", testing::sample_sphere(2000, 1.0, 0.0, 3));
+  write_point_cloud_ply(dir / "sphere.ply", synth::sample_sphere(2000, 1.0, 0.0, 3));
   std::filesystem::create_directories(dir / "mesh.ply");
   EXPECT_EQ(run_recon("--input " + (dir / "sphere.ply").string() + " --output " + (dir / "mesh.ply").string() +
                           " --resolution 16",
@@ -97,7 +97,7 @@ TEST(HosRecon, OutputThatIsAFolderIsRefusedBeforeTheSolve) {
 
 TEST(HosRecon, UnusableConfidencesAreCountedInAWarning) {
   hos::testing::TempDir dir;
-  PointCloud points = testing::sample_sphere(4000, 1.0, 0.0, 4);
+  PointCloud points = synth::sample_sphere(4000, 1.0, 0.0, 4);
   points.confidence.assign(points.size(), 1.0f);
   points.confidence[0] = std::numeric_limits<float>::quiet_NaN();
   points.confidence[1] = -2.0f;

@@ -3,6 +3,7 @@
 // copes with absurd normal lengths and unusable confidences (issue #14,
 // items 5, 7, 8 and 9).
 
+#include "synth/shapes.h"
 #include "recon/sample_frame.h"  // IWYU: the unit under test, used through reconstruct_surface
 
 #include <gmock/gmock.h>
@@ -63,7 +64,7 @@ TEST(SampleFrame, IdenticalPointsAreBadInput) {
 
 TEST(SampleFrame, ExtentBelowFloatResolutionIsBadInput) {
   // A sphere of radius 1e-4 at 1e3 from the origin: about one float step across.
-  const PointCloud points = scaled(testing::sample_sphere(2000, 1.0, 0.0, 1), 1e-4, {1e3, 0.0, 0.0});
+  const PointCloud points = scaled(synth::sample_sphere(2000, 1.0, 0.0, 1), 1e-4, {1e3, 0.0, 0.0});
   EXPECT_THROW(check_reconstructable(points, "points.ply"), InputError);
   EXPECT_THROW(reconstruct_surface(points, small_options(), null_reporter()), InputError);
 }
@@ -71,7 +72,7 @@ TEST(SampleFrame, ExtentBelowFloatResolutionIsBadInput) {
 TEST(SampleFrame, ResultScalesWithTheInput) {
   // Bound: the unit sphere at resolution 32 is within 2% of the radius on
   // average; the same must hold at every scale and position.
-  const PointCloud unit = testing::sample_sphere(20000, 1.0, 0.0, 2);
+  const PointCloud unit = synth::sample_sphere(20000, 1.0, 0.0, 2);
   for (const double scale : {1e-30, 1e-6, 1.0, 1e20}) {
     const Eigen::Vector3d center = Eigen::Vector3d(3.0, -2.0, 1.0) * scale;
     const ReconResult r = reconstruct_surface(scaled(unit, scale, center), small_options(), null_reporter());
@@ -87,7 +88,7 @@ TEST(SampleFrame, ResultScalesWithTheInput) {
 
 TEST(SampleFrame, FarOutliersAreDroppedAndCounted) {
   for (const double far : {1e6, 1e30}) {
-    PointCloud points = testing::sample_sphere(20000, 1.0, 0.0, 3);
+    PointCloud points = synth::sample_sphere(20000, 1.0, 0.0, 3);
     points.positions.emplace_back(static_cast<float>(far), 0.0f, 0.0f);
     points.normals.emplace_back(1.0f, 0.0f, 0.0f);
     hos::testing::MessageLog log;
@@ -101,14 +102,14 @@ TEST(SampleFrame, FarOutliersAreDroppedAndCounted) {
 }
 
 TEST(SampleFrame, AbsurdNormalLengthsAreOnlyDirections) {
-  PointCloud points = testing::sample_sphere(20000, 1.0, 0.0, 4);
+  PointCloud points = synth::sample_sphere(20000, 1.0, 0.0, 4);
   for (auto& n : points.normals) n *= 1e38f;
   const ReconResult r = reconstruct_surface(points, small_options(), null_reporter());
   EXPECT_LT(relative_radial_error(r.mesh, Eigen::Vector3d::Zero(), 1.0).first, 0.02);
 }
 
 TEST(SampleFrame, ConfidenceThatWeighsNothingAnywhereIsBadInputNamingIt) {
-  PointCloud points = testing::sample_sphere(2000, 1.0, 0.0, 5);
+  PointCloud points = synth::sample_sphere(2000, 1.0, 0.0, 5);
   points.confidence.assign(points.size(), 0.0f);
   points.confidence[7] = -1.0f;
   points.confidence[8] = std::numeric_limits<float>::quiet_NaN();
@@ -125,7 +126,7 @@ TEST(SampleFrame, ConfidenceThatWeighsNothingAnywhereIsBadInputNamingIt) {
 
 TEST(SampleFrame, VoxelSizeFarBelowTheDataIsRefusedByTheMemoryCheck) {
   // A sphere of radius 1000: 1.2e10 voxels along each axis, beyond int.
-  const PointCloud points = scaled(testing::sample_sphere(2000, 1.0, 0.0, 6), 1000.0, Eigen::Vector3d::Zero());
+  const PointCloud points = scaled(synth::sample_sphere(2000, 1.0, 0.0, 6), 1000.0, Eigen::Vector3d::Zero());
   ReconOptions o = small_options();
   o.voxel_size = 2e-7;
   try {

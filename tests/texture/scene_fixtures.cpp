@@ -7,7 +7,12 @@
 
 namespace hos::texture::testing {
 
-std::string view_name(int i) { return "v" + std::to_string(i); }
+std::string view_name(int i) {
+  // Appended rather than "v" + ...: GCC 12 warns (-Wrestrict) on the latter.
+  std::string name = "v";
+  name += std::to_string(i);
+  return name;
+}
 
 Eigen::Vector3f sphere_albedo(const Eigen::Vector3f& x) {
   const float a = std::sin(6.0f * x.z() + 2.0f * x.x());
