@@ -5,13 +5,13 @@
 #include <filesystem>
 #include <iostream>
 
+#include "apps/stage_main.h"
 #include "core/exit_codes.h"
 #include "pipeline/driver.h"
 #include "pipeline/pipeline_config.h"
 #include "pipeline/report.h"
 #include "pipeline/report_viewer.h"
 #include "pipeline/stages.h"
-#include "apps/stage_main.h"
 
 namespace {
 
@@ -31,12 +31,14 @@ int main(int argc, char** argv) {
   bool print_default_config = false;
   std::filesystem::path report_workspace;
 
-  CLI::App app{"hos-pipeline: a folder of photos in, a textured mesh (.glb) out.\n"
-               "Re-running the same command resumes: stages whose inputs and options are unchanged are skipped."};
+  CLI::App app{
+      "hos-pipeline: a folder of photos in, a textured mesh (.glb) out.\n"
+      "Re-running the same command resumes: stages whose inputs and options are unchanged are skipped."};
   app.add_option("PHOTOS", options.photos, "folder of photos");
   app.add_option("OUT", options.output, "output file, .glb");
   app.add_option("--workspace", options.workspace, "workspace folder (default: next to OUT, <OUT name>_workspace)");
-  app.add_option("--config", options.config_file, "YAML config file with sections " + hos::pipeline::stage_names_text(":, ") + ":");
+  app.add_option("--config", options.config_file,
+                 "YAML config file with sections " + hos::pipeline::stage_names_text(":, ") + ":");
   app.add_option("--preset", options.preset, "fast | default | quality, or a YAML file (applied before --config)");
   app.add_option("--set", options.assignments, "override one option: --set recon.lambda=0.2 (repeatable)");
   app.add_option("--from", options.from, "first stage to run: " + hos::pipeline::stage_names_text(" | "));

@@ -3,10 +3,10 @@
 #include <filesystem>
 #include <iostream>
 
+#include "apps/stage_main.h"
 #include "core/error.h"
 #include "core/exit_codes.h"
 #include "sfm/sfm.h"
-#include "apps/stage_main.h"
 
 int main(int argc, char** argv) {
   namespace fs = std::filesystem;

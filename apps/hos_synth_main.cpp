@@ -3,8 +3,8 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "core/exit_codes.h"
 #include "apps/stage_main.h"
+#include "core/exit_codes.h"
 #include "synth/dataset.h"
 #include "synth/scene.h"
 
@@ -26,12 +26,12 @@ int main(int argc, char** argv) {
   app.add_option("--rings", options.rings, "elevation rings of views");
   app.add_flag("--jpeg", options.jpeg, "write JPEG instead of PNG images");
   app.add_flag("--depth", options.write_depth, "write depth/view_NNN.tiff (CV_32F z, 0 = empty)");
-  app.add_flag("--normals", options.write_normals, "write normals/view_NNN.png (16-bit world normal, see docs/synth.md)");
+  app.add_flag("--normals", options.write_normals,
+               "write normals/view_NNN.png (16-bit world normal, see docs/synth.md)");
   app.add_option("--supersampling", options.supersampling, "samples per pixel per axis");
   app.add_option("--holdout", options.holdout, "extra held-out views under holdout/");
   app.add_option("--points", options.num_points, "ground-truth sparse points to write");
-  app.add_option("--exposure-gains", options.exposure_gains, "per-view exposure gains (one per view)")
-      ->delimiter(',');
+  app.add_option("--exposure-gains", options.exposure_gains, "per-view exposure gains (one per view)")->delimiter(',');
   app.add_option("--progress", flags.progress, "auto|bar|plain|json|none");
   app.add_option("--log", flags.log_file, "log file");
   app.add_flag("--verbose", flags.verbose, "show debug messages");

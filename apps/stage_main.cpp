@@ -1,9 +1,8 @@
 #include "apps/stage_main.h"
 
-#include <CLI/CLI.hpp>
-
 #include <yaml-cpp/yaml.h>
 
+#include <CLI/CLI.hpp>
 #include <atomic>
 #include <csignal>
 #include <exception>
@@ -54,7 +53,8 @@ void apply_config_and_overrides(OptionSet& options, const CommonStageFlags& flag
   for (const auto& [flag, key, value] : flags.short_flags) options.apply_assignment(key, value, flag);
 }
 
-int run_stage_main(const std::string& stage, const CommonStageFlags& flags,
+int run_stage_main(const std::string& stage,
+                   const CommonStageFlags& flags,
                    const std::function<void(Reporter&)>& body) {
   std::signal(SIGINT, on_stop_signal);
   std::signal(SIGTERM, on_stop_signal);
@@ -101,8 +101,7 @@ void add_common_stage_flags(CLI::App& app, CommonStageFlags& flags, const Option
   const std::string& section = options.section();
   add_option_flags(app, flags, options);
   app.add_option("--config", flags.config_file, "YAML config file (its " + section + ": section is used)");
-  app.add_option("--set", flags.assignments,
-                 "override an option: --set " + section + ".key=value (repeatable)");
+  app.add_option("--set", flags.assignments, "override an option: --set " + section + ".key=value (repeatable)");
   app.add_option("--progress", flags.progress, "auto|bar|plain|json|none");
   app.add_option("--log", flags.log_file, "log file (every message, debug included)");
   app.add_flag("--verbose", flags.verbose, "show debug messages");
@@ -119,18 +118,24 @@ void add_option_flags(CLI::App& app, CommonStageFlags& flags, const OptionSet& o
     if (spec.fixed_value.empty()) {
       app.add_option_function<std::string>(
              spec.flag,
-             [&flags, spec](const std::string& text) { flags.short_flags.push_back({spec.flag, spec.key, text}); },
+             [&flags, spec](const std::string& text) {
+               flags.short_flags.push_back({spec.flag, spec.key, text});
+             },
              doc)
           ->allow_extra_args(false);
     } else {
       app.add_flag_callback(
-          spec.flag, [&flags, spec] { flags.short_flags.push_back({spec.flag, spec.key, spec.fixed_value}); }, doc);
+          spec.flag,
+          [&flags, spec] {
+            flags.short_flags.push_back({spec.flag, spec.key, spec.fixed_value});
+          },
+          doc);
     }
   }
 }
 
-std::optional<int> parse_stage_command_line(CLI::App& app, int argc, char** argv, const CommonStageFlags& flags,
-                                            const OptionSet& options) {
+std::optional<int> parse_stage_command_line(
+    CLI::App& app, int argc, char** argv, const CommonStageFlags& flags, const OptionSet& options) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -44,8 +44,8 @@ void add_option_flags(CLI::App& app, CommonStageFlags& flags, const OptionSet& o
 // Parses the command line. Returns the exit code when main is done already
 // (--help, a usage error, or --print-config, which prints options' documented
 // YAML), nothing when the stage should run.
-std::optional<int> parse_stage_command_line(CLI::App& app, int argc, char** argv, const CommonStageFlags& flags,
-                                            const OptionSet& options);
+std::optional<int> parse_stage_command_line(
+    CLI::App& app, int argc, char** argv, const CommonStageFlags& flags, const OptionSet& options);
 
 // Applies --config (the file's `section:` map), then every --set, then the short flags to the
 // option set. "--set recon.lambda=0.2" and "--set lambda=0.2" are the same
@@ -55,8 +55,7 @@ void apply_config_and_overrides(OptionSet& options, const CommonStageFlags& flag
 // Runs body with a ConsoleReporter for stage; returns the exit code.
 // SIGINT/SIGTERM set a flag that the reporter's cancel_requested() reports,
 // so work stops between items and Cancelled maps to kExitInterrupted.
-int run_stage_main(const std::string& stage, const CommonStageFlags& flags,
-                   const std::function<void(Reporter&)>& body);
+int run_stage_main(const std::string& stage, const CommonStageFlags& flags, const std::function<void(Reporter&)>& body);
 
 // Parses "auto", "bar", "plain", "json", "none"; throws ConfigError.
 ProgressStyle parse_progress_style(const std::string& name);

@@ -26,14 +26,12 @@ const ModelInfo& info(CameraModel model) {
   for (const auto& m : kModels) {
     if (m.model == model) return m;
   }
-  throw std::invalid_argument("unsupported camera model id " +
-                              std::to_string(static_cast<int>(model)));
+  throw std::invalid_argument("unsupported camera model id " + std::to_string(static_cast<int>(model)));
 }
 
 // Models whose first parameter is a single focal length f.
 bool has_single_focal(CameraModel model) {
-  return model == CameraModel::kSimplePinhole || model == CameraModel::kSimpleRadial ||
-         model == CameraModel::kRadial;
+  return model == CameraModel::kSimplePinhole || model == CameraModel::kSimpleRadial || model == CameraModel::kRadial;
 }
 
 }  // namespace
@@ -89,8 +87,7 @@ std::optional<Eigen::Vector2d> Camera::project(const Eigen::Vector3d& x_in_cam) 
 }
 
 Eigen::Vector3d Camera::unproject(const Eigen::Vector2d& pixel) const {
-  const Eigen::Vector2d distorted((pixel.x() - principal_x()) / focal_x(),
-                                  (pixel.y() - principal_y()) / focal_y());
+  const Eigen::Vector2d distorted((pixel.x() - principal_x()) / focal_x(), (pixel.y() - principal_y()) / focal_y());
   const Eigen::Vector2d u = undistort_normalized(*this, distorted);
   return Eigen::Vector3d(u.x(), u.y(), 1.0);
 }
@@ -104,8 +101,7 @@ Eigen::Matrix3d Camera::calibration_matrix() const {
   return k;
 }
 
-Camera Camera::pinhole(int id, int width, int height, double fx, double fy, double cx,
-                       double cy) {
+Camera Camera::pinhole(int id, int width, int height, double fx, double fy, double cx, double cy) {
   Camera c;
   c.id = id;
   c.model = CameraModel::kPinhole;
@@ -154,8 +150,7 @@ Eigen::Vector2d undistort_normalized(const Camera& camera, const Eigen::Vector2d
     for (int k = 0; k < 2; ++k) {
       Eigen::Vector2d h = Eigen::Vector2d::Zero();
       h[k] = kStep * std::max(1.0, std::abs(u[k]));
-      jacobian.col(k) = (distort_normalized(camera, u + h) - distort_normalized(camera, u - h)) /
-                        (2.0 * h[k]);
+      jacobian.col(k) = (distort_normalized(camera, u + h) - distort_normalized(camera, u - h)) / (2.0 * h[k]);
     }
     const Eigen::Vector2d step = jacobian.partialPivLu().solve(residual);
     if (!step.allFinite()) break;

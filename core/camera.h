@@ -53,8 +53,7 @@ struct Camera {
   Eigen::Matrix3d calibration_matrix() const;
 
   // A PINHOLE camera; convenience for tests and the renderer.
-  static Camera pinhole(int id, int width, int height, double fx, double fy, double cx,
-                        double cy);
+  static Camera pinhole(int id, int width, int height, double fx, double fy, double cx, double cy);
 };
 
 // Applies the model's distortion to normalized coordinates (x/z, y/z).

@@ -103,11 +103,10 @@ void write_file(const fs::path& path, const std::string& contents) {
   });
 }
 
-Camera make_camera(const std::string& file, int id, CameraModel model, std::uint64_t width,
-                   std::uint64_t height) {
+Camera make_camera(const std::string& file, int id, CameraModel model, std::uint64_t width, std::uint64_t height) {
   if (width == 0 || height == 0 || width > 1'000'000 || height > 1'000'000) {
-    throw InputError(file, "camera " + std::to_string(id) + " has invalid size " +
-                               std::to_string(width) + "x" + std::to_string(height));
+    throw InputError(file, "camera " + std::to_string(id) + " has invalid size " + std::to_string(width) + "x" +
+                               std::to_string(height));
   }
   Camera camera;
   camera.id = id;
@@ -145,8 +144,7 @@ void read_images_binary(const fs::path& path, SparseModel& model) {
   for (std::uint64_t i = 0; i < n; ++i) {
     ImageRecord image;
     image.id = static_cast<int>(in.read<std::uint32_t>());
-    const double qw = in.read<double>(), qx = in.read<double>(), qy = in.read<double>(),
-                 qz = in.read<double>();
+    const double qw = in.read<double>(), qx = in.read<double>(), qy = in.read<double>(), qz = in.read<double>();
     image.cam_from_world_rotation = Eigen::Quaterniond(qw, qx, qy, qz).normalized();
     for (int k = 0; k < 3; ++k) image.cam_from_world_translation[k] = in.read<double>();
     image.camera_id = static_cast<int>(in.read<std::uint32_t>());
@@ -305,15 +303,14 @@ void read_points_text(const fs::path& path, SparseModel& model) {
 void check_references(const fs::path& folder, const SparseModel& model) {
   for (const auto& [id, image] : model.images) {
     if (!model.cameras.count(image.camera_id)) {
-      throw InputError(folder.string(), "image '" + image.name + "' refers to missing camera " +
-                                            std::to_string(image.camera_id));
+      throw InputError(folder.string(),
+                       "image '" + image.name + "' refers to missing camera " + std::to_string(image.camera_id));
     }
   }
   for (const auto& [id, point] : model.points) {
     for (const auto& element : point.track) {
       if (!model.images.count(element.image_id)) {
-        throw InputError(folder.string(), "point " + std::to_string(id) +
-                                              " refers to missing image " +
+        throw InputError(folder.string(), "point " + std::to_string(id) + " refers to missing image " +
                                               std::to_string(element.image_id));
       }
     }
@@ -333,8 +330,7 @@ std::string cameras_text(const SparseModel& model) {
       << "#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]\n"
       << "# Number of cameras: " << model.cameras.size() << "\n";
   for (const auto& [id, camera] : model.cameras) {
-    out << id << ' ' << camera_model_name(camera.model) << ' ' << camera.width << ' '
-        << camera.height;
+    out << id << ' ' << camera_model_name(camera.model) << ' ' << camera.width << ' ' << camera.height;
     for (double p : camera.params) out << ' ' << p;
     out << '\n';
   }
@@ -351,8 +347,8 @@ std::string images_text(const SparseModel& model) {
   for (const auto& [id, image] : model.images) {
     const auto& q = image.cam_from_world_rotation;
     const auto& t = image.cam_from_world_translation;
-    out << id << ' ' << q.w() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << t.x()
-        << ' ' << t.y() << ' ' << t.z() << ' ' << image.camera_id << ' ' << image.name << '\n';
+    out << id << ' ' << q.w() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << t.x() << ' ' << t.y() << ' '
+        << t.z() << ' ' << image.camera_id << ' ' << image.name << '\n';
     for (std::size_t k = 0; k < image.keypoints.size(); ++k) {
       const auto& kp = image.keypoints[k];
       out << (k ? " " : "") << kp.xy.x() << ' ' << kp.xy.y() << ' ' << kp.point3d_id;
@@ -369,9 +365,8 @@ std::string points_text(const SparseModel& model) {
       << "#   POINT3D_ID, X, Y, Z, R, G, B, ERROR, TRACK[] as (IMAGE_ID, POINT2D_IDX)\n"
       << "# Number of points: " << model.points.size() << "\n";
   for (const auto& [id, point] : model.points) {
-    out << id << ' ' << point.xyz.x() << ' ' << point.xyz.y() << ' ' << point.xyz.z() << ' '
-        << int(point.color[0]) << ' ' << int(point.color[1]) << ' ' << int(point.color[2]) << ' '
-        << point.error;
+    out << id << ' ' << point.xyz.x() << ' ' << point.xyz.y() << ' ' << point.xyz.z() << ' ' << int(point.color[0])
+        << ' ' << int(point.color[1]) << ' ' << int(point.color[2]) << ' ' << point.error;
     for (const auto& e : point.track) out << ' ' << e.image_id << ' ' << e.keypoint_index;
     out << '\n';
   }
@@ -405,8 +400,7 @@ std::string images_binary(const SparseModel& model) {
     for (const auto& kp : image.keypoints) {
       out.write(kp.xy.x());
       out.write(kp.xy.y());
-      out.write<std::uint64_t>(kp.point3d_id < 0 ? kInvalidPoint3dId
-                                                 : static_cast<std::uint64_t>(kp.point3d_id));
+      out.write<std::uint64_t>(kp.point3d_id < 0 ? kInvalidPoint3dId : static_cast<std::uint64_t>(kp.point3d_id));
     }
   }
   return out.data();
@@ -453,8 +447,7 @@ SparseModel read_colmap_model(const fs::path& folder) {
   if (!fs::is_directory(folder)) throw InputError(folder.string(), "model folder does not exist");
   if (fs::exists(folder / "cameras.bin")) return read_colmap_model_binary(folder);
   if (fs::exists(folder / "cameras.txt")) return read_colmap_model_text(folder);
-  throw InputError(folder.string(),
-                   "no COLMAP model here (expected cameras, images and points3D as .bin or .txt)");
+  throw InputError(folder.string(), "no COLMAP model here (expected cameras, images and points3D as .bin or .txt)");
 }
 
 void write_colmap_model(const SparseModel& model, const fs::path& folder, ColmapFormat format) {

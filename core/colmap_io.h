@@ -18,7 +18,6 @@ SparseModel read_colmap_model_binary(const std::filesystem::path& folder);
 SparseModel read_colmap_model_text(const std::filesystem::path& folder);
 
 // Writes the three files into folder (created if missing). Throws OutputError.
-void write_colmap_model(const SparseModel& model, const std::filesystem::path& folder,
-                        ColmapFormat format);
+void write_colmap_model(const SparseModel& model, const std::filesystem::path& folder, ColmapFormat format);
 
 }  // namespace hos

@@ -91,14 +91,12 @@ void OptionSet::add(const std::string& key, bool& value, std::string doc) {
                  throw std::invalid_argument("must be true or false");
                }
              },
-             [&value]() { return std::string(value ? "true" : "false"); },
-             nullptr});  // every bool is allowed
+             [&value]() { return std::string(value ? "true" : "false"); }, nullptr});  // every bool is allowed
 }
 
 void OptionSet::add(const std::string& key, std::string& value, std::string doc) {
-  add_entry(
-      {key, std::move(doc), "a string", [&value](const std::string& t) { value = t; }, [&value]() { return value; },
-       nullptr});  // every string is allowed
+  add_entry({key, std::move(doc), "a string", [&value](const std::string& t) { value = t; },
+             [&value]() { return value; }, nullptr});  // every string is allowed
 }
 
 void OptionSet::add_choice(const std::string& key,

@@ -21,7 +21,7 @@ std::map<std::string, ReferencePose> read_strecha_cameras(const fs::path& folder
     Eigen::Matrix3d world_from_cam;
     for (int i = 0; i < 9; ++i) world_from_cam(i / 3, i % 3) = v[12 + i];
     poses[file.substr(0, file.size() - suffix.size())] = {world_from_cam.transpose(),
-                                                           Eigen::Vector3d(v[21], v[22], v[23])};
+                                                          Eigen::Vector3d(v[21], v[22], v[23])};
   }
   if (poses.empty()) throw InputError(folder.string(), "no .camera files");
   return poses;

@@ -14,10 +14,14 @@ namespace {
 
 const char* level_name(LogLevel level) {
   switch (level) {
-    case LogLevel::kDebug: return "debug";
-    case LogLevel::kInfo: return "info";
-    case LogLevel::kWarning: return "warning";
-    case LogLevel::kError: return "error";
+    case LogLevel::kDebug:
+      return "debug";
+    case LogLevel::kInfo:
+      return "info";
+    case LogLevel::kWarning:
+      return "warning";
+    case LogLevel::kError:
+      return "error";
   }
   return "";
 }
@@ -58,8 +62,7 @@ Reporter& null_reporter() {
 ConsoleReporter::ConsoleReporter(ConsoleReporterOptions options, std::ostream* out)
     : options_(std::move(options)), out_(out ? out : &std::cerr) {
   if (options_.style == ProgressStyle::kAuto) {
-    const bool tty = (out_ == &std::cerr && isatty(STDERR_FILENO)) ||
-                     (out_ == &std::cout && isatty(STDOUT_FILENO));
+    const bool tty = (out_ == &std::cerr && isatty(STDERR_FILENO)) || (out_ == &std::cout && isatty(STDOUT_FILENO));
     options_.style = tty ? ProgressStyle::kBar : ProgressStyle::kPlain;
   }
 }
@@ -104,15 +107,15 @@ void ConsoleReporter::end() {
   if (step_.empty()) return;
   if (total_ > 0) done_ = std::max(done_, total_);
   draw_locked(true);
-  const double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - step_start_).count();
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - step_start_).count();
   if (log_file_) *log_file_ << "[" << options_.stage << "] end " << step_ << " " << elapsed << " s\n";
   step_.clear();
 }
 
 void ConsoleReporter::log(LogLevel level, std::string_view message) {
   std::lock_guard lock(mutex_);
-  if (log_file_) *log_file_ << "[" << options_.stage << "] " << level_name(level) << ": " << message << "\n" << std::flush;
+  if (log_file_)
+    *log_file_ << "[" << options_.stage << "] " << level_name(level) << ": " << message << "\n" << std::flush;
   if (level < options_.min_level) return;
   clear_bar_locked();
   if (options_.style == ProgressStyle::kJson) {
@@ -127,9 +130,7 @@ void ConsoleReporter::log(LogLevel level, std::string_view message) {
   if (!step_.empty() && options_.style == ProgressStyle::kBar) draw_locked(false);
 }
 
-bool ConsoleReporter::cancel_requested() const {
-  return options_.cancel_requested && options_.cancel_requested();
-}
+bool ConsoleReporter::cancel_requested() const { return options_.cancel_requested && options_.cancel_requested(); }
 
 void ConsoleReporter::clear_bar_locked() {
   if (bar_visible_) {
@@ -139,8 +140,7 @@ void ConsoleReporter::clear_bar_locked() {
 }
 
 void ConsoleReporter::draw_locked(bool final_line) {
-  const double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - step_start_).count();
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - step_start_).count();
   switch (options_.style) {
     case ProgressStyle::kNone:
     case ProgressStyle::kAuto:

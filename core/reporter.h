@@ -55,11 +55,11 @@ enum class ProgressStyle {
 };
 
 struct ConsoleReporterOptions {
-  std::string stage;                          // prefix of every line, e.g. "recon"
+  std::string stage;  // prefix of every line, e.g. "recon"
   ProgressStyle style = ProgressStyle::kAuto;
   LogLevel min_level = LogLevel::kInfo;
-  double plain_interval_s = 5.0;              // period of plain progress lines
-  std::function<bool()> cancel_requested;     // e.g. a signal flag; may be empty
+  double plain_interval_s = 5.0;           // period of plain progress lines
+  std::function<bool()> cancel_requested;  // e.g. a signal flag; may be empty
 };
 
 // Writes progress and messages to a stream (stderr by default) and,

@@ -23,8 +23,7 @@ Eigen::Vector3d ImageRecord::world_from_cam(const Eigen::Vector3d& x_in_cam) con
 const Camera& SparseModel::camera_of(const ImageRecord& image) const {
   const auto it = cameras.find(image.camera_id);
   if (it == cameras.end()) {
-    throw std::out_of_range("image '" + image.name + "' refers to missing camera " +
-                            std::to_string(image.camera_id));
+    throw std::out_of_range("image '" + image.name + "' refers to missing camera " + std::to_string(image.camera_id));
   }
   return it->second;
 }
@@ -49,12 +48,10 @@ SparseModelStats compute_stats(const SparseModel& model) {
   }
   if (stats.num_points > 0) {
     stats.mean_reprojection_error_px = error_sum / static_cast<double>(stats.num_points);
-    stats.mean_track_length =
-        static_cast<double>(observations) / static_cast<double>(stats.num_points);
+    stats.mean_track_length = static_cast<double>(observations) / static_cast<double>(stats.num_points);
   }
   if (stats.num_images > 0) {
-    stats.mean_observations_per_image =
-        static_cast<double>(observations) / static_cast<double>(stats.num_images);
+    stats.mean_observations_per_image = static_cast<double>(observations) / static_cast<double>(stats.num_images);
   }
   return stats;
 }

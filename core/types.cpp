@@ -7,8 +7,8 @@ namespace {
 
 void check_length(std::size_t expected, std::size_t actual, const char* what) {
   if (actual != 0 && actual != expected) {
-    throw std::logic_error(std::string(what) + " has " + std::to_string(actual) +
-                           " entries, expected " + std::to_string(expected));
+    throw std::logic_error(std::string(what) + " has " + std::to_string(actual) + " entries, expected " +
+                           std::to_string(expected));
   }
 }
 

@@ -20,10 +20,10 @@ UndistortedWorkspace load_undistorted_workspace(const fs::path& root) {
   }
   for (const auto& [id, camera] : ws.model.cameras) {
     if (camera.model != CameraModel::kPinhole && camera.model != CameraModel::kSimplePinhole) {
-      throw InputError((root / "sparse").string(),
-                       "camera " + std::to_string(id) + " is " + camera_model_name(camera.model) +
-                           ", expected undistorted PINHOLE cameras (run COLMAP's "
-                           "image_undistorter first)");
+      throw InputError((root / "sparse").string(), "camera " + std::to_string(id) + " is " +
+                                                       camera_model_name(camera.model) +
+                                                       ", expected undistorted PINHOLE cameras (run COLMAP's "
+                                                       "image_undistorter first)");
     }
   }
   for (const auto& [id, image] : ws.model.images) {

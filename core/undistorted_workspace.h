@@ -16,9 +16,7 @@ struct UndistortedWorkspace {
   std::filesystem::path image_folder;  // root/images
   SparseModel model;
 
-  std::filesystem::path image_path(const ImageRecord& image) const {
-    return image_folder / image.name;
-  }
+  std::filesystem::path image_path(const ImageRecord& image) const { return image_folder / image.name; }
 };
 
 // Loads and checks the workspace: the model must exist and every camera be

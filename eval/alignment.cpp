@@ -138,8 +138,7 @@ CameraPoseComparison compare_camera_poses(const SparseModel& recovered, const Sp
     max = *std::max_element(v.begin(), v.end());
   };
   summarize(centre_errors, out.mean_center_error, out.median_center_error, out.max_center_error);
-  summarize(rotation_errors, out.mean_rotation_error_deg, out.median_rotation_error_deg,
-            out.max_rotation_error_deg);
+  summarize(rotation_errors, out.mean_rotation_error_deg, out.median_rotation_error_deg, out.max_rotation_error_deg);
   return out;
 }
 

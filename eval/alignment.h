@@ -30,8 +30,8 @@ Similarity3 umeyama(const std::vector<Eigen::Vector3d>& src, const std::vector<E
 
 struct ModelAlignment {
   Similarity3 truth_from_recovered;
-  std::vector<std::string> names;   // matched images, sorted by name
-  std::vector<double> residuals;    // |aligned recovered centre - true centre| per name
+  std::vector<std::string> names;  // matched images, sorted by name
+  std::vector<double> residuals;   // |aligned recovered centre - true centre| per name
   double rms_residual = 0.0;
 };
 
@@ -41,13 +41,13 @@ ModelAlignment align_models_by_image_name(const SparseModel& recovered, const Sp
 
 struct CameraPoseError {
   std::string name;
-  double center_error = 0.0;           // after alignment, as a fraction of scene_size
-  double rotation_error_deg = 0.0;     // angle of R_true * R_aligned^T
+  double center_error = 0.0;        // after alignment, as a fraction of scene_size
+  double rotation_error_deg = 0.0;  // angle of R_true * R_aligned^T
 };
 
 struct CameraPoseComparison {
   Similarity3 truth_from_recovered;
-  double scene_size = 0.0;             // bounding-box diagonal of the true camera centres
+  double scene_size = 0.0;  // bounding-box diagonal of the true camera centres
   int num_recovered = 0;
   int num_truth = 0;
   std::vector<CameraPoseError> cameras;  // matched images, sorted by name

@@ -96,7 +96,8 @@ VertexCurvature compute_vertex_curvature(const TriangleMesh& mesh) {
   return out;
 }
 
-CurvatureStats compute_curvature_stats(const TriangleMesh& mesh, const std::vector<Eigen::Vector3f>* points,
+CurvatureStats compute_curvature_stats(const TriangleMesh& mesh,
+                                       const std::vector<Eigen::Vector3f>* points,
                                        Reporter& reporter) {
   CurvatureStats s;
   s.triangles = mesh.faces.size();

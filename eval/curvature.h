@@ -26,17 +26,17 @@
 namespace hos::eval {
 
 struct VertexCurvature {
-  std::vector<double> mean;         // H per vertex (NaN where not defined)
-  std::vector<double> gaussian;     // K per vertex (NaN where not defined)
-  std::vector<double> mixed_area;   // A_i
-  std::vector<bool> defined;        // interior vertex with A_i > 0
+  std::vector<double> mean;        // H per vertex (NaN where not defined)
+  std::vector<double> gaussian;    // K per vertex (NaN where not defined)
+  std::vector<double> mixed_area;  // A_i
+  std::vector<bool> defined;       // interior vertex with A_i > 0
 };
 
 VertexCurvature compute_vertex_curvature(const TriangleMesh& mesh);
 
 struct CurvatureStats {
   std::size_t triangles = 0;
-  std::size_t vertices_measured = 0;   // interior vertices with positive area
+  std::size_t vertices_measured = 0;         // interior vertices with positive area
   std::optional<double> rms_point_distance;  // input points -> surface, if points were given
   double mean_abs_h = 0.0, max_abs_h = 0.0;  // unweighted mean over measured vertices
   double mean_abs_k = 0.0, max_abs_k = 0.0;
@@ -46,7 +46,8 @@ struct CurvatureStats {
 };
 
 // points may be null (no RMS figure then).
-CurvatureStats compute_curvature_stats(const TriangleMesh& mesh, const std::vector<Eigen::Vector3f>* points,
+CurvatureStats compute_curvature_stats(const TriangleMesh& mesh,
+                                       const std::vector<Eigen::Vector3f>* points,
                                        Reporter& reporter);
 
 }  // namespace hos::eval

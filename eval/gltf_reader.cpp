@@ -1,12 +1,13 @@
 #include "eval/gltf_reader.h"
 
+#include <tiny_gltf.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
 #include <opencv2/imgcodecs.hpp>
-#include <tiny_gltf.h>
 #include <unordered_map>
 
 #include "core/error.h"
@@ -15,8 +16,15 @@ namespace hos::eval {
 namespace {
 
 // Decodes embedded images with OpenCV into 8-bit BGR (component 3).
-bool decode_image(tinygltf::Image* image, const int /*index*/, std::string* err, std::string* /*warn*/,
-                  int /*req_width*/, int /*req_height*/, const unsigned char* bytes, int size, void* /*user*/) {
+bool decode_image(tinygltf::Image* image,
+                  const int /*index*/,
+                  std::string* err,
+                  std::string* /*warn*/,
+                  int /*req_width*/,
+                  int /*req_height*/,
+                  const unsigned char* bytes,
+                  int size,
+                  void* /*user*/) {
   const cv::Mat encoded(1, size, CV_8U, const_cast<unsigned char*>(bytes));
   const cv::Mat decoded = cv::imdecode(encoded, cv::IMREAD_COLOR);
   if (decoded.empty()) {
@@ -50,7 +58,8 @@ class AccessorReader {
     if (components_ <= 0 || component_size_ <= 0) throw InputError(path, "an accessor has an unknown type");
     stride_ = view.byteStride > 0 ? view.byteStride : components_ * component_size_;
     data_ = buffer.data.data() + view.byteOffset + accessor_->byteOffset;
-    const std::size_t needed = accessor_->count == 0 ? 0 : (accessor_->count - 1) * stride_ + components_ * component_size_;
+    const std::size_t needed =
+        accessor_->count == 0 ? 0 : (accessor_->count - 1) * stride_ + components_ * component_size_;
     if (view.byteOffset + accessor_->byteOffset + needed > buffer.data.size()) {
       throw InputError(path, "an accessor reads past the end of its buffer");
     }
@@ -61,13 +70,38 @@ class AccessorReader {
     const unsigned char* p = data_ + i * stride_ + c * component_size_;
     double v = 0.0;
     switch (accessor_->componentType) {
-      case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); v = f; break; }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { std::uint32_t u; std::memcpy(&u, p, 4); v = u; break; }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { std::uint16_t u; std::memcpy(&u, p, 2); v = u; break; }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: v = *p; break;
-      case TINYGLTF_COMPONENT_TYPE_SHORT: { std::int16_t s; std::memcpy(&s, p, 2); v = s; break; }
-      case TINYGLTF_COMPONENT_TYPE_BYTE: v = static_cast<std::int8_t>(*p); break;
-      default: throw InputError(path_, "an accessor has an unsupported component type");
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+        float f;
+        std::memcpy(&f, p, 4);
+        v = f;
+        break;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+        std::uint32_t u;
+        std::memcpy(&u, p, 4);
+        v = u;
+        break;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        std::uint16_t u;
+        std::memcpy(&u, p, 2);
+        v = u;
+        break;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        v = *p;
+        break;
+      case TINYGLTF_COMPONENT_TYPE_SHORT: {
+        std::int16_t s;
+        std::memcpy(&s, p, 2);
+        v = s;
+        break;
+      }
+      case TINYGLTF_COMPONENT_TYPE_BYTE:
+        v = static_cast<std::int8_t>(*p);
+        break;
+      default:
+        throw InputError(path_, "an accessor has an unsupported component type");
     }
     if (accessor_->normalized) {
       if (accessor_->componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) v /= 255.0;
@@ -87,7 +121,8 @@ class AccessorReader {
 Eigen::Matrix4d local_matrix(const tinygltf::Node& node) {
   if (node.matrix.size() == 16) return Eigen::Map<const Eigen::Matrix4d>(node.matrix.data());  // column-major
   Eigen::Affine3d m = Eigen::Affine3d::Identity();
-  if (node.translation.size() == 3) m.translate(Eigen::Vector3d(node.translation[0], node.translation[1], node.translation[2]));
+  if (node.translation.size() == 3)
+    m.translate(Eigen::Vector3d(node.translation[0], node.translation[1], node.translation[2]));
   if (node.rotation.size() == 4) {
     m.rotate(Eigen::Quaterniond(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]).normalized());
   }
@@ -99,8 +134,8 @@ struct Builder {
   const tinygltf::Model& model;
   std::string path;
   render::RenderObject out;
-  std::unordered_map<int, int> texture_of_image;       // glTF image -> Material texture
-  std::unordered_map<std::string, int> weld;           // position bits -> vertex
+  std::unordered_map<int, int> texture_of_image;  // glTF image -> Material texture
+  std::unordered_map<std::string, int> weld;      // position bits -> vertex
 
   int texture_for(const tinygltf::Primitive& prim) {
     Eigen::Vector4d factor(1, 1, 1, 1);

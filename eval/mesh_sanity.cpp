@@ -27,8 +27,8 @@ class UnionFind {
 struct HalfEdge {
   std::uint64_t key;  // undirected (min, max)
   int face;
-  int corner;         // the edge runs from corner to corner + 1
-  bool forward;       // from min to max
+  int corner;    // the edge runs from corner to corner + 1
+  bool forward;  // from min to max
 };
 
 }  // namespace
@@ -110,8 +110,8 @@ MeshSanity check_mesh_sanity(const TriangleMesh& mesh, double relative_area_epsi
     ++s.vertices;
     if (vertex_sets.find(v) == v) ++s.components;
   }
-  s.euler_characteristic = static_cast<long long>(s.vertices) - static_cast<long long>(s.edges) +
-                           static_cast<long long>(s.faces);
+  s.euler_characteristic =
+      static_cast<long long>(s.vertices) - static_cast<long long>(s.edges) + static_cast<long long>(s.faces);
   s.edge_manifold = s.non_manifold_edges == 0;
   s.vertex_manifold = s.non_manifold_vertices == 0;
   s.watertight = nf > 0 && s.boundary_edges == 0 && s.edge_manifold;

@@ -9,8 +9,10 @@
 
 namespace hos::eval {
 
-RenderComparison compare_renders(const render::RenderObject& object, const SparseModel& model,
-                                 const std::filesystem::path& images_dir, Reporter& reporter,
+RenderComparison compare_renders(const render::RenderObject& object,
+                                 const SparseModel& model,
+                                 const std::filesystem::path& images_dir,
+                                 Reporter& reporter,
                                  const std::filesystem::path& save_dir) {
   RenderComparison out;
   if (!save_dir.empty()) std::filesystem::create_directories(save_dir);
@@ -56,8 +58,8 @@ RenderComparison compare_renders(const render::RenderObject& object, const Spars
   }
   reporter.end();
   if (out.views.empty()) throw StageError("eval", "the mesh is not visible from any camera of the model");
-  out.mean_psnr = finite_psnr > 0 ? sum_psnr / static_cast<double>(finite_psnr)
-                                  : std::numeric_limits<double>::infinity();
+  out.mean_psnr =
+      finite_psnr > 0 ? sum_psnr / static_cast<double>(finite_psnr) : std::numeric_limits<double>::infinity();
   out.mean_ssim = sum_ssim / static_cast<double>(out.views.size());
   return out;
 }

@@ -31,8 +31,10 @@ struct RenderComparison {
 // size. Throws InputError naming a missing or unreadable photo. With a
 // non-empty save_dir, each view is also written there as a PNG: the render
 // beside the photo (for looking at what the figures measure).
-RenderComparison compare_renders(const render::RenderObject& object, const SparseModel& model,
-                                 const std::filesystem::path& images_dir, Reporter& reporter,
+RenderComparison compare_renders(const render::RenderObject& object,
+                                 const SparseModel& model,
+                                 const std::filesystem::path& images_dir,
+                                 Reporter& reporter,
                                  const std::filesystem::path& save_dir = {});
 
 }  // namespace hos::eval

@@ -25,7 +25,8 @@ using PointKdTree =
     nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, PointAdaptor>, PointAdaptor, 3>;
 
 std::vector<double> distances_to_points(const std::vector<Eigen::Vector3f>& queries,
-                                        const std::vector<Eigen::Vector3f>& points, Reporter& reporter) {
+                                        const std::vector<Eigen::Vector3f>& points,
+                                        Reporter& reporter) {
   PointAdaptor adaptor{points};
   PointKdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10));
   tree.buildIndex();
@@ -55,8 +56,7 @@ void SurfaceDistanceOptions::validate() const {
   }
 }
 
-std::vector<Eigen::Vector3f> sample_surface_uniform(const TriangleMesh& mesh, std::size_t n,
-                                                    std::uint64_t seed) {
+std::vector<Eigen::Vector3f> sample_surface_uniform(const TriangleMesh& mesh, std::size_t n, std::uint64_t seed) {
   std::vector<double> cumulative(mesh.faces.size());
   double total = 0.0;
   for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
@@ -75,8 +75,8 @@ std::vector<Eigen::Vector3f> sample_surface_uniform(const TriangleMesh& mesh, st
   std::vector<Eigen::Vector3f> out(n);
   for (std::size_t i = 0; i < n; ++i) {
     const double target = uniform() * total;
-    std::size_t f = static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), target) -
-                                             cumulative.begin());
+    std::size_t f =
+        static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), target) - cumulative.begin());
     f = std::min(f, cumulative.size() - 1);
     double r1 = uniform(), r2 = uniform();
     if (r1 + r2 > 1.0) {  // reflect into the triangle: uniform barycentrics
@@ -117,7 +117,8 @@ DistanceStats summarize_distances(std::vector<double> d) {
   return s;
 }
 
-std::vector<double> distances_to_mesh(const std::vector<Eigen::Vector3f>& points, const TriangleMesh& mesh,
+std::vector<double> distances_to_mesh(const std::vector<Eigen::Vector3f>& points,
+                                      const TriangleMesh& mesh,
                                       Reporter& reporter) {
   const TriangleTree tree(mesh);
   std::vector<double> out(points.size());
@@ -133,8 +134,10 @@ std::vector<double> distances_to_mesh(const std::vector<Eigen::Vector3f>& points
   return out;
 }
 
-SurfaceComparison compare_surfaces(const TriangleMesh& result, const TriangleMesh& truth,
-                                   const SurfaceDistanceOptions& options, Reporter& reporter) {
+SurfaceComparison compare_surfaces(const TriangleMesh& result,
+                                   const TriangleMesh& truth,
+                                   const SurfaceDistanceOptions& options,
+                                   Reporter& reporter) {
   options.validate();
   if (truth.faces.empty()) throw NumericalError("eval", "the truth must be a mesh with faces");
   if (result.vertices.empty()) throw NumericalError("eval", "the result has no vertices");

@@ -16,8 +16,7 @@ namespace hos::eval {
 // probability proportional to its area, then a uniform barycentric point), from
 // a fixed seed: the same call gives the same points on every machine.
 // Throws NumericalError for a mesh of zero total area.
-std::vector<Eigen::Vector3f> sample_surface_uniform(const TriangleMesh& mesh, std::size_t n,
-                                                    std::uint64_t seed);
+std::vector<Eigen::Vector3f> sample_surface_uniform(const TriangleMesh& mesh, std::size_t n, std::uint64_t seed);
 
 struct SurfaceDistanceOptions {
   std::size_t num_samples = 200000;  // per surface
@@ -56,11 +55,14 @@ struct SurfaceComparison {
 // distances to the truth; completeness samples the truth and measures to the
 // result. A result without faces is a point set: its points are used as they
 // are and completeness measures to the nearest point (k-d tree).
-SurfaceComparison compare_surfaces(const TriangleMesh& result, const TriangleMesh& truth,
-                                   const SurfaceDistanceOptions& options, Reporter& reporter);
+SurfaceComparison compare_surfaces(const TriangleMesh& result,
+                                   const TriangleMesh& truth,
+                                   const SurfaceDistanceOptions& options,
+                                   Reporter& reporter);
 
 // Exact distance from every point to the mesh (OpenMP).
 std::vector<double> distances_to_mesh(const std::vector<Eigen::Vector3f>& points,
-                                      const TriangleMesh& mesh, Reporter& reporter);
+                                      const TriangleMesh& mesh,
+                                      Reporter& reporter);
 
 }  // namespace hos::eval

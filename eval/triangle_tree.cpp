@@ -23,8 +23,10 @@ double box_squared_distance(const Eigen::Vector3d& p, const Eigen::Vector3f& lo,
 
 }  // namespace
 
-Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                          const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p,
+                                          const Eigen::Vector3d& a,
+                                          const Eigen::Vector3d& b,
+                                          const Eigen::Vector3d& c) {
   const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
   const double d1 = ab.dot(ap), d2 = ac.dot(ap);
   if (d1 <= 0.0 && d2 <= 0.0) return a;

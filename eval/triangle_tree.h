@@ -12,8 +12,10 @@ namespace hos::eval {
 
 // Closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision
 // Detection, Sec. 5.1.5): Voronoi regions of vertices, edges, then the face.
-Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                          const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p,
+                                          const Eigen::Vector3d& a,
+                                          const Eigen::Vector3d& b,
+                                          const Eigen::Vector3d& c);
 
 struct NearestSurfacePoint {
   double distance = 0.0;

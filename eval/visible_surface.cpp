@@ -4,8 +4,7 @@
 
 namespace hos::eval {
 
-TriangleMesh visible_part(const TriangleMesh& truth, const SparseModel& model, int min_views,
-                          Reporter& reporter) {
+TriangleMesh visible_part(const TriangleMesh& truth, const SparseModel& model, int min_views, Reporter& reporter) {
   std::vector<int> views_seeing(truth.num_faces(), 0);
   render::RenderObject object;
   object.mesh = truth;

@@ -12,7 +12,6 @@ namespace hos::eval {
 
 // Faces of truth that cover at least one pixel centre, depth-tested against
 // the whole truth, in at least min_views cameras of model (in truth's frame).
-TriangleMesh visible_part(const TriangleMesh& truth, const SparseModel& model, int min_views,
-                          Reporter& reporter);
+TriangleMesh visible_part(const TriangleMesh& truth, const SparseModel& model, int min_views, Reporter& reporter);
 
 }  // namespace hos::eval

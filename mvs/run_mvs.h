@@ -40,7 +40,9 @@ struct MvsResult {
 // <image name>.depth.tiff (CV_32F) and .normal.tiff for inspection.
 // Throws ConfigError, InputError (unreadable images), StageError (no view
 // could be matched), Cancelled.
-MvsResult run_mvs(const UndistortedWorkspace& workspace, const MvsOptions& options, Reporter& reporter,
+MvsResult run_mvs(const UndistortedWorkspace& workspace,
+                  const MvsOptions& options,
+                  Reporter& reporter,
                   const std::filesystem::path& depth_map_folder = {});
 
 }  // namespace hos::mvs

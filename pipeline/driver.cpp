@@ -264,8 +264,13 @@ StageOutcome run_or_skip_stage(const StageSpec& spec,
 }
 
 // Runs or skips every stage of the range and copies the result to OUT.
-void run_stage_range(const DriverOptions& options, const StageRange& range, const StagePaths& paths,
-                     const PipelineConfig& config, RunRecord& record, DriverResult& result, Reporter& reporter) {
+void run_stage_range(const DriverOptions& options,
+                     const StageRange& range,
+                     const StagePaths& paths,
+                     const PipelineConfig& config,
+                     RunRecord& record,
+                     DriverResult& result,
+                     Reporter& reporter) {
   const auto& specs = pipeline_stages();
   bool rerun = options.force;
   for (std::size_t i = 0; i < specs.size(); ++i) {

@@ -26,7 +26,7 @@ struct DriverOptions {
   bool force = false;                    // run the stages in range even if up to date
   std::string progress = "auto";         // passed to the stages
   bool verbose = false;
-  std::filesystem::path bin_dir;         // where the stage executables are
+  std::filesystem::path bin_dir;  // where the stage executables are
 };
 
 struct StageOutcome {

@@ -2,13 +2,12 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "pipeline/stages.h"
-
 #include <algorithm>
 #include <filesystem>
 #include <sstream>
 
 #include "core/error.h"
+#include "pipeline/stages.h"
 
 namespace hos::pipeline {
 namespace {
@@ -84,8 +83,7 @@ void PipelineConfig::apply_preset(const std::string& name_or_file) {
                                name_or_file.find(".yml") != std::string::npos;
   if (!looks_like_file) {
     throw ConfigError("--preset " + name_or_file,
-                      "no such preset; the presets are: " + joined(builtin_preset_names()) +
-                          " (or give a YAML file)");
+                      "no such preset; the presets are: " + joined(builtin_preset_names()) + " (or give a YAML file)");
   }
   if (!std::filesystem::exists(name_or_file)) {
     throw ConfigError("--preset " + name_or_file, "preset file does not exist");
@@ -108,8 +106,8 @@ void PipelineConfig::apply_assignment(const std::string& assignment) {
   const std::string key = assignment.substr(dot + 1, eq - dot - 1);
   const auto& names = pipeline_stage_names();
   if (std::find(names.begin(), names.end(), stage) == names.end()) {
-    throw ConfigError(stage, "unknown stage in --set " + assignment + "; did you mean " +
-                                 closest_of(stage, names) + "?");
+    throw ConfigError(stage,
+                      "unknown stage in --set " + assignment + "; did you mean " + closest_of(stage, names) + "?");
   }
   if (!has_stage(stage)) {
     throw ConfigError(assignment, "the " + stage + " stage is not part of this build");

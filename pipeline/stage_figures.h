@@ -17,8 +17,8 @@ std::map<std::string, std::int64_t> ply_element_counts(const std::filesystem::pa
 
 struct GlbFigures {
   std::int64_t bytes = 0;
-  std::int64_t vertices = 0;   // sum of POSITION accessor counts
-  std::int64_t triangles = 0;  // sum of index counts / 3
+  std::int64_t vertices = 0;                       // sum of POSITION accessor counts
+  std::int64_t triangles = 0;                      // sum of index counts / 3
   std::vector<std::pair<int, int>> texture_sizes;  // width, height of each image
   // The first node's transform (column-major; identity when it has none):
   // model coordinates of the scene's points.

@@ -17,7 +17,7 @@
 namespace hos::pipeline {
 
 struct StageSpec {
-  std::string name;        // also its YAML section and its workspace folder
+  std::string name;  // also its YAML section and its workspace folder
   std::string executable;
   // Arguments naming the stage's inputs and outputs.
   std::function<std::vector<std::string>(const DriverOptions&, const StagePaths&)> arguments;

@@ -9,8 +9,7 @@ namespace {
 // bytes (line t at t * stride), lines beyond [0, n) absent: a dilation along
 // the axis that steps from line to line, by whole contiguous lines so it
 // vectorises.
-void dilate_lines(const std::uint8_t* in, std::uint8_t* out, int n, std::int64_t stride,
-                  std::int64_t len, int radius) {
+void dilate_lines(const std::uint8_t* in, std::uint8_t* out, int n, std::int64_t stride, std::int64_t len, int radius) {
   for (int t = 0; t < n; ++t) {
     std::uint8_t* __restrict o = out + t * stride;
     for (int s = std::max(0, t - radius); s <= std::min(n - 1, t + radius); ++s) {
@@ -106,8 +105,7 @@ ActiveNodes ActiveNodes::from_mask(const GridGeometry& g, std::vector<std::uint8
       offset += hi - lo;
     });
     const int j = static_cast<int>(row % g.dims.y()), k = static_cast<int>(row / g.dims.y());
-    for_each_run(a.mask_.data() + row * nx, nx,
-                 [&](int begin, int end) { a.spans_.push_back({j, k, begin, end, 0}); });
+    for_each_run(a.mask_.data() + row * nx, nx, [&](int begin, int end) { a.spans_.push_back({j, k, begin, end, 0}); });
   }
   a.row_runs_[rows] = static_cast<std::int64_t>(a.stored_.size());
   a.storage_size_ = offset;
@@ -149,8 +147,7 @@ template <typename T>
 void ActiveNodes::scatter_active(const T* stored, T* dense) const {
   for_each_active_span(*this, [&](const NodeSpan& span) {
     const std::int64_t row = std::int64_t{span.k} * dims_.y() + span.j;
-    std::copy(stored + span.first, stored + span.first + (span.end - span.begin),
-              dense + row * dims_.x() + span.begin);
+    std::copy(stored + span.first, stored + span.first + (span.end - span.begin), dense + row * dims_.x() + span.begin);
   });
 }
 
@@ -180,14 +177,12 @@ ActiveNodes ActiveNodes::coarsened(const GridGeometry& fine, const GridGeometry&
   return from_mask(coarse, std::move(mask));
 }
 
-ActiveNodes band_around_samples(const GridGeometry& g, const std::vector<Eigen::Vector3f>& points,
-                                int voxels) {
+ActiveNodes band_around_samples(const GridGeometry& g, const std::vector<Eigen::Vector3f>& points, int voxels) {
   std::vector<std::uint8_t> mask(g.num_nodes(), 0);
   for (const auto& p : points) {
     const TrilinearStencil s = trilinear_stencil(g, p.cast<double>());
     for (int c = 0; c < 8; ++c) {
-      const int i = s.corner.x() + (c & 1), j = s.corner.y() + ((c >> 1) & 1),
-                k = s.corner.z() + (c >> 2);
+      const int i = s.corner.x() + (c & 1), j = s.corner.y() + ((c >> 1) & 1), k = s.corner.z() + (c >> 2);
       if (g.contains(i, j, k)) mask[g.index(i, j, k)] = 1;
     }
   }

@@ -80,7 +80,7 @@ class ActiveNodes {
   Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();
   std::vector<std::uint8_t> mask_;  // empty: every node
   std::vector<NodeSpan> spans_;
-  std::vector<StoredRun> stored_;     // banded: stored runs, row after row
+  std::vector<StoredRun> stored_;       // banded: stored runs, row after row
   std::vector<std::int64_t> row_runs_;  // banded: per row j + ny k, its first stored run
   std::int64_t count_ = 0;
   std::int64_t storage_size_ = 0;
@@ -88,8 +88,7 @@ class ActiveNodes {
 
 // The nodes within `voxels` nodes (per axis) of the corners of every cell that
 // holds a sample.
-ActiveNodes band_around_samples(const GridGeometry& g, const std::vector<Eigen::Vector3f>& points,
-                                int voxels);
+ActiveNodes band_around_samples(const GridGeometry& g, const std::vector<Eigen::Vector3f>& points, int voxels);
 
 // Calls fn(span) for every span of active, in parallel when the set is large.
 template <typename Fn>

@@ -1,9 +1,9 @@
 #include "recon/grid.h"
 
-#include "core/huge_pages.h"
-
 #include <cmath>
 #include <cstdint>
+
+#include "core/huge_pages.h"
 
 namespace hos::recon {
 
@@ -57,8 +57,7 @@ TrilinearStencil trilinear_stencil(const GridGeometry& g, const Eigen::Vector3d&
   return s;
 }
 
-double sample_trilinear(const GridGeometry& g, const std::vector<double>& values,
-                        const Eigen::Vector3d& x) {
+double sample_trilinear(const GridGeometry& g, const std::vector<double>& values, const Eigen::Vector3d& x) {
   double v = 0.0;
   for_each_trilinear_corner(g, x, [&](int i, int j, int k, double w) { v += w * values[g.index(i, j, k)]; });
   return v;

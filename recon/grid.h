@@ -22,18 +22,12 @@ struct GridGeometry {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   double spacing = 1.0;  // h, the same along every axis (cubic cells)
 
-  std::int64_t num_nodes() const {
-    return std::int64_t{dims.x()} * dims.y() * dims.z();
-  }
-  std::int64_t index(int i, int j, int k) const {
-    return (std::int64_t{k} * dims.y() + j) * dims.x() + i;
-  }
+  std::int64_t num_nodes() const { return std::int64_t{dims.x()} * dims.y() * dims.z(); }
+  std::int64_t index(int i, int j, int k) const { return (std::int64_t{k} * dims.y() + j) * dims.x() + i; }
   bool contains(int i, int j, int k) const {
     return i >= 0 && j >= 0 && k >= 0 && i < dims.x() && j < dims.y() && k < dims.z();
   }
-  Eigen::Vector3d position(int i, int j, int k) const {
-    return origin + spacing * Eigen::Vector3d(i, j, k);
-  }
+  Eigen::Vector3d position(int i, int j, int k) const { return origin + spacing * Eigen::Vector3d(i, j, k); }
   // Continuous grid coordinates of a world point.
   Eigen::Vector3d to_grid(const Eigen::Vector3d& x) const { return (x - origin) / spacing; }
   // The next coarser grid (dims (n - 1) / 2, spacing 2h).
@@ -60,8 +54,7 @@ template <typename T>
 class ZeroedArray {
  public:
   ZeroedArray() = default;
-  explicit ZeroedArray(std::size_t n)
-      : values_(static_cast<T*>(std::calloc(n == 0 ? 1 : n, sizeof(T)))), size_(n) {
+  explicit ZeroedArray(std::size_t n) : values_(static_cast<T*>(std::calloc(n == 0 ? 1 : n, sizeof(T)))), size_(n) {
     if (!values_) throw std::bad_alloc();
     advise_huge_pages(values_.get(), n * sizeof(T));
   }
@@ -87,8 +80,7 @@ class ZeroedArray {
 inline bool worth_threads(std::int64_t nodes) { return nodes >= (std::int64_t{1} << 17); }
 
 // Trilinear interpolation of per-node values at a world point (ghost nodes are zero).
-double sample_trilinear(const GridGeometry& g, const std::vector<double>& values,
-                        const Eigen::Vector3d& x);
+double sample_trilinear(const GridGeometry& g, const std::vector<double>& values, const Eigen::Vector3d& x);
 
 // A scalar field on the grid nodes.
 struct ScalarGrid {
@@ -96,9 +88,7 @@ struct ScalarGrid {
   std::vector<double> values;
 
   explicit ScalarGrid(const GridGeometry& g = {}) : geometry(g) { assign_large(values, g.num_nodes()); }
-  double at(int i, int j, int k) const {
-    return geometry.contains(i, j, k) ? values[geometry.index(i, j, k)] : 0.0;
-  }
+  double at(int i, int j, int k) const { return geometry.contains(i, j, k) ? values[geometry.index(i, j, k)] : 0.0; }
   // Trilinear interpolation at a world point (ghost nodes are zero).
   double sample(const Eigen::Vector3d& x) const { return sample_trilinear(geometry, values, x); }
 };
@@ -109,8 +99,7 @@ struct TrilinearStencil {
   Eigen::Vector3i corner;
   Eigen::Vector3d frac;
   double weight(int ox, int oy, int oz) const {
-    return (ox ? frac.x() : 1.0 - frac.x()) * (oy ? frac.y() : 1.0 - frac.y()) *
-           (oz ? frac.z() : 1.0 - frac.z());
+    return (ox ? frac.x() : 1.0 - frac.x()) * (oy ? frac.y() : 1.0 - frac.y()) * (oz ? frac.z() : 1.0 - frac.z());
   }
 };
 TrilinearStencil trilinear_stencil(const GridGeometry& g, const Eigen::Vector3d& x);

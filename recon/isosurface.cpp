@@ -174,8 +174,13 @@ struct ChunkOutput {
 
 class CellMesher {
  public:
-  CellMesher(const CubeTables& t, const std::array<double, 8>& g, int config, const std::array<int, 12>& vertex,
-             const Eigen::Vector3d& origin, double h, ChunkOutput& out)
+  CellMesher(const CubeTables& t,
+             const std::array<double, 8>& g,
+             int config,
+             const std::array<int, 12>& vertex,
+             const Eigen::Vector3d& origin,
+             double h,
+             ChunkOutput& out)
       : t_(t), g_(g), config_(config), vertex_(vertex), origin_(origin), h_(h), out_(out) {}
 
   void run() {
@@ -189,8 +194,7 @@ class CellMesher {
     for (int n = 0; n < start[loops.count - 1] + loops.length[loops.count - 1]; ++n) {
       const int e = loops.edges[n];
       const int c0 = edge_lower_corner(e), c1 = c0 | (1 << (e / 4));
-      pos_[e] = corner_position(c0) +
-                crossing_fraction(g_[c0], g_[c1]) * (corner_position(c1) - corner_position(c0));
+      pos_[e] = corner_position(c0) + crossing_fraction(g_[c0], g_[c1]) * (corner_position(c1) - corner_position(c0));
     }
     const auto [a, b] = loops.count >= 2 ? find_tunnel(loops, joined) : std::pair{-1, -1};
     if (a >= 0) stitch_tube(&loops.edges[start[a]], loops.length[a], &loops.edges[start[b]], loops.length[b]);

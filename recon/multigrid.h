@@ -29,8 +29,8 @@ struct SolveReport {
   double relative_residual = 1.0;  // ||b - A x|| / ||b|| at the end
   bool converged = false;
   std::vector<double> residual_history;  // relative residual after each iteration
-  double seconds_setup = 0.0;       // building the multigrid levels
-  double seconds_iterations = 0.0;  // the CG iterations
+  double seconds_setup = 0.0;            // building the multigrid levels
+  double seconds_iterations = 0.0;       // the CG iterations
 };
 
 // The V-cycle runs in single precision (the outer CG keeps double vectors and
@@ -52,7 +52,7 @@ class MultigridPreconditioner {
  private:
   struct Level {
     EnergyOperator op;
-    ZeroedArray<float> inv_l1;     // 1 / l1 row sums
+    ZeroedArray<float> inv_l1;                       // 1 / l1 row sums
     mutable ZeroedArray<float> b, x, scratch, step;  // step: the Chebyshev update
   };
   // Levels_[level].x = approximately A^-1 levels_[level].b.
@@ -69,8 +69,10 @@ class MultigridPreconditioner {
 
 // Preconditioned CG from the initial guess in x. Throws NumericalError if a
 // NaN or Inf appears. Logs the residual every few iterations at debug level.
-SolveReport solve_linear_system(const EnergyOperator& op, const std::vector<double>& b,
-                                std::vector<double>& x, const SolverOptions& options,
+SolveReport solve_linear_system(const EnergyOperator& op,
+                                const std::vector<double>& b,
+                                std::vector<double>& x,
+                                const SolverOptions& options,
                                 Reporter& reporter);
 
 }  // namespace hos::recon

@@ -15,35 +15,26 @@ void register_options(OptionSet& set, ReconOptions& o) {
                 {"4", SmoothnessEnergy::kFullHessian}},
                "smoothness energy of Pan & Skala: 1 membrane, 2 total variation, 3 pure second "
                "derivatives, 4 full Hessian");
-  set.add("lambda", o.lambda, "smoothness weight (resolution independent; paper range 0.1-0.3)",
-          0.0, 1e6);
-  set.add("resolution", o.resolution, "grid cells along the longest side of the domain",
-          kMinResolution, kMaxResolution);
-  set.add("voxel_size", o.voxel_size, "grid spacing in scene units; 0 = use resolution", 0.0,
-          1e12);
-  set.add("margin", o.margin, "domain margin around the points, fraction of their extent", 0.0,
-          2.0);
-  set.add("filter_passes", o.filter_passes, "box filter passes smoothing the orientation field",
-          0, 10);
-  set.add("uniform_flux", o.uniform_flux,
-          "field magnitude from the sample density, direction from the orientations");
+  set.add("lambda", o.lambda, "smoothness weight (resolution independent; paper range 0.1-0.3)", 0.0, 1e6);
+  set.add("resolution", o.resolution, "grid cells along the longest side of the domain", kMinResolution,
+          kMaxResolution);
+  set.add("voxel_size", o.voxel_size, "grid spacing in scene units; 0 = use resolution", 0.0, 1e12);
+  set.add("margin", o.margin, "domain margin around the points, fraction of their extent", 0.0, 2.0);
+  set.add("filter_passes", o.filter_passes, "box filter passes smoothing the orientation field", 0, 10);
+  set.add("uniform_flux", o.uniform_flux, "field magnitude from the sample density, direction from the orientations");
   set.add("direction_filter_passes", o.direction_filter_passes,
           "box filter passes for the orientations' directions (with uniform_flux)", 0, 100);
   set.add("screening", o.screening, "weight pinning f at the samples to the isovalue (0 = off)", 0.0, 1000.0);
   set.add("use_confidence", o.use_confidence, "weight orientations by the points' confidence");
-  set.add("solver.tolerance", o.solver.tolerance, "relative residual the solver must reach", 1e-12,
-          0.5);
-  set.add("solver.max_iterations", o.solver.max_iterations, "CG iterations per linear solve", 1,
-          100000);
+  set.add("solver.tolerance", o.solver.tolerance, "relative residual the solver must reach", 1e-12, 0.5);
+  set.add("solver.max_iterations", o.solver.max_iterations, "CG iterations per linear solve", 1, 100000);
   set.add("solver.max_levels", o.solver.max_levels, "multigrid levels (0 = automatic)", 0, 16);
-  set.add("solver.smoothing_steps", o.solver.smoothing_steps, "Chebyshev smoother degree per level (operator applications)", 1, 20);
-  set.add("solver.tv_iterations", o.solver.tv_iterations, "reweighting rounds for energy 2", 1,
-          100);
-  set.add("solver.multigrid", o.solver.multigrid,
-          "multigrid-preconditioned CG (false: Jacobi-preconditioned CG)");
+  set.add("solver.smoothing_steps", o.solver.smoothing_steps,
+          "Chebyshev smoother degree per level (operator applications)", 1, 20);
+  set.add("solver.tv_iterations", o.solver.tv_iterations, "reweighting rounds for energy 2", 1, 100);
+  set.add("solver.multigrid", o.solver.multigrid, "multigrid-preconditioned CG (false: Jacobi-preconditioned CG)");
   set.add("solver.band_voxels", o.solver.band_voxels,
-          "solve the fine grid only this many voxels around the samples (0 = everywhere)", 0,
-          1 << 20);
+          "solve the fine grid only this many voxels around the samples (0 = everywhere)", 0, 1 << 20);
   set.add("trim.enabled", o.trim.enabled, "remove surface far from every sample");
   set.add("trim.distance_voxels", o.trim.distance_voxels, "trim distance in voxels", 0.1, 1000.0);
   set.add("trim.min_component_fraction", o.trim.min_component_fraction,

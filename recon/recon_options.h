@@ -57,7 +57,7 @@ struct ReconOptions {
   double lambda = 0.2;
   // Cells along the longest side of the domain: fine enough for thin parts
   // and texture detail on real photos, still cheap beside mvs.
-  int resolution = 256;  // in [kMinResolution, kMaxResolution]
+  int resolution = 256;        // in [kMinResolution, kMaxResolution]
   double voxel_size = 0.0;     // if > 0, overrides resolution
   double margin = 0.1;         // domain margin as a fraction of the points' longest extent
   int filter_passes = 3;       // box filter passes approximating a Gaussian (sec. 4.1)

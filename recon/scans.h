@@ -3,10 +3,9 @@
 // sets oriented by one view direction or scanner position.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <filesystem>
 #include <vector>
-
-#include <Eigen/Geometry>
 
 #include "core/reporter.h"
 #include "core/types.h"

@@ -81,8 +81,10 @@ void remove_unreferenced_vertices(TriangleMesh& mesh) {
   for (auto& f : mesh.faces) f = Eigen::Vector3i(remap[f[0]], remap[f[1]], remap[f[2]]);
 }
 
-TrimReport trim_far_from_samples(TriangleMesh& mesh, const std::vector<Eigen::Vector3f>& samples,
-                                 double max_distance, double min_component_fraction) {
+TrimReport trim_far_from_samples(TriangleMesh& mesh,
+                                 const std::vector<Eigen::Vector3f>& samples,
+                                 double max_distance,
+                                 double min_component_fraction) {
   TrimReport report;
   const SampleHash hash(samples, max_distance);
   std::vector<char> near(mesh.vertices.size());

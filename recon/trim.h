@@ -20,8 +20,10 @@ struct TrimReport {
 // Removes faces whose three vertices are all farther than max_distance from
 // every sample, then connected pieces smaller than min_component_fraction of
 // the largest, then unreferenced vertices.
-TrimReport trim_far_from_samples(TriangleMesh& mesh, const std::vector<Eigen::Vector3f>& samples,
-                                 double max_distance, double min_component_fraction);
+TrimReport trim_far_from_samples(TriangleMesh& mesh,
+                                 const std::vector<Eigen::Vector3f>& samples,
+                                 double max_distance,
+                                 double min_component_fraction);
 
 // Drops vertices no face uses, renumbering faces (keeps per-vertex attributes).
 void remove_unreferenced_vertices(TriangleMesh& mesh);

@@ -50,14 +50,16 @@ void box_filter_axis(const GridGeometry& g, std::vector<T>& v, int axis, int pas
         box_pass(a.data(), b.data(), n, m);
         a.swap(b);
       }
-      for (int t = 0; t < n; ++t) std::copy(a.data() + std::int64_t{t} * m, a.data() + std::int64_t{t + 1} * m, base + t * stride);
+      for (int t = 0; t < n; ++t)
+        std::copy(a.data() + std::int64_t{t} * m, a.data() + std::int64_t{t + 1} * m, base + t * stride);
     }
   }
 }
 
 // Splats the weights (1 per point if empty) trilinearly onto a grid-sized array.
 template <typename T>
-std::vector<T> splat_weights(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+std::vector<T> splat_weights(const GridGeometry& geometry,
+                             const std::vector<Eigen::Vector3f>& points,
                              const std::vector<float>& weights) {
   std::vector<T> density;
   assign_large(density, geometry.num_nodes());
@@ -73,8 +75,13 @@ std::vector<T> splat_weights(const GridGeometry& geometry, const std::vector<Eig
 // Central differences in one plane of nodes (zero beyond the grid) times
 // factor: fx, fy the x and y components in the plane, fz_below and fz_above
 // the z components in the planes below and above (null beyond the grid).
-void divergence_plane(const Eigen::Vector3i& d, double factor, const double* fx, const double* fy,
-                      const double* fz_below, const double* fz_above, double* out) {
+void divergence_plane(const Eigen::Vector3i& d,
+                      double factor,
+                      const double* fx,
+                      const double* fy,
+                      const double* fz_below,
+                      const double* fz_above,
+                      double* out) {
   for (int j = 0; j < d.y(); ++j) {
     for (int i = 0; i < d.x(); ++i) {
       const std::int64_t q = std::int64_t{j} * d.x() + i;
@@ -116,7 +123,8 @@ struct CoarseDirections {
 
 }  // namespace
 
-VectorGrid splat_normals(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+VectorGrid splat_normals(const GridGeometry& geometry,
+                         const std::vector<Eigen::Vector3f>& points,
                          const std::vector<Eigen::Vector3f>& normals,
                          const std::vector<float>& weights) {
   VectorGrid field{geometry, {}};
@@ -143,7 +151,8 @@ void box_filter(VectorGrid& field, int passes) {
   for (auto& c : field.components) box_filter(field.geometry, c, passes);
 }
 
-std::vector<double> splat_density(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+std::vector<double> splat_density(const GridGeometry& geometry,
+                                  const std::vector<Eigen::Vector3f>& points,
                                   const std::vector<float>& weights) {
   return splat_weights<double>(geometry, points, weights);
 }
@@ -162,9 +171,11 @@ void use_density_magnitude(VectorGrid& field, const std::vector<double>& density
 
 namespace {
 
-CoarseDirections coarse_directions(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+CoarseDirections coarse_directions(const GridGeometry& geometry,
+                                   const std::vector<Eigen::Vector3f>& points,
                                    const std::vector<Eigen::Vector3f>& normals,
-                                   const std::vector<float>& weights, int direction_passes) {
+                                   const std::vector<float>& weights,
+                                   int direction_passes) {
   CoarseDirections c{geometry.coarsened(), {}, {}};
   c.directions = splat_normals(c.coarse, points, normals, weights);
   box_filter(c.directions, direction_passes / 4);
@@ -177,7 +188,8 @@ CoarseDirections coarse_directions(const GridGeometry& geometry, const std::vect
 // trilinear from node_field(i, j, k), its value at the 8 nodes around each
 // sample (zero beyond the grid).
 template <typename NodeField>
-double mean_norm_at_samples(const GridGeometry& g, const std::vector<Eigen::Vector3f>& points,
+double mean_norm_at_samples(const GridGeometry& g,
+                            const std::vector<Eigen::Vector3f>& points,
                             const NodeField& node_field) {
   double sum = 0.0;
   std::size_t count = 0;
@@ -203,9 +215,11 @@ double normalization_scale(const GridGeometry& g, double mean, int filter_passes
 
 }  // namespace
 
-VectorGrid density_scaled_field(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+VectorGrid density_scaled_field(const GridGeometry& geometry,
+                                const std::vector<Eigen::Vector3f>& points,
                                 const std::vector<Eigen::Vector3f>& normals,
-                                const std::vector<float>& weights, int density_passes,
+                                const std::vector<float>& weights,
+                                int density_passes,
                                 int direction_passes) {
   std::vector<double> density = splat_density(geometry, points, weights);
   box_filter(geometry, density, density_passes);
@@ -232,8 +246,7 @@ VectorGrid density_scaled_field(const GridGeometry& geometry, const std::vector<
   return field;
 }
 
-void normalize_field(VectorGrid& field, const std::vector<Eigen::Vector3f>& points,
-                     int filter_passes) {
+void normalize_field(VectorGrid& field, const std::vector<Eigen::Vector3f>& points, int filter_passes) {
   const GridGeometry& g = field.geometry;
   const auto node_field = [&](int i, int j, int k) {
     const std::int64_t n = g.index(i, j, k);
@@ -258,20 +271,21 @@ ScalarGrid divergence(const VectorGrid& field) {
 #pragma omp parallel for schedule(static)
   for (int k = 0; k < d.z(); ++k) {
     const std::int64_t at = k * plane;
-    divergence_plane(d, inv2h, c[0].data() + at, c[1].data() + at,
-                    k > 0 ? c[2].data() + at - plane : nullptr,
-                    k < d.z() - 1 ? c[2].data() + at + plane : nullptr, div.values.data() + at);
+    divergence_plane(d, inv2h, c[0].data() + at, c[1].data() + at, k > 0 ? c[2].data() + at - plane : nullptr,
+                     k < d.z() - 1 ? c[2].data() + at + plane : nullptr, div.values.data() + at);
   }
   return div;
 }
 
-ScalarGrid density_scaled_rhs(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+ScalarGrid density_scaled_rhs(const GridGeometry& geometry,
+                              const std::vector<Eigen::Vector3f>& points,
                               const std::vector<Eigen::Vector3f>& normals,
-                              const std::vector<float>& weights, int density_passes,
-                              int direction_passes, int filter_passes) {
+                              const std::vector<float>& weights,
+                              int density_passes,
+                              int direction_passes,
+                              int filter_passes) {
   if (direction_passes % 4 != 0 || !geometry.can_coarsen(3)) {
-    VectorGrid field = density_scaled_field(geometry, points, normals, weights, density_passes,
-                                            direction_passes);
+    VectorGrid field = density_scaled_field(geometry, points, normals, weights, density_passes, direction_passes);
     normalize_field(field, points, filter_passes);
     ScalarGrid rhs = divergence(field);
     for (double& v : rhs.values) v = -v;
@@ -289,8 +303,7 @@ ScalarGrid density_scaled_rhs(const GridGeometry& geometry, const std::vector<Ei
   const auto node_field = [&](int i, int j, int k) {
     return dirs.field_at(geometry.position(i, j, k), density[geometry.index(i, j, k)]);
   };
-  const double scale =
-      normalization_scale(geometry, mean_norm_at_samples(geometry, points, node_field), filter_passes);
+  const double scale = normalization_scale(geometry, mean_norm_at_samples(geometry, points, node_field), filter_passes);
 
   // -div of the scaled F, the scale and the sign folded into the difference
   // factor (divergence is linear).
@@ -331,10 +344,8 @@ ScalarGrid density_scaled_rhs(const GridGeometry& geometry, const std::vector<Ei
       fill(k_begin);
       for (int k = k_begin; k < k_end; ++k) {
         if (k + 1 < d.z()) fill(k + 1);
-        divergence_plane(d, factor, slot(k)[0].data(), slot(k)[1].data(),
-                        k > 0 ? slot(k - 1)[2].data() : nullptr,
-                        k + 1 < d.z() ? slot(k + 1)[2].data() : nullptr,
-                        rhs.values.data() + k * plane);
+        divergence_plane(d, factor, slot(k)[0].data(), slot(k)[1].data(), k > 0 ? slot(k - 1)[2].data() : nullptr,
+                         k + 1 < d.z() ? slot(k + 1)[2].data() : nullptr, rhs.values.data() + k * plane);
       }
     }
   }

@@ -17,7 +17,8 @@ struct VectorGrid {
 };
 
 // Splats normals (weighted by weights, if not empty) onto the grid.
-VectorGrid splat_normals(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+VectorGrid splat_normals(const GridGeometry& geometry,
+                         const std::vector<Eigen::Vector3f>& points,
                          const std::vector<Eigen::Vector3f>& normals,
                          const std::vector<float>& weights);
 
@@ -36,13 +37,16 @@ void use_density_magnitude(VectorGrid& field, const std::vector<double>& density
 // the same width at 1/32 of the work), then interpolated to the nodes where
 // the density is not zero. Falls back to the fine grid when direction_passes
 // is not a multiple of 4 or the grid cannot be coarsened.
-VectorGrid density_scaled_field(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+VectorGrid density_scaled_field(const GridGeometry& geometry,
+                                const std::vector<Eigen::Vector3f>& points,
                                 const std::vector<Eigen::Vector3f>& normals,
-                                const std::vector<float>& weights, int density_passes,
+                                const std::vector<float>& weights,
+                                int density_passes,
                                 int direction_passes);
 
 // Splats the weights (1 per point if empty) as a scalar density.
-std::vector<double> splat_density(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+std::vector<double> splat_density(const GridGeometry& geometry,
+                                  const std::vector<Eigen::Vector3f>& points,
                                   const std::vector<float>& weights);
 
 // Applies the 3-tap box filter [1 1 1]/3 along x, y and z, passes times.
@@ -52,8 +56,7 @@ void box_filter(const GridGeometry& geometry, std::vector<T>& values, int passes
 
 // Scales F so that integrating it across the surface gives a jump of about
 // one in f: mean |F| at the samples times the filter's width becomes 1.
-void normalize_field(VectorGrid& field, const std::vector<Eigen::Vector3f>& points,
-                     int filter_passes);
+void normalize_field(VectorGrid& field, const std::vector<Eigen::Vector3f>& points, int filter_passes);
 
 // Divergence by central differences (zero beyond the grid).
 ScalarGrid divergence(const VectorGrid& field);
@@ -64,9 +67,12 @@ ScalarGrid divergence(const VectorGrid& field);
 // from the fine density and the coarse directions, so the fine density and the
 // result are its only grid-sized arrays (the materialised field is 3 more);
 // otherwise it materialises F.
-ScalarGrid density_scaled_rhs(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points,
+ScalarGrid density_scaled_rhs(const GridGeometry& geometry,
+                              const std::vector<Eigen::Vector3f>& points,
                               const std::vector<Eigen::Vector3f>& normals,
-                              const std::vector<float>& weights, int density_passes,
-                              int direction_passes, int filter_passes);
+                              const std::vector<float>& weights,
+                              int density_passes,
+                              int direction_passes,
+                              int filter_passes);
 
 }  // namespace hos::recon

@@ -48,21 +48,21 @@ struct Lighting {
 };
 
 struct RenderOptions {
-  int supersampling = 2;            // samples per pixel per axis (1 = none)
+  int supersampling = 2;  // samples per pixel per axis (1 = none)
   Lighting lighting;
   Eigen::Vector3f background = Eigen::Vector3f::Zero();  // linear RGB
-  bool cull_back_faces = false;     // closed meshes look the same either way
+  bool cull_back_faces = false;                          // closed meshes look the same either way
   // Multiplies the final colour (e.g. 1.3 for a "30% brighter" photo).
   float exposure_gain = 1.0f;
 };
 
 // All images are camera.height x camera.width.
 struct RenderedView {
-  cv::Mat color;    // CV_8UC3, BGR, sRGB-encoded 8 bit
-  cv::Mat depth;    // CV_32F, camera-frame z of the nearest surface, 0 where empty
-  cv::Mat mask;     // CV_8U, 255 where any surface covers the pixel centre
-  cv::Mat normal;   // CV_32FC3, world-frame unit normal (x, y, z), 0 where empty
-  cv::Mat face_id;  // CV_32S, index into the concatenated faces of all objects, -1 where empty
+  cv::Mat color;      // CV_8UC3, BGR, sRGB-encoded 8 bit
+  cv::Mat depth;      // CV_32F, camera-frame z of the nearest surface, 0 where empty
+  cv::Mat mask;       // CV_8U, 255 where any surface covers the pixel centre
+  cv::Mat normal;     // CV_32FC3, world-frame unit normal (x, y, z), 0 where empty
+  cv::Mat face_id;    // CV_32S, index into the concatenated faces of all objects, -1 where empty
   cv::Mat object_id;  // CV_32S, index of the object, -1 where empty
 };
 
@@ -71,7 +71,9 @@ struct RenderedView {
 // only for pinhole models; distorted models are rendered as their pinhole part.
 // Faces with a non-finite vertex are skipped. Results do not depend on the
 // number of OpenMP threads.
-RenderedView render_view(const std::vector<RenderObject>& objects, const Camera& camera,
-                         const ImageRecord& pose, const RenderOptions& options = {});
+RenderedView render_view(const std::vector<RenderObject>& objects,
+                         const Camera& camera,
+                         const ImageRecord& pose,
+                         const RenderOptions& options = {});
 
 }  // namespace hos::render

@@ -3,13 +3,13 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 #include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/atomic_file.h"
 #include "core/colmap_io.h"
@@ -22,8 +22,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-ImageRecord look_at(int id, const Eigen::Vector3d& centre, const Eigen::Vector3d& target,
-                    const Eigen::Vector3d& up) {
+ImageRecord look_at(int id, const Eigen::Vector3d& centre, const Eigen::Vector3d& target, const Eigen::Vector3d& up) {
   const Eigen::Vector3d z = (target - centre).normalized();
   const Eigen::Vector3d x = (-up).cross(z).normalized();  // -up is the camera's y (down)
   const Eigen::Vector3d y = z.cross(x);
@@ -45,8 +44,8 @@ Eigen::Vector3d ring_position(const Scene& scene, double distance, double elevat
   // Two horizontal axes orthogonal to up.
   const Eigen::Vector3d a = up.unitOrthogonal();
   const Eigen::Vector3d b = up.cross(a);
-  const Eigen::Vector3d dir = std::cos(elevation) * (std::cos(azimuth) * a + std::sin(azimuth) * b) +
-                              std::sin(elevation) * up;
+  const Eigen::Vector3d dir =
+      std::cos(elevation) * (std::cos(azimuth) * a + std::sin(azimuth) * b) + std::sin(elevation) * up;
   return scene.centre.cast<double>() + distance * dir;
 }
 
@@ -63,7 +62,8 @@ double fit_distance(const Scene& scene, const ImageRecord& at_centre, const Came
     if (scene.is_ground[o]) continue;
     for (const Eigen::Vector3f& v : scene.objects[o].mesh.vertices) {
       const Eigen::Vector3d x = at_centre.cam_from_world(v.cast<double>());
-      d = std::max({d, std::abs(x.x()) * camera.focal_x() / hw - x.z(), std::abs(x.y()) * camera.focal_y() / hh - x.z()});
+      d = std::max(
+          {d, std::abs(x.x()) * camera.focal_x() / hw - x.z(), std::abs(x.y()) * camera.focal_y() / hh - x.z()});
     }
   }
   // Never inside the bounding sphere.
@@ -97,8 +97,9 @@ struct SurfaceSampler {
   Eigen::Vector3d sample(std::mt19937& rng) const {
     std::uniform_real_distribution<double> u(0.0, 1.0);
     const double r = u(rng) * cumulative.back();
-    const std::size_t i = std::min(faces.size() - 1, static_cast<std::size_t>(
-        std::lower_bound(cumulative.begin(), cumulative.end(), r) - cumulative.begin()));
+    const std::size_t i = std::min(
+        faces.size() - 1,
+        static_cast<std::size_t>(std::lower_bound(cumulative.begin(), cumulative.end(), r) - cumulative.begin()));
     const TriangleMesh& m = scene.objects[faces[i].first].mesh;
     const Eigen::Vector3i& F = m.faces[faces[i].second];
     double s = u(rng), t = u(rng);
@@ -108,7 +109,9 @@ struct SurfaceSampler {
   }
 };
 
-void add_sparse_points(const Scene& scene, const std::vector<render::RenderedView>& views, int target,
+void add_sparse_points(const Scene& scene,
+                       const std::vector<render::RenderedView>& views,
+                       int target,
                        SparseModel& model) {
   if (scene.objects.empty() || target <= 0) return;
   SurfaceSampler sampler(scene);
@@ -133,7 +136,7 @@ void add_sparse_points(const Scene& scene, const std::vector<render::RenderedVie
     point.id = next_id++;
     point.xyz = X;
     const cv::Vec3b c = views[seen[0].first].color.at<cv::Vec3b>(static_cast<int>(seen[0].second.y()),
-                                                                  static_cast<int>(seen[0].second.x()));
+                                                                 static_cast<int>(seen[0].second.x()));
     point.color = {c[2], c[1], c[0]};
     for (const auto& [k, xy] : seen) {
       ImageRecord& image = *images[k];
@@ -164,7 +167,9 @@ cv::Mat encode_normal_map(const cv::Mat& normals) {
     for (int x = 0; x < normals.cols; ++x) {
       const cv::Vec3f n = normals.at<cv::Vec3f>(y, x);
       if (n == cv::Vec3f(0, 0, 0)) continue;
-      auto q = [](float v) { return static_cast<std::uint16_t>(std::lround((std::clamp(v, -1.0f, 1.0f) + 1.0f) * 0.5f * 65535.0f)); };
+      auto q = [](float v) {
+        return static_cast<std::uint16_t>(std::lround((std::clamp(v, -1.0f, 1.0f) + 1.0f) * 0.5f * 65535.0f));
+      };
       out.at<cv::Vec3w>(y, x) = cv::Vec3w(q(n[2]), q(n[1]), q(n[0]));  // BGR order: the file's RGB is xyz
     }
   return out;
@@ -296,8 +301,11 @@ RenderedDataset render_dataset(const Scene& scene, const DatasetOptions& o, Repo
   return data;
 }
 
-void write_dataset(const fs::path& folder, const Scene& scene, const SceneOptions& scene_options,
-                   const DatasetOptions& o, Reporter& reporter) {
+void write_dataset(const fs::path& folder,
+                   const Scene& scene,
+                   const SceneOptions& scene_options,
+                   const DatasetOptions& o,
+                   Reporter& reporter) {
   // The folder is replaced as a whole: never delete a folder hos-synth did not write.
   if (fs::exists(folder) && !(fs::is_directory(folder) && (fs::is_empty(folder) || fs::exists(folder / "scene.json"))))
     throw OutputError(folder.string(), "exists and is not a hos-synth output; refusing to replace it");
@@ -343,28 +351,27 @@ void write_dataset(const fs::path& folder, const Scene& scene, const SceneOption
                          {"bbox_max", vec_json(b.max)}});
     }
     const render::Lighting lighting;
-    const nlohmann::json json = {
-        {"seed", scene_options.seed},
-        {"scene", scene_options.name},
-        {"ground_plane", scene_options.ground_plane},
-        {"objects", objects},
-        {"bbox_min", vec_json(box.min)},
-        {"bbox_max", vec_json(box.max)},
-        {"diagonal", box.diagonal()},
-        {"centre", vec_json(scene.centre)},
-        {"radius", scene.radius},
-        {"up", vec_json(scene.up)},
-        {"light_direction", vec_json(lighting.direction_to_light.normalized())},
-        {"ambient", lighting.ambient},
-        {"diffuse", lighting.diffuse},
-        {"views", o.num_views},
-        {"holdout", o.holdout},
-        {"width", o.width},
-        {"height", o.height},
-        {"focal", focal_of(o)},
-        {"supersampling", o.supersampling},
-        {"exposure_gains", o.exposure_gains},
-        {"sparse_points", data.model.points.size()}};
+    const nlohmann::json json = {{"seed", scene_options.seed},
+                                 {"scene", scene_options.name},
+                                 {"ground_plane", scene_options.ground_plane},
+                                 {"objects", objects},
+                                 {"bbox_min", vec_json(box.min)},
+                                 {"bbox_max", vec_json(box.max)},
+                                 {"diagonal", box.diagonal()},
+                                 {"centre", vec_json(scene.centre)},
+                                 {"radius", scene.radius},
+                                 {"up", vec_json(scene.up)},
+                                 {"light_direction", vec_json(lighting.direction_to_light.normalized())},
+                                 {"ambient", lighting.ambient},
+                                 {"diffuse", lighting.diffuse},
+                                 {"views", o.num_views},
+                                 {"holdout", o.holdout},
+                                 {"width", o.width},
+                                 {"height", o.height},
+                                 {"focal", focal_of(o)},
+                                 {"supersampling", o.supersampling},
+                                 {"exposure_gains", o.exposure_gains},
+                                 {"sparse_points", data.model.points.size()}};
     std::ofstream out(tmp / "scene.json");
     out << json.dump(2) << "\n";
     if (!out) throw OutputError((folder / "scene.json").string(), "could not write");

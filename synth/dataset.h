@@ -41,8 +41,8 @@ struct DatasetOptions {
   int num_views = 24;
   int width = 640;
   int height = 480;
-  int rings = 2;          // elevation rings the views are spread over
-  double focal = 0.0;     // pixels; 0 = 0.9 * width
+  int rings = 2;       // elevation rings the views are spread over
+  double focal = 0.0;  // pixels; 0 = 0.9 * width
   bool jpeg = false;
   bool write_depth = false;
   bool write_normals = false;
@@ -55,8 +55,8 @@ struct DatasetOptions {
 };
 
 struct RenderedDataset {
-  SparseModel model;             // cameras, poses, ground-truth sparse points
-  SparseModel holdout;           // held-out views (no points)
+  SparseModel model;    // cameras, poses, ground-truth sparse points
+  SparseModel holdout;  // held-out views (no points)
   std::vector<render::RenderedView> views;
   std::vector<render::RenderedView> holdout_views;
 };
@@ -64,12 +64,14 @@ struct RenderedDataset {
 // The camera poses: rings around the scene centre, looking at it, objects in frame.
 SparseModel make_cameras(const Scene& scene, const DatasetOptions& options);
 
-RenderedDataset render_dataset(const Scene& scene, const DatasetOptions& options,
-                               Reporter& reporter = null_reporter());
+RenderedDataset render_dataset(const Scene& scene, const DatasetOptions& options, Reporter& reporter = null_reporter());
 
 // Renders and writes the layout above. Throws OutputError.
-void write_dataset(const std::filesystem::path& folder, const Scene& scene, const SceneOptions& scene_options,
-                   const DatasetOptions& options, Reporter& reporter = null_reporter());
+void write_dataset(const std::filesystem::path& folder,
+                   const Scene& scene,
+                   const SceneOptions& scene_options,
+                   const DatasetOptions& options,
+                   Reporter& reporter = null_reporter());
 
 // 16-bit normal map as written under normals/ and back (CV_32FC3 x, y, z;
 // 0 where empty).

@@ -25,9 +25,9 @@ struct SceneOptions {
 };
 
 struct Scene {
-  std::vector<render::RenderObject> objects;  // procedural materials, vertex colours = albedo
-  std::vector<bool> is_ground;        // per object
-  std::vector<std::string> names;     // per object
+  std::vector<render::RenderObject> objects;         // procedural materials, vertex colours = albedo
+  std::vector<bool> is_ground;                       // per object
+  std::vector<std::string> names;                    // per object
   Eigen::Vector3f centre = Eigen::Vector3f::Zero();  // of the non-ground objects
   float radius = 1.0f;                               // bounding sphere of the non-ground objects
   Eigen::Vector3f up = Eigen::Vector3f(0, -1, 0);

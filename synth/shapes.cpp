@@ -10,12 +10,12 @@ namespace hos::synth {
 TriangleMesh icosphere(int subdivisions, float radius, const Eigen::Vector3f& centre) {
   TriangleMesh m;
   const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
-  m.vertices = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  m.vertices = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
   for (auto& v : m.vertices) v.normalize();
-  m.faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+  m.faces = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
              {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-             {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+             {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
   for (int s = 0; s < subdivisions; ++s) {
     std::map<std::pair<int, int>, int> mid;
     auto midpoint = [&](int a, int b) {
@@ -46,8 +46,7 @@ TriangleMesh icosphere(int subdivisions, float radius, const Eigen::Vector3f& ce
 
 namespace {
 
-void add(PointCloud& c, const Eigen::Vector3d& p, const Eigen::Vector3d& n, double noise,
-         std::mt19937& rng) {
+void add(PointCloud& c, const Eigen::Vector3d& p, const Eigen::Vector3d& n, double noise, std::mt19937& rng) {
   std::normal_distribution<double> g(0.0, noise);
   c.positions.push_back((p + (noise > 0 ? g(rng) : 0.0) * n).cast<float>());
   c.normals.push_back(n.cast<float>());

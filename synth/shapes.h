@@ -12,8 +12,7 @@ namespace hos::synth {
 // Icosahedron subdivided `subdivisions` times (20 * 4^subdivisions faces),
 // vertices on the sphere of the given radius and centre, faces
 // counter-clockwise seen from outside.
-TriangleMesh icosphere(int subdivisions, float radius = 1.0f,
-                       const Eigen::Vector3f& centre = Eigen::Vector3f::Zero());
+TriangleMesh icosphere(int subdivisions, float radius = 1.0f, const Eigen::Vector3f& centre = Eigen::Vector3f::Zero());
 
 // n points on the surfaces below, with Gaussian noise of standard deviation
 // `noise` along the normal; exact outward normals.

@@ -28,8 +28,7 @@ struct Rect {
 // Shelf packing of rectangles (sorted by height) into pages of the given
 // size. Returns the page of every rectangle (positions written to rects);
 // throws std::invalid_argument if one rectangle is larger than a page.
-std::vector<int> pack_shelves(std::vector<Rect>& rects, int page_width, int page_height,
-                              int* num_pages);
+std::vector<int> pack_shelves(std::vector<Rect>& rects, int page_width, int page_height, int* num_pages);
 
 // A flat-coloured patch for a face that no view sees.
 struct FlatFace {
@@ -52,10 +51,15 @@ struct Atlas {
 // seam edge are mixed with the neighbouring chart's view (and offsets) at the
 // same surface point: half-and-half on the seam, fading out with distance;
 // only if that view is among the face's candidates (visible, consistent).
-Atlas build_atlas(const TriangleMesh& mesh, const MeshTopology& topology,
-                  const FaceViewCandidates& candidates, const std::vector<Chart>& charts,
-                  const std::vector<TextureView>& views, const std::vector<Eigen::Vector3f>& gains,
-                  const SeamLeveling& leveling, const std::vector<FlatFace>& flat_faces,
-                  const TextureOptions& options, Reporter& reporter);
+Atlas build_atlas(const TriangleMesh& mesh,
+                  const MeshTopology& topology,
+                  const FaceViewCandidates& candidates,
+                  const std::vector<Chart>& charts,
+                  const std::vector<TextureView>& views,
+                  const std::vector<Eigen::Vector3f>& gains,
+                  const SeamLeveling& leveling,
+                  const std::vector<FlatFace>& flat_faces,
+                  const TextureOptions& options,
+                  Reporter& reporter);
 
 }  // namespace hos::texture

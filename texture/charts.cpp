@@ -4,7 +4,8 @@
 
 namespace hos::texture {
 
-std::vector<Chart> build_charts(const TriangleMesh& mesh, const MeshTopology& topology,
+std::vector<Chart> build_charts(const TriangleMesh& mesh,
+                                const MeshTopology& topology,
                                 const std::vector<int>& labels) {
   const int num_faces = static_cast<int>(mesh.faces.size());
   std::vector<int> chart_of(num_faces, -1);

@@ -19,7 +19,6 @@ struct Chart {
 };
 
 // Faces with label -1 (unseen) belong to no chart.
-std::vector<Chart> build_charts(const TriangleMesh& mesh, const MeshTopology& topology,
-                                const std::vector<int>& labels);
+std::vector<Chart> build_charts(const TriangleMesh& mesh, const MeshTopology& topology, const std::vector<int>& labels);
 
 }  // namespace hos::texture

@@ -7,8 +7,7 @@
 
 namespace hos::texture {
 
-TriangleMesh decimate_mesh(const TriangleMesh& mesh, std::size_t max_faces,
-                           DecimationStats* stats) {
+TriangleMesh decimate_mesh(const TriangleMesh& mesh, std::size_t max_faces, DecimationStats* stats) {
   DecimationStats local;
   local.faces_before = mesh.faces.size();
   if (mesh.faces.size() <= max_faces) {
@@ -26,9 +25,9 @@ TriangleMesh decimate_mesh(const TriangleMesh& mesh, std::size_t max_faces,
   for (const auto& v : mesh.vertices) positions.insert(positions.end(), {v.x(), v.y(), v.z()});
   std::vector<std::uint32_t> simplified(indices.size());
   // A large target error lets the face budget decide.
-  const std::size_t count = meshopt_simplify(
-      simplified.data(), indices.data(), indices.size(), positions.data(), mesh.vertices.size(),
-      3 * sizeof(float), 3 * max_faces, 1.0f, 0, &local.relative_error);
+  const std::size_t count =
+      meshopt_simplify(simplified.data(), indices.data(), indices.size(), positions.data(), mesh.vertices.size(),
+                       3 * sizeof(float), 3 * max_faces, 1.0f, 0, &local.relative_error);
   simplified.resize(count);
 
   TriangleMesh out;

@@ -15,7 +15,6 @@ struct DecimationStats {
 
 // Returns the mesh unchanged if it has at most max_faces faces. Vertex
 // colours and normals are carried over for the vertices that remain.
-TriangleMesh decimate_mesh(const TriangleMesh& mesh, std::size_t max_faces,
-                           DecimationStats* stats = nullptr);
+TriangleMesh decimate_mesh(const TriangleMesh& mesh, std::size_t max_faces, DecimationStats* stats = nullptr);
 
 }  // namespace hos::texture

@@ -28,7 +28,9 @@ struct PriorResidual {
 };
 
 // Log-gains of one colour channel (k = 0, 1, 2).
-std::vector<double> channel_log_gains(const FaceViewCandidates& candidates, int num_views, int k,
+std::vector<double> channel_log_gains(const FaceViewCandidates& candidates,
+                                      int num_views,
+                                      int k,
                                       std::vector<int>& pairs_per_view) {
   std::vector<double> log_gain(num_views, 0.0);
   ceres::Problem problem;
@@ -45,18 +47,17 @@ std::vector<double> channel_log_gains(const FaceViewCandidates& candidates, int 
       const float cu = s.mean_rgb[k], cv = t.mean_rgb[k];
       // Dark or saturated faces say little about the gain.
       if (cu < 8.0f || cv < 8.0f || cu > 250.0f || cv > 250.0f) continue;
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LogRatioResidual, 1, 1, 1>(
-                                   new LogRatioResidual{std::log(cu) - std::log(cv)}),
-                               new ceres::CauchyLoss(0.05), &log_gain[s.view], &log_gain[t.view]);
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<LogRatioResidual, 1, 1, 1>(new LogRatioResidual{std::log(cu) - std::log(cv)}),
+          new ceres::CauchyLoss(0.05), &log_gain[s.view], &log_gain[t.view]);
       ++pairs_per_view[s.view];
       ++pairs_per_view[t.view];
     }
   }
   // A weak prior pins the free overall scale (and views without overlap).
   for (int v = 0; v < num_views; ++v) {
-    problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<PriorResidual, 1, 1>(new PriorResidual{1e-2}), nullptr,
-        &log_gain[v]);
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PriorResidual, 1, 1>(new PriorResidual{1e-2}), nullptr,
+                             &log_gain[v]);
   }
   ceres::Solver::Options solver_options;
   solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
@@ -81,7 +82,8 @@ std::vector<double> channel_log_gains(const FaceViewCandidates& candidates, int 
 }  // namespace
 
 std::vector<Eigen::Vector3f> estimate_exposure_gains(const FaceViewCandidates& candidates,
-                                                     int num_views, Reporter& reporter) {
+                                                     int num_views,
+                                                     Reporter& reporter) {
   std::vector<Eigen::Vector3f> gains(num_views, Eigen::Vector3f::Ones());
   if (num_views < 2) return gains;
   reporter.begin("exposure gains", 3);
@@ -96,8 +98,7 @@ std::vector<Eigen::Vector3f> estimate_exposure_gains(const FaceViewCandidates& c
   return gains;
 }
 
-void apply_exposure_gains(const std::vector<Eigen::Vector3f>& gains,
-                          FaceViewCandidates& candidates) {
+void apply_exposure_gains(const std::vector<Eigen::Vector3f>& gains, FaceViewCandidates& candidates) {
   for (auto& s : candidates.samples) s.mean_rgb = s.mean_rgb.cwiseProduct(gains[s.view]);
 }
 

@@ -17,10 +17,10 @@ namespace hos::texture {
 // rho(log(C_fuk) + log(g_uk) - log(C_fvk) - log(g_vk)) with a Cauchy loss rho
 // (Ceres), C the face's mean colour in the view.
 std::vector<Eigen::Vector3f> estimate_exposure_gains(const FaceViewCandidates& candidates,
-                                                     int num_views, Reporter& reporter);
+                                                     int num_views,
+                                                     Reporter& reporter);
 
 // Multiplies every candidate's mean colour by its view's gain.
-void apply_exposure_gains(const std::vector<Eigen::Vector3f>& gains,
-                          FaceViewCandidates& candidates);
+void apply_exposure_gains(const std::vector<Eigen::Vector3f>& gains, FaceViewCandidates& candidates);
 
 }  // namespace hos::texture

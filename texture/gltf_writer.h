@@ -20,7 +20,6 @@ struct GltfWriteOptions {
 
 // Writes atomically. Throws OutputError if the file cannot be written or an
 // image cannot be encoded; std::invalid_argument for an inconsistent mesh.
-void write_glb(const std::filesystem::path& path, const TexturedMesh& mesh,
-               const GltfWriteOptions& options = {});
+void write_glb(const std::filesystem::path& path, const TexturedMesh& mesh, const GltfWriteOptions& options = {});
 
 }  // namespace hos::texture

@@ -15,8 +15,8 @@ MeshTopology build_topology(const TriangleMesh& mesh) {
   t.vertex_normals.assign(num_vertices, Eigen::Vector3f::Zero());
   for (int f = 0; f < num_faces; ++f) {
     const auto& face = mesh.faces[f];
-    const Eigen::Vector3f n = (mesh.vertices[face[1]] - mesh.vertices[face[0]])
-                                  .cross(mesh.vertices[face[2]] - mesh.vertices[face[0]]);
+    const Eigen::Vector3f n =
+        (mesh.vertices[face[1]] - mesh.vertices[face[0]]).cross(mesh.vertices[face[2]] - mesh.vertices[face[0]]);
     const float len = n.norm();
     t.face_areas[f] = 0.5f * len;
     t.face_normals[f] = len > 0.0f ? Eigen::Vector3f(n / len) : Eigen::Vector3f::Zero();
@@ -57,9 +57,8 @@ MeshTopology build_topology(const TriangleMesh& mesh) {
       edges.push_back({key, f, c});
     }
   }
-  std::sort(edges.begin(), edges.end(), [](const EdgeRecord& x, const EdgeRecord& y) {
-    return x.key != y.key ? x.key < y.key : x.face < y.face;
-  });
+  std::sort(edges.begin(), edges.end(),
+            [](const EdgeRecord& x, const EdgeRecord& y) { return x.key != y.key ? x.key < y.key : x.face < y.face; });
   t.face_neighbors.assign(num_faces, {-1, -1, -1});
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i;

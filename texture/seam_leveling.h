@@ -33,8 +33,11 @@ struct SeamLeveling {
 // gains: per-view RGB exposure gains applied to the views' colours. With
 // options.global_leveling false, offsets are zero (the colours are still
 // returned).
-SeamLeveling level_seams(const TriangleMesh& mesh, const std::vector<Chart>& charts,
-                         const std::vector<TextureView>& views, const std::vector<Eigen::Vector3f>& gains,
-                         const TextureOptions& options, Reporter& reporter);
+SeamLeveling level_seams(const TriangleMesh& mesh,
+                         const std::vector<Chart>& charts,
+                         const std::vector<TextureView>& views,
+                         const std::vector<Eigen::Vector3f>& gains,
+                         const TextureOptions& options,
+                         Reporter& reporter);
 
 }  // namespace hos::texture

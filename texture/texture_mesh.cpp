@@ -34,7 +34,8 @@ class StepTimer {
 
 // Colours of unseen faces: vertex colours of textured charts, diffused over
 // mesh edges into the unseen region ring by ring.
-std::vector<FlatFace> colour_unseen_faces(const TriangleMesh& mesh, const MeshTopology& topology,
+std::vector<FlatFace> colour_unseen_faces(const TriangleMesh& mesh,
+                                          const MeshTopology& topology,
                                           const std::vector<int>& labels,
                                           const std::vector<Chart>& charts,
                                           const SeamLeveling& leveling) {
@@ -103,8 +104,7 @@ std::vector<FlatFace> colour_unseen_faces(const TriangleMesh& mesh, const MeshTo
       }
     }
     // A component no view sees at all: neutral grey rather than black.
-    face.rgb = n > 0 ? Eigen::Vector3f(face.rgb / static_cast<float>(n))
-                     : Eigen::Vector3f::Constant(128.0f);
+    face.rgb = n > 0 ? Eigen::Vector3f(face.rgb / static_cast<float>(n)) : Eigen::Vector3f::Constant(128.0f);
     flat.push_back(face);
   }
   return flat;
@@ -123,14 +123,15 @@ Eigen::Matrix4d root_matrix_for(const std::vector<TextureView>& views, const Tex
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
   if (options.up_axis == "cameras" && !views.empty()) {
     const Eigen::Vector3d up = estimate_up_direction(views);
-    m.topLeftCorner<3, 3>() =
-        Eigen::Quaterniond::FromTwoVectors(up, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    m.topLeftCorner<3, 3>() = Eigen::Quaterniond::FromTwoVectors(up, Eigen::Vector3d::UnitY()).toRotationMatrix();
   }
   return m;
 }
 
-TextureResult texture_mesh(const TriangleMesh& input_mesh, const std::vector<TextureView>& views,
-                           const TextureOptions& options, Reporter& reporter) {
+TextureResult texture_mesh(const TriangleMesh& input_mesh,
+                           const std::vector<TextureView>& views,
+                           const TextureOptions& options,
+                           Reporter& reporter) {
   options.validate();
   TextureResult result;
   TextureStats& stats = result.stats;
@@ -144,8 +145,7 @@ TextureResult texture_mesh(const TriangleMesh& input_mesh, const std::vector<Tex
     for (int c = 0; c < 3; ++c) {
       const int v = input_mesh.faces[f][c];
       if (v < 0 || v >= num_vertices) {
-        throw StageError("texture", format_message("mesh face ", f, " refers to vertex ", v, " of ",
-                                                   num_vertices));
+        throw StageError("texture", format_message("mesh face ", f, " refers to vertex ", v, " of ", num_vertices));
       }
     }
   }
@@ -194,8 +194,7 @@ TextureResult texture_mesh(const TriangleMesh& input_mesh, const std::vector<Tex
   stats.mean_seam_jump_after = leveling.mean_seam_jump_after;
   timer.lap("seam leveling");
 
-  const std::vector<FlatFace> flat =
-      colour_unseen_faces(mesh, topology, selection.labels, charts, leveling);
+  const std::vector<FlatFace> flat = colour_unseen_faces(mesh, topology, selection.labels, charts, leveling);
   if (!flat.empty()) {
     reporter.warn(format_message(flat.size(), " of ", mesh.faces.size(),
                                  " faces are seen by no photo; they take their neighbours' colour"));
@@ -238,8 +237,10 @@ TextureResult texture_mesh(const TriangleMesh& input_mesh, const std::vector<Tex
   return result;
 }
 
-TextureResult texture_mesh(const TriangleMesh& mesh, const UndistortedWorkspace& workspace,
-                           const TextureOptions& options, Reporter& reporter) {
+TextureResult texture_mesh(const TriangleMesh& mesh,
+                           const UndistortedWorkspace& workspace,
+                           const TextureOptions& options,
+                           Reporter& reporter) {
   options.validate();
   const std::vector<TextureView> views = load_texture_views(workspace, reporter);
   return texture_mesh(mesh, views, options, reporter);

@@ -25,9 +25,9 @@ struct TextureStats {
   std::size_t input_faces = 0;
   std::size_t faces = 0;  // after decimation
   int num_views = 0;
-  std::int64_t num_candidates = 0;         // (face, view) pairs that pass visibility
-  std::int64_t num_outlier_rejections = 0; // pairs removed by the photo-consistency check
-  int num_unseen_faces = 0;                // coloured from neighbours
+  std::int64_t num_candidates = 0;          // (face, view) pairs that pass visibility
+  std::int64_t num_outlier_rejections = 0;  // pairs removed by the photo-consistency check
+  int num_unseen_faces = 0;                 // coloured from neighbours
   int num_charts = 0;
   int num_atlases = 0;
   std::vector<std::pair<int, int>> atlas_sizes;  // width, height
@@ -35,7 +35,7 @@ struct TextureStats {
   int num_seam_vertices = 0;
   double mean_seam_jump_before = 0.0;  // 8-bit RGB distance at seam vertices
   double mean_seam_jump_after = 0.0;
-  std::vector<Eigen::Vector3f> exposure_gains;  // RGB gain per view, in workspace image order
+  std::vector<Eigen::Vector3f> exposure_gains;              // RGB gain per view, in workspace image order
   Eigen::Vector3d estimated_up = Eigen::Vector3d::UnitY();  // model frame
   // Wall time of each step in seconds, in order.
   std::vector<std::pair<std::string, double>> step_seconds;
@@ -51,11 +51,15 @@ Eigen::Vector3d estimate_up_direction(const std::vector<TextureView>& views);
 // The root matrix for options.up_axis ("cameras": rotates up onto +Y).
 Eigen::Matrix4d root_matrix_for(const std::vector<TextureView>& views, const TextureOptions& options);
 
-TextureResult texture_mesh(const TriangleMesh& mesh, const std::vector<TextureView>& views,
-                           const TextureOptions& options, Reporter& reporter);
+TextureResult texture_mesh(const TriangleMesh& mesh,
+                           const std::vector<TextureView>& views,
+                           const TextureOptions& options,
+                           Reporter& reporter);
 
 // Loads the workspace's photos and textures the mesh.
-TextureResult texture_mesh(const TriangleMesh& mesh, const UndistortedWorkspace& workspace,
-                           const TextureOptions& options, Reporter& reporter);
+TextureResult texture_mesh(const TriangleMesh& mesh,
+                           const UndistortedWorkspace& workspace,
+                           const TextureOptions& options,
+                           Reporter& reporter);
 
 }  // namespace hos::texture

@@ -16,27 +16,21 @@ void TextureOptions::validate() const {
 }
 
 void register_options(OptionSet& set, TextureOptions& o) {
-  set.add("max_faces", o.max_faces, "decimate to at most this many faces first; 0 = keep", 0,
-          2000000000);
+  set.add("max_faces", o.max_faces, "decimate to at most this many faces first; 0 = keep", 0, 2000000000);
   set.add("max_view_angle_deg", o.max_view_angle_deg,
           "largest angle between face normal and viewing ray for a view to count", 1.0, 89.9);
-  set.add("depth_tolerance", o.depth_tolerance, "relative depth tolerance of the occlusion test",
-          0.0, 1.0);
+  set.add("depth_tolerance", o.depth_tolerance, "relative depth tolerance of the occlusion test", 0.0, 1.0);
   set.add("min_projected_area_px", o.min_projected_area_px,
           "ignore views where a face covers fewer pixels (unless no other sees it)", 0.0, 1e6);
-  set.add("smoothness", o.smoothness, "Potts weight of the view-selection smoothness term", 0.0,
-          1000.0);
+  set.add("smoothness", o.smoothness, "Potts weight of the view-selection smoothness term", 0.0, 1000.0);
   set.add("gradient_floor", o.gradient_floor,
-          "added per pixel to the gradient magnitude so flat regions prefer close views", 0.0,
-          1000.0);
+          "added per pixel to the gradient magnitude so flat regions prefer close views", 0.0, 1000.0);
   set.add("expansion_sweeps", o.expansion_sweeps, "alpha-expansion sweeps over all views", 0, 100);
   set.add("outlier_rejection", o.outlier_rejection,
           "drop views whose face colour disagrees with the others (moving objects)");
   set.add("outlier_threshold", o.outlier_threshold,
-          "colour distance (8-bit RGB) from the robust mode beyond which a view is dropped", 1.0,
-          500.0);
-  set.add("outlier_min_views", o.outlier_min_views, "faces seen by fewer views are not checked", 2,
-          1000);
+          "colour distance (8-bit RGB) from the robust mode beyond which a view is dropped", 1.0, 500.0);
+  set.add("outlier_min_views", o.outlier_min_views, "faces seen by fewer views are not checked", 2, 1000);
   set.add("exposure_compensation", o.exposure_compensation,
           "estimate and undo per-image RGB gains (exposure, white balance; robust, Ceres)");
   set.add("global_leveling", o.global_leveling,
@@ -44,14 +38,11 @@ void register_options(OptionSet& set, TextureOptions& o) {
   set.add("leveling_regularization", o.leveling_regularization,
           "lambda: in-patch offset smoothness is weighted 1/lambda (smaller = smoother)", 1e-4, 1e4);
   set.add("local_blending", o.local_blending, "blend the two views' colours along seams");
-  set.add("seam_blend_texels", o.seam_blend_texels, "width of the blending band on each side (texels)",
-          0.0, 64.0);
+  set.add("seam_blend_texels", o.seam_blend_texels, "width of the blending band on each side (texels)", 0.0, 64.0);
   set.add("atlas_size", o.atlas_size, "maximum atlas width and height (pixels)", 64, 16384);
-  set.add("padding", o.padding, "texels around each chart (dilated, against mipmap bleeding)", 0,
-          64);
+  set.add("padding", o.padding, "texels around each chart (dilated, against mipmap bleeding)", 0, 64);
   set.add("texel_scale", o.texel_scale, "atlas texels per source image pixel", 0.01, 4.0);
-  set.add("max_atlases", o.max_atlases, "largest number of atlas images; beyond, texels shrink", 1,
-          1024);
+  set.add("max_atlases", o.max_atlases, "largest number of atlas images; beyond, texels shrink", 1, 1024);
   set.add_choice("image_format", o.image_format, {"png", "jpeg"}, "atlas image encoding");
   set.add("jpeg_quality", o.jpeg_quality, "JPEG quality of the atlases", 1, 100);
   set.add_choice("up_axis", o.up_axis, {"cameras", "none"},

@@ -30,8 +30,7 @@ std::string texture_report_json(const TextureResult& result) {
   j["exposure_gains"] = gains;
   j["estimated_up"] = {s.estimated_up.x(), s.estimated_up.y(), s.estimated_up.z()};
   // Column-major, as in the glTF node.
-  j["root_matrix"] = std::vector<double>(result.mesh.root_matrix.data(),
-                                         result.mesh.root_matrix.data() + 16);
+  j["root_matrix"] = std::vector<double>(result.mesh.root_matrix.data(), result.mesh.root_matrix.data() + 16);
   nlohmann::ordered_json steps;
   for (const auto& [step, seconds] : s.step_seconds) steps[step] = seconds;
   j["step_seconds"] = steps;

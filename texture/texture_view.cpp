@@ -15,8 +15,7 @@ Eigen::Vector3d TextureView::project(const Eigen::Vector3d& x_in_world) const {
           camera.focal_y() * x.y() * inv_z + camera.principal_y(), x.z()};
 }
 
-std::vector<TextureView> load_texture_views(const UndistortedWorkspace& workspace,
-                                            Reporter& reporter) {
+std::vector<TextureView> load_texture_views(const UndistortedWorkspace& workspace, Reporter& reporter) {
   std::vector<TextureView> views;
   reporter.begin("load images", static_cast<std::int64_t>(workspace.model.images.size()));
   for (const auto& [id, image] : workspace.model.images) {
@@ -31,9 +30,8 @@ std::vector<TextureView> load_texture_views(const UndistortedWorkspace& workspac
     if (view.image.empty()) throw InputError(path.string(), "cannot read the image");
     if (view.image.cols != view.camera.width || view.image.rows != view.camera.height) {
       throw InputError(path.string(),
-                       format_message("image is ", view.image.cols, "x", view.image.rows,
-                                      " but its camera is ", view.camera.width, "x",
-                                      view.camera.height));
+                       format_message("image is ", view.image.cols, "x", view.image.rows, " but its camera is ",
+                                      view.camera.width, "x", view.camera.height));
     }
     views.push_back(std::move(view));
     reporter.advance();

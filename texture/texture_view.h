@@ -26,8 +26,7 @@ struct TextureView {
 
 // Loads every registered image of the workspace. Throws InputError for an
 // unreadable image or one whose size differs from its camera's.
-std::vector<TextureView> load_texture_views(const UndistortedWorkspace& workspace,
-                                            Reporter& reporter);
+std::vector<TextureView> load_texture_views(const UndistortedWorkspace& workspace, Reporter& reporter);
 
 // Bilinear sample of a CV_8UC3 (BGR) or CV_32F image at continuous pixel
 // coordinates (COLMAP convention), clamped at the border. Returns RGB.

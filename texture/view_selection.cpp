@@ -108,8 +108,10 @@ void throw_flow_error(const char* message) { throw std::runtime_error(message); 
 
 }  // namespace
 
-ViewSelection select_views(const MeshTopology& topology, const FaceViewCandidates& candidates,
-                           const TextureOptions& options, Reporter& reporter) {
+ViewSelection select_views(const MeshTopology& topology,
+                           const FaceViewCandidates& candidates,
+                           const TextureOptions& options,
+                           Reporter& reporter) {
   const int num_faces = candidates.num_faces();
   const std::vector<float> cost = data_costs(candidates, options);
   const double w = options.smoothness;
@@ -155,8 +157,7 @@ ViewSelection select_views(const MeshTopology& topology, const FaceViewCandidate
         reporter.advance();
         continue;
       }
-      FlowGraph graph(static_cast<int>(nodes.size()), static_cast<int>(3 * nodes.size()),
-                      throw_flow_error);
+      FlowGraph graph(static_cast<int>(nodes.size()), static_cast<int>(3 * nodes.size()), throw_flow_error);
       graph.add_node(static_cast<int>(nodes.size()));
       // Boykov, Veksler, Zabih 2001 expansion move; x = 1 (sink) means the
       // face switches to alpha. Pairwise terms with the Kolmogorov-Zabih
@@ -191,8 +192,7 @@ ViewSelection select_views(const MeshTopology& topology, const FaceViewCandidate
       }
       reporter.advance();
     }
-    reporter.debug(format_message("view selection sweep ", sweep + 1, ": ", changed,
-                                  " faces changed view"));
+    reporter.debug(format_message("view selection sweep ", sweep + 1, ": ", changed, " faces changed view"));
     // Later sweeps only polish a few faces (measured on 1M faces, 50 views:
     // 2.6M changes in sweep 1, 0.47% of the faces in sweep 2, 0.11% in
     // sweep 3); stop once fewer than 1% change.

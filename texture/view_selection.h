@@ -30,7 +30,9 @@ struct ViewSelection {
 // Data cost of a candidate in [0, 1]: 1 - quality / best quality of the face.
 std::vector<float> data_costs(const FaceViewCandidates& candidates, const TextureOptions& options);
 
-ViewSelection select_views(const MeshTopology& topology, const FaceViewCandidates& candidates,
-                           const TextureOptions& options, Reporter& reporter);
+ViewSelection select_views(const MeshTopology& topology,
+                           const FaceViewCandidates& candidates,
+                           const TextureOptions& options,
+                           Reporter& reporter);
 
 }  // namespace hos::texture

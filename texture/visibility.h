@@ -20,7 +20,7 @@ struct FaceViewSample {
   float gradient_integral = 0.0f;  // sum of |grad I| over visible pixels (grey levels)
   float visible_px = 0.0f;         // pixels whose nearest surface is the face
   float projected_area_px = 0.0f;
-  float cos_angle = 0.0f;          // between face normal and direction to the camera
+  float cos_angle = 0.0f;                              // between face normal and direction to the camera
   Eigen::Vector3f mean_rgb = Eigen::Vector3f::Zero();  // 8-bit scale
 };
 
@@ -38,9 +38,11 @@ struct FaceViewCandidates {
 // (face, view) pair if the face points at the camera within
 // options.max_view_angle_deg, lies inside the image, and its centroid and three
 // inner points pass the depth test (relative tolerance options.depth_tolerance).
-FaceViewCandidates compute_visibility(const TriangleMesh& mesh, const MeshTopology& topology,
+FaceViewCandidates compute_visibility(const TriangleMesh& mesh,
+                                      const MeshTopology& topology,
                                       const std::vector<TextureView>& views,
-                                      const TextureOptions& options, Reporter& reporter);
+                                      const TextureOptions& options,
+                                      Reporter& reporter);
 
 // Depth and face-id buffers of one view (exposed for tests).
 struct DepthBuffer {

@@ -1,11 +1,12 @@
 // PLY load speed (not a test): writes a binary little-endian point cloud with
 // positions, normals and colours, then times read_point_cloud_ply on it.
 // Usage: hos-ply-bench <points> <file>
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
-#include <sys/resource.h>
 
 #include "core/ply_io.h"
 
@@ -15,7 +16,9 @@ namespace {
 double cpu_seconds() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
-  const auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); };
+  const auto seconds = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+  };
   return seconds(usage.ru_utime) + seconds(usage.ru_stime);
 }
 }  // namespace
@@ -41,8 +44,7 @@ int main(int argc, char** argv) {
   const double cpu_start = cpu_seconds();
   const auto start = std::chrono::steady_clock::now();
   const hos::PointCloud loaded = hos::read_point_cloud_ply(path);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double cpu = cpu_seconds() - cpu_start;
   std::printf("points %zu  file %.1f MB  read %.3f s wall, %.3f s CPU (all threads)\n", loaded.size(),
               static_cast<double>(std::filesystem::file_size(path)) / 1e6, seconds, cpu);

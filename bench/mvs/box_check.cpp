@@ -39,7 +39,8 @@ int main(int argc, char** argv) {
     }
     const Eigen::Matrix4d similarity = Eigen::umeyama(from, to, true);
     double centre_error = 0;
-    for (const auto& [a, b] : pairs) centre_error = std::max(centre_error, ((similarity * a.homogeneous()).head<3>() - b).norm());
+    for (const auto& [a, b] : pairs)
+      centre_error = std::max(centre_error, ((similarity * a.homogeneous()).head<3>() - b).norm());
     const Eigen::Vector3d lo(std::atof(argv[4]), std::atof(argv[5]), std::atof(argv[6]));
     const Eigen::Vector3d hi(std::atof(argv[7]), std::atof(argv[8]), std::atof(argv[9]));
     const double diagonal = (hi - lo).norm();
@@ -49,7 +50,8 @@ int main(int argc, char** argv) {
       std::size_t inside = 0;
       for (const auto& p : cloud.positions) {
         const Eigen::Vector3d q = (similarity * p.cast<double>().homogeneous()).head<3>();
-        inside += (q.array() >= lo.array() - margin * diagonal).all() && (q.array() <= hi.array() + margin * diagonal).all();
+        inside +=
+            (q.array() >= lo.array() - margin * diagonal).all() && (q.array() <= hi.array() + margin * diagonal).all();
       }
       std::cout << "inside the box + " << margin * 100 << "% of its diagonal: " << inside << " of " << cloud.size()
                 << " (" << 100.0 * inside / std::max<std::size_t>(1, cloud.size()) << "%)\n";

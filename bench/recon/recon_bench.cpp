@@ -12,9 +12,9 @@
 #include <iostream>
 
 #include "core/ply_io.h"
+#include "eval/mesh_sanity.h"
 #include "recon/isosurface.h"
 #include "recon/scans.h"
-#include "eval/mesh_sanity.h"
 #include "synth/shapes.h"
 
 namespace {
@@ -45,10 +45,10 @@ hos::recon::ScalarGrid analytic_field(const std::string& field, int size) {
     for (int j = 0; j < size; ++j) {
       for (int i = 0; i < size; ++i) {
         const Eigen::Vector3d p = g.position(i, j, k);
-        f.values[g.index(i, j, k)] =
-            field == "sphere" ? p.norm() - radius
-                              : std::sin(s * p.x()) * std::cos(s * p.y()) + std::sin(s * p.y()) * std::cos(s * p.z()) +
-                                    std::sin(s * p.z()) * std::cos(s * p.x()) - 0.3;
+        f.values[g.index(i, j, k)] = field == "sphere" ? p.norm() - radius
+                                                       : std::sin(s * p.x()) * std::cos(s * p.y()) +
+                                                             std::sin(s * p.y()) * std::cos(s * p.z()) +
+                                                             std::sin(s * p.z()) * std::cos(s * p.x()) - 0.3;
       }
     }
   }
@@ -81,8 +81,8 @@ void report_isosurface(const std::string& field, int size, int repeat) {
   const double n = std::max<double>(mesh.num_faces(), 1.0);
   std::cout << field << " " << size << "^3: seconds " << best << " vertices " << mesh.num_vertices() << " triangles "
             << mesh.num_faces() << " min_angle_deg " << min_angle << " below_10deg_pct " << 100.0 * below10 / n
-            << " below_5deg_pct " << 100.0 * below5 / n << " watertight " << topology.watertight
-            << " misoriented " << topology.inconsistent_edges << " euler " << topology.euler_characteristic << "\n";
+            << " below_5deg_pct " << 100.0 * below5 / n << " watertight " << topology.watertight << " misoriented "
+            << topology.inconsistent_edges << " euler " << topology.euler_characteristic << "\n";
 }
 
 }  // namespace
@@ -136,13 +136,12 @@ int main(int argc, char** argv) {
         sum2 += d * d;
         max = std::max(max, d);
       }
-      std::cout << "rms " << std::sqrt(sum2 / mesh.num_vertices()) << " max " << max << " faces "
-                << mesh.num_faces() << "\n";
+      std::cout << "rms " << std::sqrt(sum2 / mesh.num_vertices()) << " max " << max << " faces " << mesh.num_faces()
+                << "\n";
     } else if (iso->parsed()) {
       report_isosurface(field, size, repeat);
     } else if (scans->parsed()) {
-      hos::write_point_cloud_ply(output,
-                                 with_colors(hos::recon::load_stanford_scans(conf, hos::null_reporter())));
+      hos::write_point_cloud_ply(output, with_colors(hos::recon::load_stanford_scans(conf, hos::null_reporter())));
     }
   } catch (const std::exception& e) {
     std::cerr << "hos-recon-bench: " << e.what() << "\n";

@@ -6,6 +6,8 @@
 //
 // Peak memory per step: the reporter resets the kernel's peak-RSS counter
 // (/proc/self/clear_refs, "5") at the start of each step and reads VmHWM at its end.
+#include <omp.h>
+
 #include <CLI/CLI.hpp>
 #include <Eigen/Geometry>
 #include <chrono>
@@ -13,7 +15,6 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <omp.h>
 #include <string>
 
 #include "texture/gltf_writer.h"
@@ -46,8 +47,8 @@ class BenchReporter : public hos::Reporter {
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     const long peak_mb = read_status_kb("VmHWM") / 1024;
     max_peak_mb = std::max(max_peak_mb, peak_mb);
-    std::cout << std::left << std::setw(18) << step_ << std::right << std::setw(9) << std::fixed
-              << std::setprecision(2) << s << " s  peak RSS " << std::setw(7) << peak_mb << " MB\n";
+    std::cout << std::left << std::setw(18) << step_ << std::right << std::setw(9) << std::fixed << std::setprecision(2)
+              << s << " s  peak RSS " << std::setw(7) << peak_mb << " MB\n";
   }
   void log(hos::LogLevel, std::string_view m) override { std::cout << "  " << m << "\n"; }
   long max_peak_mb = 0;
@@ -71,8 +72,8 @@ hos::TriangleMesh bumpy_sphere(int faces) {
     for (int j = 0; j < segments; ++j) {
       const double phi = 2 * M_PI * j / segments;
       const double r = radius(theta, phi);
-      mesh.vertices.emplace_back(r * std::sin(theta) * std::cos(phi),
-                                 r * std::sin(theta) * std::sin(phi), r * std::cos(theta));
+      mesh.vertices.emplace_back(r * std::sin(theta) * std::cos(phi), r * std::sin(theta) * std::sin(phi),
+                                 r * std::cos(theta));
     }
   }
   auto id = [&](int i, int j) { return i * segments + (j % segments); };
@@ -94,8 +95,8 @@ Eigen::Vector3f albedo(const Eigen::Vector3d& x) {
 hos::texture::TextureView make_view(int index, int count, int width, int height) {
   const double az = 2 * M_PI * index / count;
   const double el = (index % 3 - 1) * 0.7;
-  const Eigen::Vector3d c = 3.5 * Eigen::Vector3d(std::cos(el) * std::cos(az),
-                                                  std::cos(el) * std::sin(az), std::sin(el));
+  const Eigen::Vector3d c =
+      3.5 * Eigen::Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
   const Eigen::Vector3d f = -c.normalized();
   const Eigen::Vector3d r = f.cross(Eigen::Vector3d::UnitZ()).normalized();
   Eigen::Matrix3d rot;
@@ -113,15 +114,14 @@ hos::texture::TextureView make_view(int index, int count, int width, int height)
 #pragma omp parallel for schedule(dynamic, 16)
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
-      const Eigen::Vector3d d = (rot.transpose() * Eigen::Vector3d((x + 0.5 - width / 2.0) / focal,
-                                                                    (y + 0.5 - height / 2.0) / focal, 1))
-                                    .normalized();
+      const Eigen::Vector3d d =
+          (rot.transpose() * Eigen::Vector3d((x + 0.5 - width / 2.0) / focal, (y + 0.5 - height / 2.0) / focal, 1))
+              .normalized();
       const double b = c.dot(d), disc = b * b - (c.squaredNorm() - 1.0);
       if (disc < 0) continue;
       const Eigen::Vector3f a = 255.0f * albedo(c + (-b - std::sqrt(disc)) * d);
-      view.image.at<cv::Vec3b>(y, x) = cv::Vec3b(cv::saturate_cast<uchar>(a.z()),
-                                                 cv::saturate_cast<uchar>(a.y()),
-                                                 cv::saturate_cast<uchar>(a.x()));
+      view.image.at<cv::Vec3b>(y, x) =
+          cv::Vec3b(cv::saturate_cast<uchar>(a.z()), cv::saturate_cast<uchar>(a.y()), cv::saturate_cast<uchar>(a.x()));
     }
   }
   return view;
@@ -143,31 +143,30 @@ int main(int argc, char** argv) {
   const hos::TriangleMesh mesh = bumpy_sphere(faces);
   std::vector<hos::texture::TextureView> views;
   for (int i = 0; i < num_views; ++i) views.push_back(make_view(i, num_views, width, height));
-  std::cout << "mesh " << mesh.faces.size() << " faces, " << num_views << " views " << width << "x"
-            << height << ", threads " << omp_get_max_threads() << "\n";
+  std::cout << "mesh " << mesh.faces.size() << " faces, " << num_views << " views " << width << "x" << height
+            << ", threads " << omp_get_max_threads() << "\n";
   BenchReporter reporter;
   const auto start = std::chrono::steady_clock::now();
   reset_peak();
-  const hos::texture::TextureResult result = hos::texture::texture_mesh(mesh, views, hos::texture::TextureOptions{}, reporter);
+  const hos::texture::TextureResult result =
+      hos::texture::texture_mesh(mesh, views, hos::texture::TextureOptions{}, reporter);
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << "steps (wall time):\n";
   for (const auto& [step, seconds] : result.stats.step_seconds) {
-    std::cout << "  " << std::left << std::setw(16) << step << std::right << std::fixed
-              << std::setprecision(2) << std::setw(8) << seconds << " s\n";
+    std::cout << "  " << std::left << std::setw(16) << step << std::right << std::fixed << std::setprecision(2)
+              << std::setw(8) << seconds << " s\n";
   }
   // Resetting the peak counter also resets getrusage's maximum, so the
   // overall peak is the largest step peak.
   std::cout << "texture_mesh total " << total << " s; peak RSS " << reporter.max_peak_mb
             << " MB (includes the scene: mesh and photos)\n";
-  std::cout << "charts " << result.stats.num_charts << ", atlases " << result.stats.num_atlases
-            << ", texel scale " << result.stats.texel_scale << ", unseen faces "
-            << result.stats.num_unseen_faces << ", seam jump " << result.stats.mean_seam_jump_before
-            << " -> " << result.stats.mean_seam_jump_after << "\n";
+  std::cout << "charts " << result.stats.num_charts << ", atlases " << result.stats.num_atlases << ", texel scale "
+            << result.stats.texel_scale << ", unseen faces " << result.stats.num_unseen_faces << ", seam jump "
+            << result.stats.mean_seam_jump_before << " -> " << result.stats.mean_seam_jump_after << "\n";
   if (!output.empty()) {
     const auto t0 = std::chrono::steady_clock::now();
     hos::texture::write_glb(output, result.mesh);
-    std::cout << "write_glb " << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()
-              << " s\n";
+    std::cout << "write_glb " << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s\n";
   }
   return 0;
 }

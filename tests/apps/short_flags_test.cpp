@@ -41,8 +41,8 @@ class ReconShortFlags : public ::testing::Test {
 };
 
 TEST_F(ReconShortFlags, RefuseWhatTheTableRefuses) {
-  for (const std::string flags : {"--resolution -3", "--resolution 4", "--voxel-size -1", "--lambda nan",
-                                  "--lambda -1", "--energy 7", "--max-memory -5"}) {
+  for (const std::string flags : {"--resolution -3", "--resolution 4", "--voxel-size -1", "--lambda nan", "--lambda -1",
+                                  "--energy 7", "--max-memory -5"}) {
     const ReconRun run = run_recon(dir_, flags);
     EXPECT_EQ(run.exit_code, kExitUsage) << flags << "\n" << run.log;
     EXPECT_NE(run.log.find("recon."), std::string::npos) << "names the option: " << run.log;

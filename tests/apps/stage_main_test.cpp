@@ -19,8 +19,8 @@ namespace {
 
 // Values that are out of range, malformed or non-finite for most options,
 // and some that are valid for many.
-const std::vector<std::string> kProbeValues = {"nan", "inf", "-1", "0", "1e-7", "0.5", "3",
-                                               "1e300", "-1e300", "abc", "2048", "true"};
+const std::vector<std::string> kProbeValues = {"nan", "inf",   "-1",     "0",   "1e-7", "0.5",
+                                               "3",   "1e300", "-1e300", "abc", "2048", "true"};
 
 // The section's options after `apply`, as YAML text, or the error message.
 std::string outcome(const std::string& stage, const std::function<void(OptionSet&)>& apply) {

@@ -16,8 +16,7 @@ Camera make(CameraModel model, std::vector<double> params) {
 }
 
 std::vector<Camera> all_models() {
-  return {make(CameraModel::kSimplePinhole, {500, 320, 240}),
-          make(CameraModel::kPinhole, {500, 510, 321, 239}),
+  return {make(CameraModel::kSimplePinhole, {500, 320, 240}), make(CameraModel::kPinhole, {500, 510, 321, 239}),
           make(CameraModel::kSimpleRadial, {500, 320, 240, -0.08}),
           make(CameraModel::kRadial, {500, 320, 240, -0.08, 0.01}),
           make(CameraModel::kOpenCV, {500, 505, 320, 240, -0.1, 0.02, 0.001, -0.002})};

@@ -1,13 +1,12 @@
 // core/reporter.*: the plain and JSON progress formats and the log file.
 #include "core/reporter.h"
 
-#include "core/error.h"
-
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <sstream>
 
+#include "core/error.h"
 #include "tests/support/test_support.h"
 
 namespace hos {

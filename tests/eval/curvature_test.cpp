@@ -1,10 +1,10 @@
-#include "synth/shapes.h"
 #include "eval/curvature.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "synth/shapes.h"
 #include "tests/eval/test_meshes.h"
 
 namespace hos::eval {

@@ -1,11 +1,11 @@
 #include "eval/gltf_reader.h"
 
 #include <gtest/gtest.h>
+#include <tiny_gltf.h>
 
 #include <cstring>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
-#include <tiny_gltf.h>
 
 #include "core/error.h"
 #include "tests/support/test_support.h"
@@ -50,10 +50,12 @@ void write_test_glb(const std::filesystem::path& path) {
   cv::imencode(".png", tex, png);
   tinygltf::Primitive prim;
   prim.mode = TINYGLTF_MODE_TRIANGLES;
-  prim.attributes["POSITION"] = append_accessor(m, append_view(m, pos), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 6);
+  prim.attributes["POSITION"] =
+      append_accessor(m, append_view(m, pos), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 6);
   m.accessors.back().minValues = {0, 0, 0};
   m.accessors.back().maxValues = {1, 1, 0};
-  prim.attributes["TEXCOORD_0"] = append_accessor(m, append_view(m, uv), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, 6);
+  prim.attributes["TEXCOORD_0"] =
+      append_accessor(m, append_view(m, uv), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, 6);
   prim.indices = append_accessor(m, append_view(m, idx), TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, 6);
   tinygltf::Image image;
   image.bufferView = append_view(m, png);

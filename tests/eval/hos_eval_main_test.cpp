@@ -3,9 +3,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "synth/shapes.h"
 #include "core/exit_codes.h"
 #include "core/ply_io.h"
+#include "synth/shapes.h"
 #include "tests/eval/test_meshes.h"
 #include "tests/support/test_support.h"
 
@@ -22,9 +22,9 @@ TEST(HosEvalMain, MeshJsonOnStdout) {
   write_mesh_ply(dir / "result.ply", synth::icosphere(4, 1.0));
   write_mesh_ply(dir / "truth.ply", synth::icosphere(4, 1.01));
   const auto out = dir / "out.json";
-  ASSERT_EQ(hos::testing::run_command(exe() + " mesh --samples 20000 --result " + shell_quote((dir / "result.ply").string()) +
-                                 " --truth " + shell_quote((dir / "truth.ply").string()) + " --json > " +
-                                 shell_quote(out.string())),
+  ASSERT_EQ(hos::testing::run_command(
+                exe() + " mesh --samples 20000 --result " + shell_quote((dir / "result.ply").string()) + " --truth " +
+                shell_quote((dir / "truth.ply").string()) + " --json > " + shell_quote(out.string())),
             0)
       << read_text(out);
   const auto j = nlohmann::json::parse(read_text(out));
@@ -40,8 +40,8 @@ TEST(HosEvalMain, SanityJsonFileAndTable) {
   write_mesh_ply(dir / "m.ply", holed);
   const auto json_path = dir / "s.json";
   ASSERT_EQ(hos::testing::run_command(exe() + " sanity --mesh " + shell_quote((dir / "m.ply").string()) + " --json " +
-                                     shell_quote(json_path.string()),
-                                 dir / "log.txt"),
+                                          shell_quote(json_path.string()),
+                                      dir / "log.txt"),
             0);
   EXPECT_NE(read_text(dir / "log.txt").find("watertight"), std::string::npos);
   const auto j = nlohmann::json::parse(read_text(json_path));
@@ -51,13 +51,15 @@ TEST(HosEvalMain, SanityJsonFileAndTable) {
 
 TEST(HosEvalMain, BadInputsGiveDocumentedExitCodes) {
   hos::testing::TempDir dir;
-  EXPECT_EQ(hos::testing::run_command(exe() + " sanity --mesh " + shell_quote((dir / "missing.ply").string()), dir / "a.txt"),
-            kExitBadInput);
+  EXPECT_EQ(
+      hos::testing::run_command(exe() + " sanity --mesh " + shell_quote((dir / "missing.ply").string()), dir / "a.txt"),
+      kExitBadInput);
   EXPECT_NE(read_text(dir / "a.txt").find("missing.ply"), std::string::npos);
   EXPECT_EQ(hos::testing::run_command(exe() + " frobnicate", dir / "b.txt"), kExitUsage);
   write_mesh_ply(dir / "m.ply", synth::icosphere(1, 1.0));
   const std::string m = shell_quote((dir / "m.ply").string());
-  EXPECT_EQ(hos::testing::run_command(exe() + " mesh --result " + m + " --truth " + m + " --thresholds 0.01,x", dir / "c.txt"),
+  EXPECT_EQ(hos::testing::run_command(exe() + " mesh --result " + m + " --truth " + m + " --thresholds 0.01,x",
+                                      dir / "c.txt"),
             kExitUsage);
 }
 

@@ -26,7 +26,8 @@ TEST(Psnr, KnownNoiseGivesAnalyticValue) {
   // +-5 on a checkerboard: MSE = 25 exactly (no clipping: values in [10, 247]).
   for (int y = 0; y < b.rows; ++y) {
     for (int x = 0; x < b.cols; ++x) {
-      for (int c = 0; c < 3; ++c) b.at<cv::Vec3b>(y, x)[c] = cv::saturate_cast<uchar>(a.at<cv::Vec3b>(y, x)[c] + ((x + y) % 2 ? 5 : -5));
+      for (int c = 0; c < 3; ++c)
+        b.at<cv::Vec3b>(y, x)[c] = cv::saturate_cast<uchar>(a.at<cv::Vec3b>(y, x)[c] + ((x + y) % 2 ? 5 : -5));
     }
   }
   cv::Mat clipped;

@@ -1,8 +1,8 @@
-#include "synth/shapes.h"
 #include "eval/mesh_sanity.h"
 
 #include <gtest/gtest.h>
 
+#include "synth/shapes.h"
 #include "tests/eval/test_meshes.h"
 
 namespace hos::eval {

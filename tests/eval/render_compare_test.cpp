@@ -1,4 +1,3 @@
-#include "synth/shapes.h"
 #include "eval/render_compare.h"
 
 #include <gtest/gtest.h>
@@ -6,6 +5,7 @@
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
 
+#include "synth/shapes.h"
 #include "tests/eval/test_meshes.h"
 #include "tests/support/test_support.h"
 
@@ -49,7 +49,8 @@ TEST(RenderCompare, SelfRendersMatchAndAChangedColourDoesNot) {
   const RenderComparison other = compare_renders(object, model, dir.path(), null_reporter(), dir / "saved");
   // The saved image is the render beside the photo.
   for (const auto& [id, image] : model.images) {
-    const cv::Mat saved = cv::imread((dir / "saved" / (std::filesystem::path(image.name).stem().string() + ".png")).string());
+    const cv::Mat saved =
+        cv::imread((dir / "saved" / (std::filesystem::path(image.name).stem().string() + ".png")).string());
     ASSERT_FALSE(saved.empty()) << image.name;
     EXPECT_EQ(saved.cols, 2 * model.camera_of(image).width);
     EXPECT_EQ(saved.rows, model.camera_of(image).height);

@@ -1,9 +1,9 @@
-#include "synth/shapes.h"
 #include "eval/surface_distance.h"
 
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "synth/shapes.h"
 #include "tests/eval/test_meshes.h"
 
 namespace hos::eval {

@@ -1,10 +1,10 @@
-#include "synth/shapes.h"
 #include "eval/triangle_tree.h"
 
 #include <gtest/gtest.h>
 
 #include <random>
 
+#include "synth/shapes.h"
 #include "tests/eval/test_meshes.h"
 
 namespace hos::eval {
@@ -28,9 +28,9 @@ TEST(TriangleTree, MatchesBruteForce) {
     const Eigen::Vector3d p(u(rng), u(rng), u(rng));
     double brute = std::numeric_limits<double>::infinity();
     for (const auto& f : mesh.faces) {
-      const Eigen::Vector3d x = closest_point_on_triangle(p, mesh.vertices[f[0]].cast<double>(),
-                                                          mesh.vertices[f[1]].cast<double>(),
-                                                          mesh.vertices[f[2]].cast<double>());
+      const Eigen::Vector3d x =
+          closest_point_on_triangle(p, mesh.vertices[f[0]].cast<double>(), mesh.vertices[f[1]].cast<double>(),
+                                    mesh.vertices[f[2]].cast<double>());
       brute = std::min(brute, (p - x).norm());
     }
     EXPECT_NEAR(tree.nearest(p).distance, brute, 1e-12);

@@ -120,8 +120,8 @@ TEST(FuzzReaders, PlyMeshes) {
     write_mesh_ply(dir / "valid.ply", small_mesh(), format);
     const fs::path file = dir / "mutant.ply";
     ++salt;
-    fuzz_file("ply-mesh-" + std::to_string(salt), salt, read_file(dir / "valid.ply"), format == PlyFormat::kAscii,
-              file, [&] { read_mesh_ply(file).check_consistent(); });
+    fuzz_file("ply-mesh-" + std::to_string(salt), salt, read_file(dir / "valid.ply"), format == PlyFormat::kAscii, file,
+              [&] { read_mesh_ply(file).check_consistent(); });
   }
 }
 

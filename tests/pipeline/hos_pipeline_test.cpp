@@ -15,18 +15,18 @@
 
 #include "core/exit_codes.h"
 #include "core/reporter.h"
+#include "core/subprocess.h"
 #include "pipeline/file_hash.h"
 #include "pipeline/run_record.h"
 #include "pipeline/stage_paths.h"
-#include "core/subprocess.h"
 #include "tests/support/test_support.h"
 
 namespace hos::pipeline {
 namespace {
 namespace fs = std::filesystem;
-using ::testing::HasSubstr;
 using hos::testing::read_text;
 using hos::testing::shell_quote;
+using ::testing::HasSubstr;
 
 fs::path exe(const std::string& name) { return hos::testing::executable(name); }
 
@@ -48,9 +48,9 @@ int gltf_validator_errors(const fs::path& glb, std::string& report) {
   const fs::path prefix = hos::testing::bin_dir().parent_path() / "npm";
   const fs::path module = prefix / "node_modules" / "gltf-validator";
   if (!fs::exists(module)) {
-    hos::testing::run_command("npm install --prefix " + shell_quote(prefix.string()) +
-                             " gltf-validator --no-audit --no-fund",
-                         prefix.parent_path() / "npm-install.log");
+    hos::testing::run_command(
+        "npm install --prefix " + shell_quote(prefix.string()) + " gltf-validator --no-audit --no-fund",
+        prefix.parent_path() / "npm-install.log");
     if (!fs::exists(module)) return -1;
   }
   const fs::path script = glb.parent_path() / "validate.js";
@@ -62,7 +62,7 @@ validator.validateBytes(new Uint8Array(fs.readFileSync(process.argv[3])))
 )";
   const fs::path out = glb.parent_path() / "validator.json";
   hos::testing::run_command("node " + shell_quote(script.string()) + " " + shell_quote(module.string()) + " " +
-                           shell_quote(glb.string()) + " > " + shell_quote(out.string()));
+                            shell_quote(glb.string()) + " > " + shell_quote(out.string()));
   report = read_text(out);
   try {
     return nlohmann::json::parse(report).value("numErrors", 1);
@@ -106,7 +106,7 @@ class HosPipelineTest : public ::testing::Test {
   }
   int pipeline(const std::string& args, const std::string& log_name) {
     return hos::testing::run_command(shell_quote(exe("hos-pipeline").string()) + " --progress plain " + args,
-                                dir_ / log_name);
+                                     dir_ / log_name);
   }
   std::string log(const std::string& log_name) const { return read_text(dir_ / log_name); }
 
@@ -122,8 +122,9 @@ TEST_F(HosPipelineTest, MissingPhotoFolderIsBadInput) {
 
 TEST_F(HosPipelineTest, OutputInMissingFolderIsAnOutputError) {
   fs::create_directories(dir_ / "photos");
-  EXPECT_EQ(pipeline(shell_quote((dir_ / "photos").string()) + " " + shell_quote((dir_ / "no" / "out.glb").string()), "o"),
-            kExitOutputFailed);
+  EXPECT_EQ(
+      pipeline(shell_quote((dir_ / "photos").string()) + " " + shell_quote((dir_ / "no" / "out.glb").string()), "o"),
+      kExitOutputFailed);
   EXPECT_THAT(log("o"), HasSubstr("does not exist"));
   EXPECT_FALSE(fs::exists(dir_ / "no"));
 }
@@ -151,7 +152,7 @@ TEST_F(HosPipelineTest, MissingPresetListsThePresets) {
 
 TEST_F(HosPipelineTest, PrintDefaultConfigIsTheCommittedFile) {
   ASSERT_EQ(hos::testing::run_command(shell_quote(exe("hos-pipeline").string()) + " --print-default-config",
-                                 dir_ / "default.yaml"),
+                                      dir_ / "default.yaml"),
             0);
   EXPECT_THAT(log("default.yaml"), HasSubstr("sfm:\n  colmap: colmap"));
 }
@@ -186,7 +187,8 @@ TEST_F(HosPipelineTest, SyntheticSceneEndToEndWithResume) {
   ASSERT_EQ(hos::testing::make_synth_scene(scene, 16, 2, dir_ / "synth.log"), 0) << log("synth.log");
   const fs::path out = dir_ / "out.glb";
   const fs::path ws = dir_ / "out_workspace";
-  const std::string base = shell_quote((scene / "images").string()) + " " + shell_quote(out.string()) + " --preset default";
+  const std::string base =
+      shell_quote((scene / "images").string()) + " " + shell_quote(out.string()) + " --preset default";
 
   // 1. The whole pipeline (the .glb's vertices stay in the cameras' frame, the
   // viewer's up axis is only in its root node, so the camera alignment applies).
@@ -213,11 +215,12 @@ TEST_F(HosPipelineTest, SyntheticSceneEndToEndWithResume) {
     const std::string align = " --align-model " + shell_quote((ws / "sfm" / "undistorted" / "sparse").string()) +
                               " --truth-model " + shell_quote((scene / "sparse").string());
     const fs::path eval_json = dir_ / "eval.json";
-    ASSERT_EQ(hos::testing::run_command(shell_quote(exe("hos-eval").string()) + " mesh --result " + shell_quote(out.string()) +
-                                       " --truth " + shell_quote((scene / "gt_mesh.ply").string()) + align +
-                                       " --visible-in " + shell_quote((scene / "sparse").string()) +
-                                       " --thresholds 0.01,0.02 --json " + shell_quote(eval_json.string()),
-                                   dir_ / "eval.log"),
+    ASSERT_EQ(hos::testing::run_command(shell_quote(exe("hos-eval").string()) + " mesh --result " +
+                                            shell_quote(out.string()) + " --truth " +
+                                            shell_quote((scene / "gt_mesh.ply").string()) + align + " --visible-in " +
+                                            shell_quote((scene / "sparse").string()) +
+                                            " --thresholds 0.01,0.02 --json " + shell_quote(eval_json.string()),
+                                        dir_ / "eval.log"),
               0)
         << log("eval.log");
     const auto j = nlohmann::json::parse(read_text(eval_json));
@@ -232,12 +235,13 @@ TEST_F(HosPipelineTest, SyntheticSceneEndToEndWithResume) {
     EXPECT_GE(f2, 0.92) << j.dump(2);
 
     const fs::path render_json = dir_ / "render.json";
-    ASSERT_EQ(hos::testing::run_command(shell_quote(exe("hos-eval").string()) + " render --glb " + shell_quote(out.string()) +
-                                       " --model " + shell_quote((scene / "holdout" / "sparse").string()) +
-                                       " --images " + shell_quote((scene / "holdout" / "images").string()) + align +
-                                       " --json " + shell_quote(render_json.string()),
-                                   dir_ / "render.log"),
-              0)
+    ASSERT_EQ(
+        hos::testing::run_command(shell_quote(exe("hos-eval").string()) + " render --glb " + shell_quote(out.string()) +
+                                      " --model " + shell_quote((scene / "holdout" / "sparse").string()) +
+                                      " --images " + shell_quote((scene / "holdout" / "images").string()) + align +
+                                      " --json " + shell_quote(render_json.string()),
+                                  dir_ / "render.log"),
+        0)
         << log("render.log");
     const auto psnr = find_number(nlohmann::json::parse(read_text(render_json)), {"mean_psnr"});
     ASSERT_TRUE(psnr.has_value());
@@ -268,9 +272,18 @@ TEST_F(HosPipelineTest, SyntheticSceneEndToEndWithResume) {
   const std::string sfm_finished = load_run_record(ws / "run.json").stages.at("sfm").finished_at;
   StopDuringMvs stopper(ws / "run.json");
   ProcessOptions interrupted;
-  interrupted.argv = {exe("hos-pipeline").string(), (scene / "images").string(), out.string(), "--preset", "default",
-                      "--set", "recon.lambda=0.25", "--force", "--from", "mvs",
-                      "--progress", "plain"};
+  interrupted.argv = {exe("hos-pipeline").string(),
+                      (scene / "images").string(),
+                      out.string(),
+                      "--preset",
+                      "default",
+                      "--set",
+                      "recon.lambda=0.25",
+                      "--force",
+                      "--from",
+                      "mvs",
+                      "--progress",
+                      "plain"};
   std::string interrupted_output;
   interrupted.on_line = [&](std::string_view line) { interrupted_output += std::string(line) + "\n"; };
   interrupted.cancel_source = &stopper;

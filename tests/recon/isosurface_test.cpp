@@ -185,8 +185,8 @@ struct CellCheck {
     ++cells;
     const TriangleMesh mesh = single_cell_mesh(g);
     const auto t = testing::analyze_topology(mesh);
-    const bool ok = t.watertight() && t.misoriented_edges == 0 && coincident_faces(mesh) == 0 &&
-                    t.euler() % 2 == 0 && t.euler() <= 2 * t.components && testing::signed_volume(mesh) > 0.0;
+    const bool ok = t.watertight() && t.misoriented_edges == 0 && coincident_faces(mesh) == 0 && t.euler() % 2 == 0 &&
+                    t.euler() <= 2 * t.components && testing::signed_volume(mesh) > 0.0;
     broken += !ok;
     // Ghost nodes are outside and join every outside region, so each inside
     // component of the cell is one closed surface.
@@ -285,8 +285,8 @@ long lattice_euler_characteristic(const ScalarGrid& f, int n) {
         const Eigen::Vector3d t = x - cell.cast<double>();
         double v = 0.0;
         for (int c = 0; c < 8; ++c) {
-          v += f.at(cell.x() + (c & 1), cell.y() + ((c >> 1) & 1), cell.z() + (c >> 2)) *
-               (c & 1 ? t.x() : 1 - t.x()) * (c & 2 ? t.y() : 1 - t.y()) * (c & 4 ? t.z() : 1 - t.z());
+          v += f.at(cell.x() + (c & 1), cell.y() + ((c >> 1) & 1), cell.z() + (c >> 2)) * (c & 1 ? t.x() : 1 - t.x()) *
+               (c & 2 ? t.y() : 1 - t.y()) * (c & 4 ? t.z() : 1 - t.z());
         }
         in[id(i, j, k)] = v < 0.0;
       }

@@ -1,4 +1,3 @@
-#include "synth/shapes.h"
 #include "recon/memory_budget.h"
 
 #include <gtest/gtest.h>
@@ -10,6 +9,7 @@
 #include "core/reporter.h"
 #include "recon/active_nodes.h"
 #include "recon/reconstruct.h"
+#include "synth/shapes.h"
 #include "tests/recon/shape_samples.h"
 
 namespace hos::recon {
@@ -99,8 +99,7 @@ TEST(MemoryBudget, RefusesWithTheLargestResolutionThatFits) {
   } catch (const ConfigError& e) {
     const std::string message = e.what();
     EXPECT_NE(message.find("recon.resolution"), std::string::npos) << message;
-    EXPECT_NE(message.find("largest resolution that fits is " + std::to_string(fitting)), std::string::npos)
-        << message;
+    EXPECT_NE(message.find("largest resolution that fits is " + std::to_string(fitting)), std::string::npos) << message;
   }
   options.resolution = fitting;
   EXPECT_NO_THROW(check_memory_budget(unit_box(), points, options));
@@ -142,11 +141,11 @@ void expect_estimate_covers_a_run(int resolution, int band_voxels) {
   if (band_voxels > 0) {
     EXPECT_LE(2 * band_active_nodes_bound(grid, points.positions, band_voxels), grid.num_nodes());
   }
-  EXPECT_GE(estimate, measured) << "peak RSS " << measured / 1048576.0 << " MB, before the run "
-                                << before_kb / 1024.0 << " MB";
+  EXPECT_GE(estimate, measured) << "peak RSS " << measured / 1048576.0 << " MB, before the run " << before_kb / 1024.0
+                                << " MB";
   // ...and not wildly above it (it would refuse grids that fit).
-  EXPECT_LE(estimate, 3.0 * measured) << "peak RSS " << measured / 1048576.0 << " MB, estimate "
-                                      << estimate / 1048576.0 << " MB";
+  EXPECT_LE(estimate, 3.0 * measured) << "peak RSS " << measured / 1048576.0 << " MB, estimate " << estimate / 1048576.0
+                                      << " MB";
   EXPECT_GT(result.mesh.num_faces(), 0u);
 }
 

@@ -110,8 +110,7 @@ TEST(Multigrid, PreconditionerCutsIterationsAgainstJacobi) {
   const SolveReport with_mg = solve_linear_system(op, b, x1, mg, null_reporter());
   const SolveReport without = solve_linear_system(op, b, x2, jacobi, null_reporter());
   ASSERT_TRUE(with_mg.converged);
-  EXPECT_LT(with_mg.iterations * 4, without.iterations)
-      << with_mg.iterations << " vs " << without.iterations;
+  EXPECT_LT(with_mg.iterations * 4, without.iterations) << with_mg.iterations << " vs " << without.iterations;
   EXPECT_LE(with_mg.iterations, 40);
 }
 
@@ -119,9 +118,9 @@ TEST(Multigrid, RightHandSideMustMatchTheOperatorsLayout) {
   const GridGeometry g = small_grid(15);
   const EnergyOperator op(g, SmoothnessEnergy::kFullHessian, 0.01);
   std::vector<double> x;
-  EXPECT_THROW(solve_linear_system(op, std::vector<double>(g.num_nodes() - 1, 1.0), x, SolverOptions{},
-                                   null_reporter()),
-               std::invalid_argument);
+  EXPECT_THROW(
+      solve_linear_system(op, std::vector<double>(g.num_nodes() - 1, 1.0), x, SolverOptions{}, null_reporter()),
+      std::invalid_argument);
 }
 
 // The Chebyshev smoother keeps the iterations nearly constant as the grid is
@@ -141,14 +140,16 @@ TEST(Multigrid, IterationsHardlyGrowWithTheGrid) {
     ASSERT_TRUE(report.converged) << n;
     iterations.push_back(report.iterations);
   }
-  std::cout << "CG iterations at 31^3, 63^3, 127^3: " << iterations[0] << ", " << iterations[1] << ", "
-            << iterations[2] << "\n";
+  std::cout << "CG iterations at 31^3, 63^3, 127^3: " << iterations[0] << ", " << iterations[1] << ", " << iterations[2]
+            << "\n";
   EXPECT_LE(iterations[2], iterations[0] + 3);
   EXPECT_LE(iterations[2], 15);
 }
 
-INSTANTIATE_TEST_SUITE_P(Energies, SolverForEnergy,
-                         ::testing::Values(SmoothnessEnergy::kMembrane, SmoothnessEnergy::kPureSecond,
+INSTANTIATE_TEST_SUITE_P(Energies,
+                         SolverForEnergy,
+                         ::testing::Values(SmoothnessEnergy::kMembrane,
+                                           SmoothnessEnergy::kPureSecond,
                                            SmoothnessEnergy::kFullHessian));
 
 }  // namespace

@@ -1,5 +1,4 @@
 // End-to-end accuracy of recon/reconstruct.* on analytic shapes.
-#include "synth/shapes.h"
 #include "recon/reconstruct.h"
 
 #include <gtest/gtest.h>
@@ -7,6 +6,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "synth/shapes.h"
 #include "tests/recon/shape_samples.h"
 
 namespace hos::recon {
@@ -38,8 +38,7 @@ RadialError sphere_error(const TriangleMesh& mesh, double radius) {
 // Closed shapes: watertight, manifold, consistently oriented outward, one piece.
 void expect_closed_surface(const TriangleMesh& mesh, long euler) {
   const auto t = analyze_topology(mesh);
-  EXPECT_TRUE(t.watertight()) << t.boundary_edges << " boundary, " << t.nonmanifold_edges
-                              << " non-manifold edges";
+  EXPECT_TRUE(t.watertight()) << t.boundary_edges << " boundary, " << t.nonmanifold_edges << " non-manifold edges";
   EXPECT_EQ(t.misoriented_edges, 0u);
   EXPECT_EQ(t.components, 1);
   EXPECT_EQ(t.euler(), euler);
@@ -48,8 +47,7 @@ void expect_closed_surface(const TriangleMesh& mesh, long euler) {
 
 TEST(ReconstructSurface, NoisySphereIsAccurateAndClosedForEveryQuadraticEnergy) {
   const PointCloud points = synth::sample_sphere(40000, 1.0, 0.002, 1);
-  for (auto energy : {SmoothnessEnergy::kMembrane, SmoothnessEnergy::kPureSecond,
-                      SmoothnessEnergy::kFullHessian}) {
+  for (auto energy : {SmoothnessEnergy::kMembrane, SmoothnessEnergy::kPureSecond, SmoothnessEnergy::kFullHessian}) {
     const ReconResult r = reconstruct_surface(points, options_at(48, energy), null_reporter());
     const double h = r.stats.voxel_size;
     const RadialError e = sphere_error(r.mesh, 1.0);
@@ -98,12 +96,11 @@ TEST(ReconstructSurface, BandedSolveMatchesTheFullSolveNearTheSamples) {
       const Eigen::Vector3d step = 0.5 * h * Eigen::Vector3d::Unit(axis);
       grad[axis] = (a.function.sample(p + step) - a.function.sample(p - step)) / h;
     }
-    const double shift = ((b.function.sample(p) - b.stats.isovalue) -
-                          (a.function.sample(p) - a.stats.isovalue)) / grad.norm();
+    const double shift =
+        ((b.function.sample(p) - b.stats.isovalue) - (a.function.sample(p) - a.stats.isovalue)) / grad.norm();
     worst = std::max(worst, std::abs(shift) / h);
   }
-  std::cout << "band of " << b.stats.band_nodes << " nodes moved the level set by up to " << worst
-            << " voxels\n";
+  std::cout << "band of " << b.stats.band_nodes << " nodes moved the level set by up to " << worst << " voxels\n";
   EXPECT_LT(worst, 0.02);
   EXPECT_NEAR(sphere_error(b.mesh, 1.0).mean, sphere_error(a.mesh, 1.0).mean, 0.01 * h);
   expect_closed_surface(b.mesh, 2);
@@ -197,8 +194,7 @@ TEST(ReconstructSurface, RejectsUnusablePoints) {
   EXPECT_THROW(reconstruct_surface(zero, ReconOptions{}, null_reporter()), InputError);
   ReconOptions bad;
   bad.lambda = -1.0;
-  EXPECT_THROW(reconstruct_surface(synth::sample_sphere(100, 1.0, 0.0, 7), bad, null_reporter()),
-               ConfigError);
+  EXPECT_THROW(reconstruct_surface(synth::sample_sphere(100, 1.0, 0.0, 7), bad, null_reporter()), ConfigError);
 }
 
 }  // namespace

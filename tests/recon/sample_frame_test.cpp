@@ -3,7 +3,6 @@
 // copes with absurd normal lengths and unusable confidences (issue #14,
 // items 5, 7, 8 and 9).
 
-#include "synth/shapes.h"
 #include "recon/sample_frame.h"  // IWYU: the unit under test, used through reconstruct_surface
 
 #include <gmock/gmock.h>
@@ -14,6 +13,7 @@
 
 #include "core/error.h"
 #include "recon/reconstruct.h"
+#include "synth/shapes.h"
 #include "tests/recon/shape_samples.h"
 #include "tests/support/message_log.h"
 #include "tests/support/test_support.h"

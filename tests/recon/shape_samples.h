@@ -16,9 +16,9 @@ GridGeometry cube_grid(int n, double h);
 
 struct MeshTopology {
   std::size_t vertices = 0, edges = 0, faces = 0;
-  std::size_t boundary_edges = 0;      // used by one face
-  std::size_t nonmanifold_edges = 0;   // used by more than two faces
-  std::size_t misoriented_edges = 0;   // interior edges traversed the same way twice
+  std::size_t boundary_edges = 0;     // used by one face
+  std::size_t nonmanifold_edges = 0;  // used by more than two faces
+  std::size_t misoriented_edges = 0;  // interior edges traversed the same way twice
   int components = 0;
   long euler() const { return long(vertices) - long(edges) + long(faces); }
   bool watertight() const { return boundary_edges == 0 && nonmanifold_edges == 0; }

@@ -1,6 +1,5 @@
 // recon/vector_field.*: the right-hand side evaluated plane by plane against
 // the materialised field (splat and divergence basics are in grid_test.cpp).
-#include "synth/shapes.h"
 #include "recon/vector_field.h"
 
 #include <gtest/gtest.h>
@@ -9,6 +8,7 @@
 #include <cmath>
 #include <random>
 
+#include "synth/shapes.h"
 #include "tests/recon/shape_samples.h"
 
 namespace hos::recon {
@@ -22,9 +22,11 @@ constexpr double kFusedTolerance = 1e-5;
 
 // -div F of density_scaled_field after normalize_field: the path that
 // density_scaled_rhs must reproduce without the field.
-std::vector<double> materialised_rhs(const GridGeometry& g, const std::vector<Eigen::Vector3f>& points,
+std::vector<double> materialised_rhs(const GridGeometry& g,
+                                     const std::vector<Eigen::Vector3f>& points,
                                      const std::vector<Eigen::Vector3f>& normals,
-                                     const std::vector<float>& weights, int direction_passes) {
+                                     const std::vector<float>& weights,
+                                     int direction_passes) {
   VectorGrid field = density_scaled_field(g, points, normals, weights, kDensityPasses, direction_passes);
   normalize_field(field, points, kFilterPasses);
   std::vector<double> rhs = divergence(field).values;
@@ -75,16 +77,15 @@ TEST(VectorField, RhsEqualsMaterialisedFieldForRandomOrientedPoints) {
     weights.push_back(0.2f + unit(rng));
   }
   for (int direction_passes : {12, 8}) {
-    const ScalarGrid rhs = density_scaled_rhs(g, points, normals, weights, kDensityPasses,
-                                              direction_passes, kFilterPasses);
+    const ScalarGrid rhs =
+        density_scaled_rhs(g, points, normals, weights, kDensityPasses, direction_passes, kFilterPasses);
     EXPECT_LT(relative_difference(rhs.values, materialised_rhs(g, points, normals, weights, direction_passes)),
               kFusedTolerance)
         << direction_passes;
   }
   // Without weights, and on the fine-grid fallback (passes not a multiple of 4).
   for (int direction_passes : {12, 3}) {
-    const ScalarGrid rhs =
-        density_scaled_rhs(g, points, normals, {}, kDensityPasses, direction_passes, kFilterPasses);
+    const ScalarGrid rhs = density_scaled_rhs(g, points, normals, {}, kDensityPasses, direction_passes, kFilterPasses);
     EXPECT_LT(relative_difference(rhs.values, materialised_rhs(g, points, normals, {}, direction_passes)),
               direction_passes % 4 == 0 ? kFusedTolerance : 1e-9)
         << direction_passes;
@@ -97,8 +98,7 @@ TEST(VectorField, RhsEqualsMaterialisedFieldForSphereScannedFromSixDirections) {
   synth::coarsen_to_axis_directions(sphere);
   // Shift the centre off the grid's centre so no symmetry hides an axis error.
   for (auto& p : sphere.positions) p += Eigen::Vector3f(-0.1f, 0.15f, -0.05f);
-  const ScalarGrid rhs = density_scaled_rhs(g, sphere.positions, sphere.normals, {}, kDensityPasses, 12,
-                                            kFilterPasses);
+  const ScalarGrid rhs = density_scaled_rhs(g, sphere.positions, sphere.normals, {}, kDensityPasses, 12, kFilterPasses);
   EXPECT_LT(relative_difference(rhs.values, materialised_rhs(g, sphere.positions, sphere.normals, {}, 12)),
             kFusedTolerance);
   // The flux points outwards: the rhs (-div F) is negative inside the shell

@@ -4,12 +4,12 @@
 #include "render/rasterizer.h"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <Eigen/Geometry>
-#include <opencv2/imgproc.hpp>
 #include <cmath>
 #include <limits>
-#include <omp.h>
+#include <opencv2/imgproc.hpp>
 #include <random>
 
 namespace hos::render {
@@ -42,7 +42,9 @@ TriangleMesh uv_sphere(const Eigen::Vector3f& centre, float r, int rings, int se
   return m;
 }
 
-TriangleMesh quad(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector3f& c,
+TriangleMesh quad(const Eigen::Vector3f& a,
+                  const Eigen::Vector3f& b,
+                  const Eigen::Vector3f& c,
                   const Eigen::Vector3f& d) {
   TriangleMesh m;
   m.vertices = {a, b, c, d};

@@ -41,7 +41,9 @@ std::string read_text(const std::filesystem::path& file);
 // Renders the default hos-synth scene (640x480, seed 1) into folder with
 // `views` views plus `holdout` held-out ones; returns hos-synth's exit status
 // (its output goes to log_path).
-int make_synth_scene(const std::filesystem::path& folder, int views, int holdout,
+int make_synth_scene(const std::filesystem::path& folder,
+                     int views,
+                     int holdout,
                      const std::filesystem::path& log_path);
 
 }  // namespace hos::testing

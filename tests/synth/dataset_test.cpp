@@ -99,8 +99,9 @@ TEST_F(DatasetTest, GroundTruthVerticesLandOnTheRenderedSurface) {
       on_mask += d > 0;
     }
   }
-  std::cout << "[ figures  ] GT vertices facing the camera, not occluded: " << visible << ", on the rendered surface: " << on_mask
-            << " (" << 100.0 * on_mask / std::max<std::size_t>(visible, 1) << "%)\n";
+  std::cout << "[ figures  ] GT vertices facing the camera, not occluded: " << visible
+            << ", on the rendered surface: " << on_mask << " (" << 100.0 * on_mask / std::max<std::size_t>(visible, 1)
+            << "%)\n";
   // The objects are fully in frame in every view.
   EXPECT_EQ(in_frame, total);
   EXPECT_GT(visible, total / 6);
@@ -128,8 +129,8 @@ TEST_F(DatasetTest, ImagesHaveTextureOnTheObjects) {
   const SparseModel model = read_colmap_model(root() / "sparse");
   const ImageRecord& image = model.images.begin()->second;
   const cv::Mat colour = cv::imread((root() / "images" / image.name).string());
-  const cv::Mat depth = cv::imread((root() / "depth" / (fs::path(image.name).stem().string() + ".tiff")).string(),
-                                   cv::IMREAD_UNCHANGED);
+  const cv::Mat depth =
+      cv::imread((root() / "depth" / (fs::path(image.name).stem().string() + ".tiff")).string(), cv::IMREAD_UNCHANGED);
   ASSERT_FALSE(colour.empty());
   cv::Mat grey, mask;
   cv::cvtColor(colour, grey, cv::COLOR_BGR2GRAY);

@@ -17,11 +17,12 @@ std::string synth() { return hos::testing::shell_quote((hos::testing::bin_dir() 
 TEST(HosSynthMainTest, WritesTheDocumentedLayout) {
   hos::testing::TempDir dir;
   const fs::path out = dir / "scene";
-  ASSERT_EQ(hos::testing::run_command(synth() + " --output " + hos::testing::shell_quote(out.string()) +
-                                     " --views 4 --width 160 --height 120 --seed 2 --scene torus --ground-plane"
-                                     " --rings 1 --jpeg --depth --normals --supersampling 1 --holdout 1 --progress none",
-                                 dir / "log"),
-            0);
+  ASSERT_EQ(
+      hos::testing::run_command(synth() + " --output " + hos::testing::shell_quote(out.string()) +
+                                    " --views 4 --width 160 --height 120 --seed 2 --scene torus --ground-plane"
+                                    " --rings 1 --jpeg --depth --normals --supersampling 1 --holdout 1 --progress none",
+                                dir / "log"),
+      0);
   const UndistortedWorkspace ws = load_undistorted_workspace(out);
   EXPECT_EQ(ws.model.images.size(), 4u);
   EXPECT_TRUE(fs::exists(out / "images" / "view_000.jpg"));
@@ -64,8 +65,8 @@ TEST(HosSynthMainTest, RefusesToReplaceAFolderItDidNotWrite) {
   fs::create_directories(dir / "mine");
   { std::ofstream(dir / "mine" / "notes.txt") << "keep me"; }
   const std::string flags = " --views 2 --width 64 --height 48 --points 10 --progress none";
-  EXPECT_EQ(hos::testing::run_command(synth() + " --output " + hos::testing::shell_quote((dir / "mine").string()) + flags,
-                                 dir / "log"),
+  EXPECT_EQ(hos::testing::run_command(
+                synth() + " --output " + hos::testing::shell_quote((dir / "mine").string()) + flags, dir / "log"),
             5);
   EXPECT_TRUE(fs::exists(dir / "mine" / "notes.txt"));
   // An earlier output is replaced.

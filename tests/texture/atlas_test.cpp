@@ -25,10 +25,8 @@ TEST(Atlas, ShelfPackingHasNoOverlapsAndStaysInPages) {
     EXPECT_LE(rects[i].y + rects[i].height, 512);
     for (std::size_t j = i + 1; j < rects.size(); ++j) {
       if (page[i] != page[j]) continue;
-      const bool apart = rects[i].x + rects[i].width <= rects[j].x ||
-                         rects[j].x + rects[j].width <= rects[i].x ||
-                         rects[i].y + rects[i].height <= rects[j].y ||
-                         rects[j].y + rects[j].height <= rects[i].y;
+      const bool apart = rects[i].x + rects[i].width <= rects[j].x || rects[j].x + rects[j].width <= rects[i].x ||
+                         rects[i].y + rects[i].height <= rects[j].y || rects[j].y + rects[j].height <= rects[i].y;
       EXPECT_TRUE(apart) << i << " overlaps " << j;
     }
   }

@@ -1,18 +1,16 @@
-#include "synth/shapes.h"
 #include "texture/gltf_writer.h"
 
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
-
 #include "core/error.h"
+#include "synth/shapes.h"
 #include "tests/support/test_support.h"
 #include "tests/texture/scene_fixtures.h"
 #include "texture/texture_mesh.h"
 
 namespace hos::texture {
 namespace {
-
 
 namespace fs = std::filesystem;
 
@@ -34,8 +32,7 @@ fs::path validator_modules() {
   const fs::path modules = prefix / "node_modules";
   if (!fs::exists(modules / "gltf-validator" / "package.json")) {
     const int status = hos::testing::run_command(
-        "npm install --no-audit --no-fund --prefix " + hos::testing::shell_quote(prefix.string()) +
-            " gltf-validator",
+        "npm install --no-audit --no-fund --prefix " + hos::testing::shell_quote(prefix.string()) + " gltf-validator",
         prefix.parent_path() / "node_tools_install.log");
     if (status != 0) return {};
   }
@@ -59,9 +56,9 @@ TEST(GltfWriter, GlbPassesKhronosValidator) {
     const fs::path script = hos::testing::source_dir() / "tests" / "texture" / "validate_gltf.js";
     const fs::path report = dir / ("report_" + format + ".json");
     const int status = hos::testing::run_command("node " + hos::testing::shell_quote(script.string()) + " " +
-                                                hos::testing::shell_quote(modules.string()) + " " +
-                                                hos::testing::shell_quote(glb.string()),
-                                            report);
+                                                     hos::testing::shell_quote(modules.string()) + " " +
+                                                     hos::testing::shell_quote(glb.string()),
+                                                 report);
     const std::string text = hos::testing::read_text(report);
     EXPECT_EQ(status, 0) << format << ": " << text;
     EXPECT_NE(text.find("\"numErrors\": 0"), std::string::npos) << text;
@@ -98,8 +95,7 @@ TEST(GltfWriter, ReadsBackWithTinyGltf) {
   std::size_t expected = 0;
   for (const auto& idx : mesh.indices) expected += idx.size() / 3;
   EXPECT_EQ(triangles, expected);
-  EXPECT_EQ(model.accessors[model.meshes[0].primitives[0].attributes["POSITION"]].count,
-            mesh.positions.size());
+  EXPECT_EQ(model.accessors[model.meshes[0].primitives[0].attributes["POSITION"]].count, mesh.positions.size());
 }
 
 TEST(GltfWriter, UnwritableTargetThrowsOutputError) {

@@ -7,10 +7,10 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "synth/shapes.h"
 #include "core/colmap_io.h"
 #include "core/exit_codes.h"
 #include "core/ply_io.h"
+#include "synth/shapes.h"
 #include "tests/support/test_support.h"
 #include "tests/texture/scene_fixtures.h"
 
@@ -52,8 +52,8 @@ TEST(HosTextureMain, WritesAGlbFromAWorkspace) {
   write_scene(dir.path());
   const std::string report = (dir / "report.json").string();
   ASSERT_EQ(hos::testing::run_command(texture_command(dir.path(), "--image-format jpeg --atlas-size 1024 --report " +
-                                                                 hos::testing::shell_quote(report)),
-                                 dir / "log.txt"),
+                                                                      hos::testing::shell_quote(report)),
+                                      dir / "log.txt"),
             kExitSuccess);
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
@@ -83,11 +83,9 @@ TEST(HosTextureMain, MissingMeshIsBadInput) {
 TEST(HosTextureMain, BadOptionIsUsageError) {
   hos::testing::TempDir dir("hos-texture-main");
   write_scene(dir.path());
-  EXPECT_EQ(hos::testing::run_command(texture_command(dir.path(), "--set texture.atlas_size=5"),
-                                 dir / "log.txt"),
+  EXPECT_EQ(hos::testing::run_command(texture_command(dir.path(), "--set texture.atlas_size=5"), dir / "log.txt"),
             kExitUsage);
-  EXPECT_EQ(hos::testing::run_command(texture_command(dir.path(), "--set texture.no_such_key=1"),
-                                 dir / "log.txt"),
+  EXPECT_EQ(hos::testing::run_command(texture_command(dir.path(), "--set texture.no_such_key=1"), dir / "log.txt"),
             kExitUsage);
 }
 

@@ -9,8 +9,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "synth/shapes.h"
 #include "render/rasterizer.h"
+#include "synth/shapes.h"
 #include "tests/support/textured_render.h"
 #include "tests/texture/scene_fixtures.h"
 #include "texture/texture_mesh.h"
@@ -25,7 +25,9 @@ render::RenderObject truth_object(const TriangleMesh& mesh) {
   return object;
 }
 
-TextureView rendered_view(const std::vector<render::RenderObject>& scene, double azimuth, double elevation,
+TextureView rendered_view(const std::vector<render::RenderObject>& scene,
+                          double azimuth,
+                          double elevation,
                           const render::RenderOptions& options) {
   TextureView view = testing::make_view("view", azimuth, elevation, 3.5);
   view.image = render::render_view(scene, view.camera, view.pose, options).color;
@@ -59,8 +61,8 @@ TEST(RenderRoundTrip, HeldOutViewsOfTheRendererMatch) {
     const cv::Scalar sse = cv::sum(diff.setTo(cv::Scalar::all(0), inner == 0));
     const double mse = (sse[0] + sse[1] + sse[2]) / (3.0 * cv::countNonZero(inner));
     const double psnr = 10.0 * std::log10(255.0 * 255.0 / mse);
-    std::cout << "[ figures  ] renderer held-out az " << azimuth << " el " << elevation
-              << ": PSNR over the object " << psnr << " dB\n";
+    std::cout << "[ figures  ] renderer held-out az " << azimuth << " el " << elevation << ": PSNR over the object "
+              << psnr << " dB\n";
     EXPECT_GT(psnr, 28.0);
   }
 }

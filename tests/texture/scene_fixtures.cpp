@@ -20,8 +20,13 @@ Eigen::Vector3f sphere_albedo(const Eigen::Vector3f& x) {
   return {0.35f + 0.15f * a, 0.45f + 0.25f * b, 0.5f + 0.2f * a * b};
 }
 
-TextureView make_view(const std::string& name, double azimuth_deg, double elevation_deg,
-                      double distance, int width, int height, double focal) {
+TextureView make_view(const std::string& name,
+                      double azimuth_deg,
+                      double elevation_deg,
+                      double distance,
+                      int width,
+                      int height,
+                      double focal) {
   const double az = azimuth_deg * M_PI / 180.0, el = elevation_deg * M_PI / 180.0;
   const Eigen::Vector3d center =
       distance * Eigen::Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
@@ -46,8 +51,10 @@ TextureView make_view(const std::string& name, double azimuth_deg, double elevat
 
 namespace {
 
-std::optional<double> hit_sphere(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
-                                 const Eigen::Vector3d& center, double radius) {
+std::optional<double> hit_sphere(const Eigen::Vector3d& origin,
+                                 const Eigen::Vector3d& dir,
+                                 const Eigen::Vector3d& center,
+                                 double radius) {
   const Eigen::Vector3d oc = origin - center;
   const double b = oc.dot(dir);
   const double c = oc.squaredNorm() - radius * radius;
@@ -60,8 +67,7 @@ std::optional<double> hit_sphere(const Eigen::Vector3d& origin, const Eigen::Vec
 
 }  // namespace
 
-void render_sphere(TextureView& view, double radius, float gain,
-                   const std::optional<Occluder>& occluder) {
+void render_sphere(TextureView& view, double radius, float gain, const std::optional<Occluder>& occluder) {
   const Eigen::Vector3d origin = view.pose.center();
   const int ss = 2;  // supersampling per axis
   for (int y = 0; y < view.image.rows; ++y) {
@@ -71,8 +77,7 @@ void render_sphere(TextureView& view, double radius, float gain,
         for (int sx = 0; sx < ss; ++sx) {
           const Eigen::Vector2d pixel(x + (sx + 0.5) / ss, y + (sy + 0.5) / ss);
           const Eigen::Vector3d ray_cam((pixel.x() - view.camera.principal_x()) / view.camera.focal_x(),
-                                        (pixel.y() - view.camera.principal_y()) / view.camera.focal_y(),
-                                        1.0);
+                                        (pixel.y() - view.camera.principal_y()) / view.camera.focal_y(), 1.0);
           const Eigen::Vector3d dir = (view.pose.rotation().transpose() * ray_cam).normalized();
           const auto t = hit_sphere(origin, dir, Eigen::Vector3d::Zero(), radius);
           std::optional<double> t_occ;
@@ -97,10 +102,8 @@ Eigen::Vector3f sample_atlas(const cv::Mat& atlas, const Eigen::Vector2f& uv) {
 
 std::vector<TexturePoint> texture_points(const TexturedMesh& mesh) {
   std::vector<TexturePoint> points;
-  const Eigen::Vector3f weights[4] = {{1 / 3.f, 1 / 3.f, 1 / 3.f},
-                                      {0.6f, 0.2f, 0.2f},
-                                      {0.2f, 0.6f, 0.2f},
-                                      {0.2f, 0.2f, 0.6f}};
+  const Eigen::Vector3f weights[4] = {
+      {1 / 3.f, 1 / 3.f, 1 / 3.f}, {0.6f, 0.2f, 0.2f}, {0.2f, 0.6f, 0.2f}, {0.2f, 0.2f, 0.6f}};
   for (std::size_t page = 0; page < mesh.indices.size(); ++page) {
     const auto& idx = mesh.indices[page];
     for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
@@ -119,8 +122,7 @@ std::vector<TexturePoint> texture_points(const TexturedMesh& mesh) {
   return points;
 }
 
-void render_textured(const TexturedMesh& mesh, const TextureView& view, cv::Mat& image,
-                     cv::Mat& mask) {
+void render_textured(const TexturedMesh& mesh, const TextureView& view, cv::Mat& image, cv::Mat& mask) {
   const int w = view.camera.width, h = view.camera.height;
   image = cv::Mat(h, w, CV_8UC3, cv::Scalar(0, 0, 0));
   mask = cv::Mat(h, w, CV_8U, cv::Scalar(0));
@@ -156,8 +158,7 @@ void render_textured(const TexturedMesh& mesh, const TextureView& view, cv::Mat&
                                      static_cast<float>(pb * z) * mesh.uvs[idx[t + 1]] +
                                      static_cast<float>(pc * z) * mesh.uvs[idx[t + 2]];
           const Eigen::Vector3f rgb = sample_atlas(mesh.atlases[page], uv);
-          image.at<cv::Vec3b>(y, x) = cv::Vec3b(cv::saturate_cast<uchar>(rgb.z()),
-                                                cv::saturate_cast<uchar>(rgb.y()),
+          image.at<cv::Vec3b>(y, x) = cv::Vec3b(cv::saturate_cast<uchar>(rgb.z()), cv::saturate_cast<uchar>(rgb.y()),
                                                 cv::saturate_cast<uchar>(rgb.x()));
           mask.at<std::uint8_t>(y, x) = 255;
         }

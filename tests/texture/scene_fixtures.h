@@ -14,7 +14,6 @@
 
 namespace hos::texture::testing {
 
-
 // Albedo in [0, 1] RGB: smooth stripes, never strongly red.
 Eigen::Vector3f sphere_albedo(const Eigen::Vector3f& x);
 
@@ -23,8 +22,13 @@ Eigen::Vector3f sphere_albedo(const Eigen::Vector3f& x);
 // "v<i>": the name of the i-th test view.
 std::string view_name(int i);
 
-TextureView make_view(const std::string& name, double azimuth_deg, double elevation_deg,
-                      double distance, int width = 320, int height = 240, double focal = 300.0);
+TextureView make_view(const std::string& name,
+                      double azimuth_deg,
+                      double elevation_deg,
+                      double distance,
+                      int width = 320,
+                      int height = 240,
+                      double focal = 300.0);
 
 struct Occluder {
   Eigen::Vector3d center;
@@ -34,7 +38,9 @@ struct Occluder {
 
 // Ray-casts the sphere (radius at the origin) into view.image; colour =
 // albedo * gain (8 bit), black background; an optional occluder in front.
-void render_sphere(TextureView& view, double radius, float gain = 1.0f,
+void render_sphere(TextureView& view,
+                   double radius,
+                   float gain = 1.0f,
                    const std::optional<Occluder>& occluder = std::nullopt);
 
 // Bilinear sample of an atlas (BGR) at glTF UV; returns RGB in [0, 255].
@@ -53,7 +59,6 @@ std::vector<TexturePoint> texture_points(const TexturedMesh& mesh);
 // Renders a textured mesh (perspective-correct UVs, bilinear atlas lookup,
 // z-buffer, unlit) into a BGR image of the view's size; mask is 255 where the
 // mesh covers the pixel centre. Test-only stand-in for a glTF viewer.
-void render_textured(const TexturedMesh& mesh, const TextureView& view, cv::Mat& image,
-                     cv::Mat& mask);
+void render_textured(const TexturedMesh& mesh, const TextureView& view, cv::Mat& image, cv::Mat& mask);
 
 }  // namespace hos::texture::testing

@@ -56,9 +56,8 @@ TEST(SynthScene, HeldOutViewsPsnrOnTheObject) {
     const cv::Scalar sse = cv::sum(diff);
     const double mse = (sse[0] + sse[1] + sse[2]) / (3.0 * cv::countNonZero(inner));
     const double psnr = 10.0 * std::log10(255.0 * 255.0 / mse);
-    std::cout << "[ figures  ] hos-synth held-out view " << image.name << ": PSNR over the object "
-              << psnr << " dB (" << mesh.faces.size() << " faces, " << result.stats.num_unseen_faces
-              << " unseen)\n";
+    std::cout << "[ figures  ] hos-synth held-out view " << image.name << ": PSNR over the object " << psnr << " dB ("
+              << mesh.faces.size() << " faces, " << result.stats.num_unseen_faces << " unseen)\n";
     // Issue 6: at least 28 dB over the object.
     EXPECT_GT(psnr, 28.0);
   }

@@ -1,40 +1,39 @@
 // End-to-end tests of texture_mesh on analytic sphere scenes with known albedo.
-#include "synth/shapes.h"
 #include "texture/texture_mesh.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <limits>
-
-#include "core/error.h"
+#include <map>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
-#include <iostream>
-#include <map>
 
+#include "core/error.h"
+#include "synth/shapes.h"
 #include "tests/texture/scene_fixtures.h"
 
 namespace hos::texture {
 namespace {
 
-
 using testing::make_view;
-using testing::view_name;
 using testing::render_sphere;
 using testing::sample_atlas;
 using testing::sphere_albedo;
 using testing::texture_points;
+using testing::view_name;
 
 constexpr double kRadius = 1.0;
 
 // Views on two rings around the sphere; gains[i] multiplies view i's image.
-std::vector<TextureView> ring_views(int count, const std::vector<float>& gains = {},
-                                    double elevation_a = 35.0, double elevation_b = -35.0) {
+std::vector<TextureView> ring_views(int count,
+                                    const std::vector<float>& gains = {},
+                                    double elevation_a = 35.0,
+                                    double elevation_b = -35.0) {
   std::vector<TextureView> views;
   for (int i = 0; i < count; ++i) {
-    TextureView view = make_view(view_name(i), 360.0 * i / count + 7.0,
-                                 i % 2 == 0 ? elevation_a : elevation_b, 3.5);
+    TextureView view = make_view(view_name(i), 360.0 * i / count + 7.0, i % 2 == 0 ? elevation_a : elevation_b, 3.5);
     render_sphere(view, kRadius, gains.empty() ? 1.0f : gains[i]);
     views.push_back(std::move(view));
   }
@@ -118,8 +117,8 @@ TEST(TextureMesh, HeldOutViewsMatchRenderedTexture) {
       }
     }
     const double object_psnr = 10.0 * std::log10(255.0 * 255.0 / (sse / static_cast<double>(n)));
-    std::cout << "[ figures  ] held-out view az " << azimuth << " el " << elevation
-              << ": PSNR over the object " << object_psnr << " dB (whole image " << psnr << " dB)\n";
+    std::cout << "[ figures  ] held-out view az " << azimuth << " el " << elevation << ": PSNR over the object "
+              << object_psnr << " dB (whole image " << psnr << " dB)\n";
     EXPECT_GT(object_psnr, 28.0);
   }
 }
@@ -137,8 +136,7 @@ double mean_seam_jump(const TexturedMesh& mesh) {
     const auto& idx = mesh.indices[page];
     for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
       const std::uint32_t tri[3] = {idx[i], idx[i + 1], idx[i + 2]};
-      const Eigen::Vector2f uv_centroid =
-          (mesh.uvs[tri[0]] + mesh.uvs[tri[1]] + mesh.uvs[tri[2]]) / 3.0f;
+      const Eigen::Vector2f uv_centroid = (mesh.uvs[tri[0]] + mesh.uvs[tri[1]] + mesh.uvs[tri[2]]) / 3.0f;
       for (int c = 0; c < 3; ++c) {
         const std::uint32_t a = tri[c], b = tri[(c + 1) % 3];
         std::array<float, 3> pa{mesh.positions[a].x(), mesh.positions[a].y(), mesh.positions[a].z()};
@@ -174,19 +172,17 @@ TEST(TextureMesh, ExposureAndLevelingReduceSeamJumps) {
   const double jump_off = mean_seam_jump(texture_mesh(mesh, views, off, null_reporter()).mesh);
   TextureOptions global_only;
   global_only.local_blending = false;
-  const double jump_global =
-      mean_seam_jump(texture_mesh(mesh, views, global_only, null_reporter()).mesh);
+  const double jump_global = mean_seam_jump(texture_mesh(mesh, views, global_only, null_reporter()).mesh);
   TextureOptions on;
   const TextureResult leveled = texture_mesh(mesh, views, on, null_reporter());
   const double jump_on = mean_seam_jump(leveled.mesh);
-  std::cout << "[ figures  ] mean seam jump (8-bit RGB): none " << jump_off << ", exposure+global "
-            << jump_global << ", + local blending " << jump_on << "\n";
+  std::cout << "[ figures  ] mean seam jump (8-bit RGB): none " << jump_off << ", exposure+global " << jump_global
+            << ", + local blending " << jump_on << "\n";
   EXPECT_LT(jump_on, jump_global);
   // The brighter photos get a gain near 1/1.3 relative to the others.
   for (int i = 0; i < 10; ++i) {
     for (int k = 0; k < 3; ++k) {
-      const float relative =
-          leveled.stats.exposure_gains[i][k] * gains[i] / leveled.stats.exposure_gains[1][k];
+      const float relative = leveled.stats.exposure_gains[i][k] * gains[i] / leveled.stats.exposure_gains[1][k];
       EXPECT_NEAR(relative, 1.0f, 0.05f) << "view " << i << " channel " << k;
     }
   }
@@ -248,8 +244,7 @@ TEST(TextureMesh, UnseenFacesTakeNeighbourColours) {
 TEST(TextureMesh, BadMeshOrNoViewsThrowHosErrors) {
   TriangleMesh mesh = synth::icosphere(1, kRadius);
   const auto views = ring_views(3);
-  EXPECT_THROW(texture_mesh(mesh, std::vector<TextureView>{}, TextureOptions{}, null_reporter()),
-               StageError);
+  EXPECT_THROW(texture_mesh(mesh, std::vector<TextureView>{}, TextureOptions{}, null_reporter()), StageError);
   mesh.faces[3][1] = 1000;
   EXPECT_THROW(texture_mesh(mesh, views, TextureOptions{}, null_reporter()), StageError);
   mesh = synth::icosphere(1, kRadius);

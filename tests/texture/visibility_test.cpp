@@ -1,8 +1,8 @@
-#include "synth/shapes.h"
 #include "texture/visibility.h"
 
 #include <gtest/gtest.h>
 
+#include "synth/shapes.h"
 #include "tests/texture/scene_fixtures.h"
 
 namespace hos::texture {
