@@ -106,7 +106,7 @@ TEST(StageOptions, ValidateChecksValuesSetInCodeAgainstTheTable) {
 }
 
 TEST(StageOptions, StageNamesComeFromTheOneList) {
-  EXPECT_EQ(pipeline::stage_names_text(", "), "sfm, mvs, recon, texture");
+  EXPECT_EQ(pipeline::stage_names_text(", "), "sfm, mvs, recon, refine, texture");
   EXPECT_THROW(pipeline::stage_index("mesh", "--from"), ConfigError);
 }
 

@@ -301,7 +301,7 @@ TEST_F(DriverTest, LockOfAKilledRunIsTakenOverWithAWarning) {
   fs::create_directories(workspace());
   std::ofstream(WorkspaceLock::file_in(workspace())) << "pid 999999";  // no flock: its owner died
   testing::MessageLog log;
-  EXPECT_THAT(run(log), ElementsAre("sfm", "mvs", "recon", "texture"));
+  EXPECT_THAT(run(log), ElementsAre("sfm", "mvs", "recon", "refine", "texture"));
   EXPECT_THAT(log.warnings(), HasSubstr("taking over the workspace lock"));
   EXPECT_THAT(log.warnings(), HasSubstr("pid 999999"));
   EXPECT_TRUE(testing::read_text(WorkspaceLock::file_in(workspace())).empty());  // released cleanly
@@ -370,10 +370,10 @@ TEST_F(DriverTest, LowDiskSpaceIsWarnedBeforeTheStage) {
 
 TEST_F(DriverTest, OutputInsideThePhotoFolderStillResumes) {
   options_.output = options_.photos / "model.glb";
-  EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "texture"));
+  EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "refine", "texture"));
   EXPECT_TRUE(run().empty());
   std::ofstream(options_.photos / "e.jpg") << "e";  // a real new photo still counts
-  EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "texture"));
+  EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "refine", "texture"));
 }
 
 TEST_F(DriverTest, DamagedIntermediateNamesForceFrom) {

@@ -67,7 +67,9 @@ TEST(RunReportBrowser, ViewerShowsTheModelWithoutConsoleErrors) {
   int red = 0;
   for (int attempt = 0; attempt < 3 && red <= kMinRedPixels; ++attempt) {
     std::ostringstream command;
-    command << hos::testing::shell_quote(chromium)
+    // A headless Chromium that hangs (seen on a loaded machine) ends after
+    // 90 s and counts as a failed attempt.
+    command << "timeout 90 " << hos::testing::shell_quote(chromium)
             << " --headless --no-sandbox --disable-gpu --enable-unsafe-swiftshader"
                " --disable-background-networking --disable-component-update --disable-sync"
                " --no-first-run --enable-logging=stderr --window-size=1000,900"
@@ -75,12 +77,12 @@ TEST(RunReportBrowser, ViewerShowsTheModelWithoutConsoleErrors) {
             << hos::testing::shell_quote((dir / ("profile" + std::to_string(attempt))).string())
             << " --screenshot=" << hos::testing::shell_quote(shot.string()) << " "
             << hos::testing::shell_quote("file://" + fs::absolute(page).string());
-    ASSERT_EQ(hos::testing::run_command(command.str(), log), 0) << hos::testing::read_text(log);
+    fs::remove(shot);
+    if (hos::testing::run_command(command.str(), log) != 0) continue;
     const cv::Mat image = cv::imread(shot.string(), cv::IMREAD_COLOR);
-    ASSERT_FALSE(image.empty()) << "no screenshot";
-    red = red_pixels(image);
+    if (!image.empty()) red = red_pixels(image);
   }
-  EXPECT_GT(red, kMinRedPixels);
+  EXPECT_GT(red, kMinRedPixels) << hos::testing::read_text(log);
   std::istringstream lines(hos::testing::read_text(log));
   for (std::string line; std::getline(lines, line);) {
     if (line.find("CONSOLE") == std::string::npos) continue;
