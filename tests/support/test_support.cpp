@@ -76,10 +76,10 @@ std::string read_text(const fs::path& file) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-int make_synth_scene(const fs::path& folder, int views, int holdout, const fs::path& log_path) {
+int make_synth_scene(const fs::path& folder, int views, int holdout, const fs::path& log_path, SynthPhotoSize size) {
   return run_command(shell_quote(executable("hos-synth").string()) + " --output " + shell_quote(folder.string()) +
-                         " --views " + std::to_string(views) + " --width 640 --height 480 --seed 1 --holdout " +
-                         std::to_string(holdout),
+                         " --views " + std::to_string(views) + " --width " + std::to_string(size.width) + " --height " +
+                         std::to_string(size.height) + " --seed 1 --holdout " + std::to_string(holdout),
                      log_path);
 }
 

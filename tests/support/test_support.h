@@ -38,12 +38,18 @@ int run_command(const std::string& command, const std::filesystem::path& log_pat
 std::string shell_quote(const std::string& s);
 // The whole content of a text file ("" if it cannot be read).
 std::string read_text(const std::filesystem::path& file);
-// Renders the default hos-synth scene (640x480, seed 1) into folder with
-// `views` views plus `holdout` held-out ones; returns hos-synth's exit status
-// (its output goes to log_path).
+// Photo size of a rendered synthetic scene.
+struct SynthPhotoSize {
+  int width = 640;
+  int height = 480;
+};
+// Renders the default hos-synth scene (seed 1) into folder with `views` views
+// plus `holdout` held-out ones; returns hos-synth's exit status (its output
+// goes to log_path).
 int make_synth_scene(const std::filesystem::path& folder,
                      int views,
                      int holdout,
-                     const std::filesystem::path& log_path);
+                     const std::filesystem::path& log_path,
+                     SynthPhotoSize size = {});
 
 }  // namespace hos::testing
