@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
 
   CLI::App app{"hos-synth: render a synthetic scene with ground-truth cameras, mesh and depth"};
   app.add_option("--output", output, "output folder (replaced atomically)")->required();
-  app.add_option("--views", options.num_views, "number of views")->check(CLI::Range(2, 100000));
+  app.add_option("--views", options.num_views, "number of views (at least 2)");
   app.add_option("--width", options.width, "image width in pixels");
   app.add_option("--height", options.height, "image height in pixels");
   app.add_option("--focal", options.focal, "focal length in pixels (default 0.9 * width)");

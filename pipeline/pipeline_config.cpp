@@ -35,7 +35,7 @@ std::string joined(const std::vector<std::string>& names) {
 
 PipelineConfig::PipelineConfig() {
   for (const auto& stage : pipeline_stage_names()) {
-    if (auto config = make_stage_config(stage)) stages_.emplace(stage, std::move(config));
+    stages_.emplace(stage, make_stage_config(stage));
   }
 }
 
@@ -147,9 +147,7 @@ std::string default_config_text() {
        "# Use it as a starting point for --config FILE; --set stage.key=value\n"
        "# overrides single options. Presets: config/presets/.\n";
   for (const auto& stage : pipeline_stage_names()) {
-    const auto config = make_stage_config(stage);
-    if (!config) continue;
-    s << "\n" << config->option_set().documented_yaml();
+    s << "\n" << make_stage_config(stage)->option_set().documented_yaml();
   }
   return s.str();
 }

@@ -41,8 +41,8 @@ class TypedStageConfig final : public StageConfig {
 // The pipeline's stages in order.
 const std::vector<std::string>& pipeline_stage_names();
 
-// A fresh config with defaults for stage, or nullptr if that stage's library
-// was not part of this build.
+// A fresh config with defaults for stage (throws ConfigError for an unknown
+// stage name).
 std::unique_ptr<StageConfig> make_stage_config(const std::string& stage);
 
 }  // namespace hos::pipeline

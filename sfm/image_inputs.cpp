@@ -100,122 +100,131 @@ cv::Mat apply_exif_orientation(const cv::Mat& image, int orientation) {
   return out;
 }
 
-ImageInputs prepare_images(const fs::path& folder,
-                           const fs::path& staging_dir,
-                           const SfmOptions& options,
-                           Reporter& reporter) {
+namespace {
+
+// The entries at the top level of folder that may be photos, sorted.
+std::vector<fs::path> list_photo_candidates(const fs::path& folder) {
   std::error_code ec;
   if (!fs::exists(folder, ec)) throw InputError(folder.string(), "photo folder does not exist");
   if (!fs::is_directory(folder, ec)) throw InputError(folder.string(), "is not a folder of photos");
-
   std::vector<fs::path> files;
   for (const auto& entry : fs::directory_iterator(folder, ec)) {
     const std::string name = entry.path().filename().string();
     if (name.empty() || name[0] == '.') continue;
     // An entry that cannot be examined (a symlink loop, a dangling link) is
-    // kept here and skipped below with the reason.
+    // kept here and skipped later with the reason.
     std::error_code entry_ec;
     if (entry.is_directory(entry_ec)) continue;
     files.push_back(entry.path());
   }
   if (ec) throw InputError(folder.string(), "cannot list the folder: " + ec.message());
   std::sort(files.begin(), files.end());
+  return files;
+}
 
-  ImageInputs inputs;
-  fs::create_directories(staging_dir);
-  reporter.begin("checking photos", static_cast<std::int64_t>(files.size()));
-  for (const auto& file : files) {
-    reporter.throw_if_cancelled();
-    reporter.advance();
-    const std::string ext = lower(file.extension().string());
-    auto skip = [&](const std::string& reason) {
-      inputs.skipped.push_back({file, reason});
-      reporter.warn("skipping " + file.string() + ": " + reason);
-    };
-    const auto& exts = supported_image_extensions();
-    if (std::find(exts.begin(), exts.end(), ext) == exts.end()) {
-      skip("not a photo (supported: .jpg .jpeg .png .tif .tiff .bmp)");
-      continue;
-    }
-    const auto size = fs::file_size(file, ec);
-    if (ec) {
-      skip("cannot be read: " + ec.message());
-      continue;
-    }
-    if (size == 0) {
-      skip("empty file (0 bytes)");
-      continue;
-    }
-    std::vector<std::uint8_t> bytes;
-    try {
-      bytes = read_file_bytes(file);
-    } catch (const InputError& e) {
-      skip(e.reason());
-      continue;
-    }
-    ExifInfo exif;
-    if (is_jpeg_extension(ext)) {
-      if (!jpeg_is_complete(bytes)) {
-        skip("truncated or corrupt JPEG (no complete image data)");
-        continue;
-      }
-      exif = parse_jpeg_exif(bytes);
-    }
-    // Orientation is applied here from our own EXIF reading, so the decoder
-    // must not apply it a second time.
-    cv::Mat image;
-    try {
-      image = cv::imdecode(bytes, cv::IMREAD_COLOR | cv::IMREAD_ANYDEPTH | cv::IMREAD_IGNORE_ORIENTATION);
-    } catch (const cv::Exception&) {
-      image.release();
-    }
-    if (image.empty()) {
-      skip("cannot be decoded as an image (corrupt or unsupported format)");
-      continue;
-    }
-    if (std::min(image.cols, image.rows) < options.min_image_size) {
-      skip("too small (" + std::to_string(image.cols) + "x" + std::to_string(image.rows) + "; sfm.min_image_size is " +
-           std::to_string(options.min_image_size) + ")");
-      continue;
-    }
-    StagedImage staged;
-    staged.name = file.filename().string();
-    staged.source = file;
-    staged.focal_length_mm = exif.focal_length_mm;
-    staged.has_gps = exif.has_gps;
-    if (image.depth() != CV_8U) {
-      image = to_8_bits(image);
-      staged.rewritten = true;
-    }
-    if (exif.orientation != 1) {
-      image = apply_exif_orientation(image, exif.orientation);
-      staged.rewritten = true;
-    }
-    const int longest = std::max(image.cols, image.rows);
-    if (options.max_image_size > 0 && longest > options.max_image_size) {
-      const double scale = double(options.max_image_size) / longest;
-      cv::Mat small;
-      cv::resize(image, small, cv::Size(), scale, scale, cv::INTER_AREA);
-      image = small;
-      staged.rewritten = true;
-    }
-    staged.width = image.cols;
-    staged.height = image.rows;
-    const fs::path target = staging_dir / staged.name;
-    fs::remove(target, ec);
-    if (staged.rewritten) {
-      const std::vector<int> params{cv::IMWRITE_JPEG_QUALITY, 95};
-      if (!cv::imwrite(target.string(), image, params)) {
-        throw OutputError(target.string(), "cannot write the upright/downscaled copy of " + file.string());
-      }
-    } else {
-      fs::create_symlink(fs::absolute(file), target, ec);
-      if (ec) fs::copy_file(file, target, fs::copy_options::overwrite_existing);
-    }
-    inputs.images.push_back(std::move(staged));
+struct DecodedPhoto {
+  cv::Mat image;  // as stored: not yet upright, any bit depth
+  ExifInfo exif;
+};
+
+// Reads and decodes one file; on failure returns nothing and sets reason.
+std::optional<DecodedPhoto> decode_photo(const fs::path& file, const SfmOptions& options, std::string& reason) {
+  const std::string ext = lower(file.extension().string());
+  const auto& exts = supported_image_extensions();
+  if (std::find(exts.begin(), exts.end(), ext) == exts.end()) {
+    reason = "not a photo (supported: .jpg .jpeg .png .tif .tiff .bmp)";
+    return std::nullopt;
   }
-  reporter.end();
+  std::error_code ec;
+  const auto size = fs::file_size(file, ec);
+  if (ec) {
+    reason = "cannot be read: " + ec.message();
+    return std::nullopt;
+  }
+  if (size == 0) {
+    reason = "empty file (0 bytes)";
+    return std::nullopt;
+  }
+  std::vector<std::uint8_t> bytes;
+  try {
+    bytes = read_file_bytes(file);
+  } catch (const InputError& e) {
+    reason = e.reason();
+    return std::nullopt;
+  }
+  DecodedPhoto photo;
+  if (is_jpeg_extension(ext)) {
+    if (!jpeg_is_complete(bytes)) {
+      reason = "truncated or corrupt JPEG (no complete image data)";
+      return std::nullopt;
+    }
+    photo.exif = parse_jpeg_exif(bytes);
+  }
+  // Orientation is applied when staging, from our own EXIF reading, so the
+  // decoder must not apply it a second time.
+  try {
+    photo.image = cv::imdecode(bytes, cv::IMREAD_COLOR | cv::IMREAD_ANYDEPTH | cv::IMREAD_IGNORE_ORIENTATION);
+  } catch (const cv::Exception&) {
+    photo.image.release();
+  }
+  if (photo.image.empty()) {
+    reason = "cannot be decoded as an image (corrupt or unsupported format)";
+    return std::nullopt;
+  }
+  if (std::min(photo.image.cols, photo.image.rows) < options.min_image_size) {
+    reason = "too small (" + std::to_string(photo.image.cols) + "x" + std::to_string(photo.image.rows) +
+             "; sfm.min_image_size is " + std::to_string(options.min_image_size) + ")";
+    return std::nullopt;
+  }
+  return photo;
+}
 
+// Puts the photo into staging_dir as COLMAP must see it: 8 bits, upright and
+// at most sfm.max_image_size; a link to the user's file when nothing changes.
+StagedImage stage_photo(const fs::path& file,
+                        DecodedPhoto photo,
+                        const fs::path& staging_dir,
+                        const SfmOptions& options) {
+  StagedImage staged;
+  staged.name = file.filename().string();
+  staged.source = file;
+  staged.focal_length_mm = photo.exif.focal_length_mm;
+  staged.has_gps = photo.exif.has_gps;
+  cv::Mat image = std::move(photo.image);
+  if (image.depth() != CV_8U) {
+    image = to_8_bits(image);
+    staged.rewritten = true;
+  }
+  if (photo.exif.orientation != 1) {
+    image = apply_exif_orientation(image, photo.exif.orientation);
+    staged.rewritten = true;
+  }
+  const int longest = std::max(image.cols, image.rows);
+  if (options.max_image_size > 0 && longest > options.max_image_size) {
+    const double scale = double(options.max_image_size) / longest;
+    cv::Mat small;
+    cv::resize(image, small, cv::Size(), scale, scale, cv::INTER_AREA);
+    image = small;
+    staged.rewritten = true;
+  }
+  staged.width = image.cols;
+  staged.height = image.rows;
+  const fs::path target = staging_dir / staged.name;
+  std::error_code ec;
+  fs::remove(target, ec);
+  if (staged.rewritten) {
+    const std::vector<int> params{cv::IMWRITE_JPEG_QUALITY, 95};
+    if (!cv::imwrite(target.string(), image, params)) {
+      throw OutputError(target.string(), "cannot write the upright/downscaled copy of " + file.string());
+    }
+  } else {
+    fs::create_symlink(fs::absolute(file), target, ec);
+    if (ec) fs::copy_file(file, target, fs::copy_options::overwrite_existing);
+  }
+  return staged;
+}
+
+void require_enough_photos(const fs::path& folder, const ImageInputs& inputs) {
   if (inputs.images.empty() && inputs.skipped.empty()) {
     throw InputError(folder.string(), "contains no photos (supported: .jpg .jpeg .png .tif .tiff .bmp)");
   }
@@ -225,6 +234,32 @@ ImageInputs prepare_images(const fs::path& folder,
                          std::to_string(kMinUsableImages) + " are needed" +
                          (inputs.skipped.empty() ? std::string() : "; skipped:" + join_skipped(inputs.skipped)));
   }
+}
+
+}  // namespace
+
+ImageInputs prepare_images(const fs::path& folder,
+                           const fs::path& staging_dir,
+                           const SfmOptions& options,
+                           Reporter& reporter) {
+  const std::vector<fs::path> files = list_photo_candidates(folder);
+  ImageInputs inputs;
+  fs::create_directories(staging_dir);
+  reporter.begin("checking photos", static_cast<std::int64_t>(files.size()));
+  for (const auto& file : files) {
+    reporter.throw_if_cancelled();
+    reporter.advance();
+    std::string reason;
+    std::optional<DecodedPhoto> photo = decode_photo(file, options, reason);
+    if (!photo) {
+      inputs.skipped.push_back({file, reason});
+      reporter.warn("skipping " + file.string() + ": " + reason);
+      continue;
+    }
+    inputs.images.push_back(stage_photo(file, std::move(*photo), staging_dir, options));
+  }
+  reporter.end();
+  require_enough_photos(folder, inputs);
   return inputs;
 }
 
