@@ -120,7 +120,8 @@ run="$work/runs/$label"
 rm -rf "$run"
 mkdir -p "$run"
 undistorted="$work/sfm-train/sfm/undistorted"
-timed() { /usr/bin/time -f "%e %M" -o "$run/$1.time" "${@:2}"; }
+# Wall s, CPU s (user + sys: steadier than wall on a shared machine), peak KB.
+timed() { /usr/bin/time -f "%e %U %S %M" -o "$run/$1.time" "${@:2}"; }
 timed mvs "$bin/hos-mvs" --workspace "$undistorted" --output "$run/points.ply" --progress none \
   --log "$run/mvs.log" "${sets[@]}" >/dev/null
 timed recon "$bin/hos-recon" --input "$run/points.ply" --output "$run/mesh.ply" --progress none \
@@ -143,15 +144,14 @@ run, label, holdout, points, models = sys.argv[1:6]
 def size(model):
     fields = next(l.split() for l in open(f"{models}/{model}/cameras.txt") if l.strip() and not l.startswith("#"))
     return int(fields[2]) * int(fields[3])
-def seconds(stage):
-    s, kb = open(f"{run}/{stage}.time").read().split()[-2:]
-    return float(s), int(kb) / 1024
+def timing(stage):
+    wall, user, system, kb = open(f"{run}/{stage}.time").read().split()[-4:]
+    return {"seconds": float(wall), "cpu_seconds": float(user) + float(system), "peak_mb": int(kb) / 1024}
 summary = {"label": label, "holdout": holdout, "points": int(points)}
 for stage in ("mvs", "recon", "texture"):
-    s, mb = seconds(stage)
-    summary[stage] = {"seconds": s, "peak_mb": mb}
-print("| run | camera | PSNR dB | SSIM | coverage | mvs s | mvs peak MB | points | recon s | texture s |")
-print("|---|---|---|---|---|---|---|---|---|---|")
+    summary[stage] = timing(stage)
+print("| run | camera | PSNR dB | SSIM | coverage | mvs s | mvs CPU s | mvs peak MB | points | recon s | texture s |")
+print("|---|---|---|---|---|---|---|---|---|---|---|")
 for camera, model in (("true", "true"), ("registered", "registered")):
     d = json.load(open(f"{run}/{camera}.json"))
     views = d.get("views", [])
@@ -160,6 +160,6 @@ for camera, model in (("true", "true"), ("registered", "registered")):
     summary[camera] = {"psnr": v["psnr"], "ssim": v["ssim"], "coverage": coverage,
                        "alignment_rms": d.get("alignment", {}).get("rms_residual")}
     print(f"| {label} | {camera} | {v['psnr']:.2f} | {v['ssim']:.3f} | {coverage:.3f} | {summary['mvs']['seconds']:.1f} "
-          f"| {summary['mvs']['peak_mb']:.0f} | {points} | {summary['recon']['seconds']:.1f} | {summary['texture']['seconds']:.1f} |")
+          f"| {summary['mvs']['cpu_seconds']:.1f} | {summary['mvs']['peak_mb']:.0f} | {points} | {summary['recon']['seconds']:.1f} | {summary['texture']['seconds']:.1f} |")
 json.dump(summary, open(f"{run}/summary.json", "w"), indent=1)
 PY
