@@ -40,7 +40,7 @@ void check_reconstructable(const PointCloud& points, const std::string& source);
 
 // Throws ConfigError for bad options, InputError for unusable points,
 // NumericalError if the solve fails, Cancelled on request.
-ReconResult reconstruct_surface(const PointCloud& points, const ReconOptions& options, Reporter& reporter);
+ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& options, Reporter& reporter);
 
 // Nodes per axis beyond which a domain is not made larger: far more than
 // any machine holds, small enough that node counts stay exact in int64.

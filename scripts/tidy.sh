@@ -1,8 +1,12 @@
 #!/usr/bin/env bash
-# Runs clang-tidy (.clang-tidy) over every hos source in the build's
+# Runs clang-tidy (.clang-tidy) over hos sources in the build's
 # compile_commands.json; exits non-zero on any finding. Build first
-# (scripts/build.sh). Extra arguments go to run-clang-tidy, e.g. a regex that
-# selects files below the folders: scripts/tidy.sh 'energy_operator\.cpp'.
+# (scripts/build.sh).
+#   scripts/tidy.sh                      # every source (about an hour on 2 cores)
+#   scripts/tidy.sh 'energy_operator\.cpp'   # sources matching a regex below the folders
+#   scripts/tidy.sh --recent N           # the sources changed by the last N commits
+#                                          (at most HOS_TIDY_MAX_FILES, default 12; CI)
+# Extra arguments after these go to run-clang-tidy.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${HOS_BUILD_DIR:-$root/build}"
@@ -18,8 +22,26 @@ if [ ! -f "$build/compile_commands.json" ]; then
   exit 2
 fi
 # Our folders only: not the build tree's generated files nor system headers.
-folders="core|render|synth|eval|recon|mvs|texture|sfm|pipeline|apps|tests|bench|examples"
+folders="core|render|synth|eval|recon|mvs|texture|sfm|pipeline|refine|apps|tests|bench|examples"
 files="^$root/($folders)/"
-if [ $# -gt 0 ]; then files="^$root/($folders)/(.*/)?($1)"; shift; fi
+if [ "${1:-}" = "--recent" ]; then
+  commits="$2"
+  shift 2
+  # The .cpp files the last commits touched that still exist, newest first;
+  # a changed header brings the source of the same name.
+  mapfile -t changed < <(cd "$root" && git log --max-count="$commits" --name-only --format= -- '*.cpp' '*.h' |
+    sed 's/\.h$/.cpp/' | awk '!seen[$0]++' | while read -r f; do [ -f "$f" ] && echo "$f"; done |
+    grep -E "^($folders)/" | head -n "${HOS_TIDY_MAX_FILES:-12}" || true)
+  if [ ${#changed[@]} -eq 0 ]; then
+    echo "tidy: no source changed in the last $commits commits"
+    exit 0
+  fi
+  echo "tidy: ${#changed[@]} source(s) changed in the last $commits commits"
+  pattern="$(printf '%s|' "${changed[@]}" | sed 's/|$//; s/\./\\./g')"
+  files="^$root/($pattern)$"
+elif [ $# -gt 0 ]; then
+  files="^$root/($folders)/(.*/)?($1)"
+  shift
+fi
 "$runner" -clang-tidy-binary "$tidy" -p "$build" -j "$jobs" -quiet \
   -header-filter="^$root/($folders)/" "$files" "$@"

@@ -142,6 +142,7 @@ int main(int argc, char** argv) {
 
   const hos::TriangleMesh mesh = bumpy_sphere(faces);
   std::vector<hos::texture::TextureView> views;
+  views.reserve(num_views);
   for (int i = 0; i < num_views; ++i) views.push_back(make_view(i, num_views, width, height));
   std::cout << "mesh " << mesh.faces.size() << " faces, " << num_views << " views " << width << "x" << height
             << ", threads " << omp_get_max_threads() << "\n";

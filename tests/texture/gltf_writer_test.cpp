@@ -29,7 +29,7 @@ TexturedMesh textured_sphere(int atlas_size = 4096) {
 // The validator's node_modules folder: installed once per build folder.
 fs::path validator_modules() {
   const fs::path prefix = hos::testing::bin_dir().parent_path() / "node_tools";
-  const fs::path modules = prefix / "node_modules";
+  fs::path modules = prefix / "node_modules";
   if (!fs::exists(modules / "gltf-validator" / "package.json")) {
     const int status = hos::testing::run_command(
         "npm install --no-audit --no-fund --prefix " + hos::testing::shell_quote(prefix.string()) + " gltf-validator",
