@@ -4,12 +4,13 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 
 #include "core/atomic_file.h"
-#include "core/colmap_io.h"
 #include "core/error.h"
-#include "core/ply_io.h"
+#include "pipeline/report_plots.h"
 #include "pipeline/report_viewer.h"
 #include "pipeline/run_record.h"
 #include "pipeline/stage_figures.h"
@@ -22,7 +23,8 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr int kMaxWarningsPerStage = 20;
-constexpr int kMaxTrackLength = 30;
+constexpr int kThumbnailWidth = 160;   // px
+constexpr int kThumbnailQuality = 75;  // JPEG
 
 std::string read_text_file(const fs::path& file) {
   std::ifstream in(file);
@@ -46,6 +48,12 @@ std::vector<std::string> log_warnings(const fs::path& log) {
 std::string format_fixed(double v, int digits) {
   std::ostringstream out;
   out << std::fixed << std::setprecision(digits) << v;
+  return out.str();
+}
+
+std::string format_significant(double v) {
+  std::ostringstream out;
+  out << std::setprecision(5) << v;
   return out.str();
 }
 
@@ -104,24 +112,48 @@ void write_stage_table(std::ostream& html, const RunRecord& record, const StageP
   html << "</table>\n";
 }
 
-// 4. Photos: the registered ones as thumbnails, the others with the reason.
-void write_photos(std::ostream& html, const StagePaths& paths, const nlohmann::json& sfm_report) {
-  html << "<h2>Photos</h2>\n<div id=\"photos\">\n";
-  const fs::path images = paths.undistorted / "images";
-  std::vector<std::string> registered;
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(images, ec)) registered.push_back(entry.path().filename().string());
-  std::sort(registered.begin(), registered.end());
-  for (const auto& name : registered) {
-    // Relative to the page: it stays valid when the workspace is moved.
-    html << "<figure class=\"registered\"><img loading=\"lazy\" width=\"160\" "
-            "src=\"sfm/undistorted/images/"
-         << html_escape(name) << "\" alt=\"" << html_escape(name) << "\"><figcaption>" << html_escape(name)
-         << ": registered</figcaption></figure>\n";
+// A small JPEG of the photo as a data: URI, "" if it cannot be read. The
+// decoder's reduced mode keeps this cheap for large JPEGs.
+std::string thumbnail_data_uri(const fs::path& photo) {
+  const cv::Mat reduced = cv::imread(photo.string(), cv::IMREAD_REDUCED_COLOR_4);
+  if (reduced.empty()) return "";
+  cv::Mat thumbnail = reduced;
+  if (reduced.cols > kThumbnailWidth) {
+    const int height = std::max(1, reduced.rows * kThumbnailWidth / reduced.cols);
+    cv::resize(reduced, thumbnail, cv::Size(kThumbnailWidth, height), 0.0, 0.0, cv::INTER_AREA);
   }
+  std::vector<unsigned char> jpeg;
+  if (!cv::imencode(".jpg", thumbnail, jpeg, {cv::IMWRITE_JPEG_QUALITY, kThumbnailQuality})) return "";
+  return "data:image/jpeg;base64," + base64(std::string(jpeg.begin(), jpeg.end()));
+}
+
+void write_photo(std::ostream& html, const fs::path& photo, const std::string& css_class, const std::string& caption) {
+  const std::string name = photo.filename().string();
+  html << "<figure class=\"" << css_class << "\">";
+  const std::string uri = thumbnail_data_uri(photo);
+  if (!uri.empty()) {
+    html << "<img width=\"" << kThumbnailWidth << "\" src=\"" << uri << "\" alt=\"" << html_escape(name) << "\">";
+  }
+  html << "<figcaption>" << html_escape(name) << ": " << html_escape(caption) << "</figcaption></figure>\n";
+}
+
+// 4. Photos as embedded thumbnails: the registered ones (from sfm's
+// undistorted images), the unregistered ones (from the photo folder), the
+// skipped files with the reason.
+void write_photos(std::ostream& html,
+                  const RunRecord& record,
+                  const StagePaths& paths,
+                  const nlohmann::json& sfm_report) {
+  html << "<h2>Photos</h2>\n<div id=\"photos\">\n";
+  std::vector<fs::path> registered;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(paths.undistorted / "images", ec)) {
+    registered.push_back(entry.path());
+  }
+  std::sort(registered.begin(), registered.end());
+  for (const auto& photo : registered) write_photo(html, photo, "registered", "registered");
   for (const auto& name : sfm_report.value("unregistered", std::vector<std::string>{})) {
-    html << "<figure class=\"skipped\"><figcaption>" << html_escape(name)
-         << ": not registered (COLMAP found no pose for it)</figcaption></figure>\n";
+    write_photo(html, fs::path(record.photos) / name, "skipped", "not registered (COLMAP found no pose for it)");
   }
   for (const auto& s : sfm_report.value("skipped", nlohmann::json::array())) {
     html << "<figure class=\"skipped\"><figcaption>" << html_escape(s.value("file", "")) << ": skipped ("
@@ -131,49 +163,41 @@ void write_photos(std::ostream& html, const StagePaths& paths, const nlohmann::j
   html << "</div>\n";
 }
 
-// 5. Plots, each only where its data is in the workspace.
-void write_sfm_plots(std::ostream& html, const StagePaths& paths) {
-  SparseModel model;
-  try {
-    model = read_colmap_model(paths.undistorted / "sparse");
-  } catch (const Error&) {
+// One row per number, flag or text; one level of nesting is spelled
+// "accuracy.mean"; lists (per view, per threshold) are left to the file.
+void write_eval_row(std::ostream& html, const std::string& key, const nlohmann::json& value) {
+  if (value.is_object()) {
+    for (const auto& [inner, v] : value.items()) {
+      if (v.is_primitive()) write_eval_row(html, key + "." + inner, v);
+    }
     return;
   }
-  if (model.points.empty()) return;
-  std::vector<double> errors, tracks;
-  double max_error = 0.0;
-  for (const auto& [id, p] : model.points) {
-    errors.push_back(p.error);
-    tracks.push_back(double(p.track.size()));
-    max_error = std::max(max_error, p.error);
-  }
-  Histogram error_plot = make_histogram(errors, 30, 0.0, std::max(max_error, 0.5));
-  error_plot.title = "sfm: reprojection error per 3D point";
-  error_plot.x_label = "mean reprojection error (px)";
-  // One bin per track length from 2, the longer ones in the last bin.
-  Histogram track_plot = make_histogram(tracks, kMaxTrackLength - 1, 2.0, double(kMaxTrackLength + 1));
-  track_plot.title = "sfm: track length per 3D point";
-  track_plot.x_label = "photos observing the point (last bin: " + std::to_string(kMaxTrackLength) + " or more)";
-  html << "<div id=\"plot-reprojection-error\">" << svg_histogram(error_plot) << "</div>\n";
-  html << "<div id=\"plot-track-length\">" << svg_histogram(track_plot) << "</div>\n";
+  if (!value.is_primitive()) return;
+  const std::string text = value.is_number_float() ? format_significant(value.get<double>())
+                           : value.is_string()     ? value.get<std::string>()
+                                                   : value.dump();
+  html << "<tr><td>" << html_escape(key) << "</td><td>" << html_escape(text) << "</td></tr>\n";
 }
 
-void write_mvs_plots(std::ostream& html, const StagePaths& paths) {
-  PointCloud cloud;
-  try {
-    cloud = read_point_cloud_ply(paths.points);
-  } catch (const Error&) {
-    return;
+// 5. hos-eval results saved as WS/eval/*.json (docs/pipeline.md): one table
+// per file.
+void write_eval_results(std::ostream& html, const StagePaths& paths) {
+  std::vector<fs::path> files;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(paths.eval, ec)) {
+    if (entry.path().extension() == ".json") files.push_back(entry.path());
   }
-  if (!cloud.has_confidence()) return;
-  const float top = *std::max_element(cloud.confidence.begin(), cloud.confidence.end());
-  const std::vector<double> values(cloud.confidence.begin(), cloud.confidence.end());
-  // Confidence counts agreeing views (mvs/fusion.h): one bin per count.
-  const int bins = std::clamp(int(std::ceil(top)), 1, 40);
-  Histogram plot = make_histogram(values, bins, 0.5, double(bins) + 0.5);
-  plot.title = "mvs: confidence of the dense points";
-  plot.x_label = "confidence (agreeing views)";
-  html << "<div id=\"plot-mvs-confidence\">" << svg_histogram(plot) << "</div>\n";
+  if (files.empty()) return;
+  std::sort(files.begin(), files.end());
+  html << "<h2>Evaluation</h2>\n<div id=\"eval\">\n";
+  for (const fs::path& file : files) {
+    const nlohmann::json result = read_json_or_empty(file);
+    html << "<table class=\"eval\"><caption>eval/" << html_escape(file.filename().string()) << "</caption>\n";
+    if (result.empty()) html << "<tr><td>not a hos-eval JSON file</td></tr>\n";
+    for (const auto& [key, value] : result.items()) write_eval_row(html, key, value);
+    html << "</table>\n";
+  }
+  html << "</div>\n";
 }
 
 // 6. The resolved config and the logs.
@@ -190,16 +214,6 @@ void write_config_and_logs(std::ostream& html, const StagePaths& paths) {
   html << "</p>\n";
 }
 
-nlohmann::json load_sfm_report(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) return nlohmann::json::object();
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception&) {
-    return nlohmann::json::object();
-  }
-}
-
 constexpr const char* kStyle = R"(<style>
 body { font-family: sans-serif; margin: 2em; max-width: 75em; }
 table { border-collapse: collapse; } td, th { border: 1px solid #ccc; padding: 0.3em 0.6em; text-align: left; }
@@ -207,6 +221,8 @@ table { border-collapse: collapse; } td, th { border: 1px solid #ccc; padding: 0
 tr.stage-failed, tr.stage-interrupted { background: #fde8e8; }
 #photos figure { display: inline-block; margin: 0.3em; font-size: 0.8em; }
 figure.skipped { color: #b42318; }
+#photos img { display: block; }
+table.eval { display: inline-table; margin: 0.5em; vertical-align: top; } caption { font-weight: bold; }
 div[id^=plot-] { display: inline-block; margin: 0.5em; }
 </style>)";
 
@@ -219,7 +235,7 @@ std::string run_report_html(const fs::path& workspace, const ReportOptions& opti
     throw InputError(workspace.string(), "has no run.json: not a hos-pipeline workspace");
   }
   const RunRecord record = load_run_record(paths.run_record);
-  const nlohmann::json sfm_report = load_sfm_report(paths.sfm_report);
+  const nlohmann::json sfm_report = read_json_or_empty(paths.sfm_report);
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head><meta charset=\"utf-8\"><title>hos run "
           "report</title>\n"
@@ -227,10 +243,10 @@ std::string run_report_html(const fs::path& workspace, const ReportOptions& opti
   write_summary(html, record);
   html << model_viewer_html(paths, options.viewer_script);  // 2. the model
   write_stage_table(html, record, paths);
-  write_photos(html, paths, sfm_report);
+  write_photos(html, record, paths, sfm_report);
   html << "<h2>Plots</h2>\n";
-  write_sfm_plots(html, paths);
-  write_mvs_plots(html, paths);
+  write_stage_plots(html, paths);
+  write_eval_results(html, paths);
   write_config_and_logs(html, paths);
   html << "</body>\n</html>\n";
   return html.str();
