@@ -422,6 +422,8 @@ int main(int argc, char** argv) {
     if (sanity.cmd->parsed()) r = sanity.run(reporter);
     if (cameras.cmd->parsed()) r = cameras.run(reporter);
     if (render.cmd->parsed()) r = render.run(reporter);
+    // Names the measurement in the file, e.g. for the run report's eval/*.json tables.
+    r.j["command"] = app.get_subcommands().front()->get_name();
     output.emit(r.j, r.table);
   });
 }
