@@ -25,6 +25,10 @@ namespace {
 constexpr int kMaxWarningsPerStage = 20;
 constexpr int kThumbnailWidth = 160;   // px
 constexpr int kThumbnailQuality = 75;  // JPEG
+// The figures of hos-eval's JSON shown first (mesh, render, cameras, sanity).
+constexpr const char* kEvalHeadlines[] = {
+    "command",   "f_score",   "f_score_threshold", "accuracy.mean",           "completeness.mean", "chamfer",
+    "mean_psnr", "mean_ssim", "center_error.mean", "rotation_error_deg.mean", "watertight",        "components"};
 
 std::string read_text_file(const fs::path& file) {
   std::ifstream in(file);
@@ -74,11 +78,21 @@ Failure find_failure(const RunRecord& record) {
   return {};
 }
 
+// A path of the run record as seen from the page's folder (the workspace):
+// it reads the same wherever the workspace sits.
+std::string relative_to_page(const std::string& path, const StagePaths& paths) {
+  std::error_code ec;
+  const fs::path page_folder = fs::absolute(paths.root, ec);
+  if (ec || !fs::path(path).is_absolute()) return path;
+  const fs::path relative = fs::path(path).lexically_relative(page_folder);
+  return relative.empty() ? path : relative.generic_string();
+}
+
 // 1. Banner: how the run ended.
-void write_summary(std::ostream& html, const RunRecord& record) {
+void write_summary(std::ostream& html, const RunRecord& record, const StagePaths& paths) {
   const Failure failure = find_failure(record);
-  html << "<h1>hos run report</h1>\n<p>photos: <code>" << html_escape(record.photos) << "</code><br>result: <code>"
-       << html_escape(record.output) << "</code></p>\n";
+  html << "<h1>hos run report</h1>\n<p>photos: <code>" << html_escape(relative_to_page(record.photos, paths))
+       << "</code><br>result: <code>" << html_escape(relative_to_page(record.output, paths)) << "</code></p>\n";
   if (failure.stage.empty()) {
     html << "<p class=\"ok\" id=\"outcome\">The run finished.</p>\n";
     return;
@@ -137,7 +151,7 @@ void write_photo(std::ostream& html, const fs::path& photo, const std::string& c
   html << "<figcaption>" << html_escape(name) << ": " << html_escape(caption) << "</figcaption></figure>\n";
 }
 
-// 4. Photos as embedded thumbnails: the registered ones (from sfm's
+// 6. Photos as embedded thumbnails: the registered ones (from sfm's
 // undistorted images), the unregistered ones (from the photo folder), the
 // skipped files with the reason.
 void write_photos(std::ostream& html,
@@ -163,24 +177,33 @@ void write_photos(std::ostream& html,
   html << "</div>\n";
 }
 
+using EvalRows = std::vector<std::pair<std::string, std::string>>;
+
 // One row per number, flag or text; one level of nesting is spelled
 // "accuracy.mean"; lists (per view, per threshold) are left to the file.
-void write_eval_row(std::ostream& html, const std::string& key, const nlohmann::json& value) {
+void add_eval_rows(EvalRows& rows, const std::string& key, const nlohmann::json& value) {
   if (value.is_object()) {
     for (const auto& [inner, v] : value.items()) {
-      if (v.is_primitive()) write_eval_row(html, key + "." + inner, v);
+      if (v.is_primitive()) add_eval_rows(rows, key + "." + inner, v);
     }
     return;
   }
   if (!value.is_primitive()) return;
-  const std::string text = value.is_number_float() ? format_significant(value.get<double>())
-                           : value.is_string()     ? value.get<std::string>()
-                                                   : value.dump();
-  html << "<tr><td>" << html_escape(key) << "</td><td>" << html_escape(text) << "</td></tr>\n";
+  rows.emplace_back(key, value.is_number_float() ? format_significant(value.get<double>())
+                         : value.is_string()     ? value.get<std::string>()
+                                                 : value.dump());
 }
 
-// 5. hos-eval results saved as WS/eval/*.json (docs/pipeline.md): one table
-// per file.
+void write_eval_table(std::ostream& html, const EvalRows& rows) {
+  html << "<table>\n";
+  for (const auto& [key, text] : rows) {
+    html << "<tr><td>" << html_escape(key) << "</td><td>" << html_escape(text) << "</td></tr>\n";
+  }
+  html << "</table>\n";
+}
+
+// 5. hos-eval results saved as WS/eval/*.json (docs/eval.md): per file the
+// headline figures (kEvalHeadlines, in that order), then all of them folded.
 void write_eval_results(std::ostream& html, const StagePaths& paths) {
   std::vector<fs::path> files;
   std::error_code ec;
@@ -192,15 +215,23 @@ void write_eval_results(std::ostream& html, const StagePaths& paths) {
   html << "<h2>Evaluation</h2>\n<div id=\"eval\">\n";
   for (const fs::path& file : files) {
     const nlohmann::json result = read_json_or_empty(file);
-    html << "<table class=\"eval\"><caption>eval/" << html_escape(file.filename().string()) << "</caption>\n";
-    if (result.empty()) html << "<tr><td>not a hos-eval JSON file</td></tr>\n";
-    for (const auto& [key, value] : result.items()) write_eval_row(html, key, value);
-    html << "</table>\n";
+    EvalRows all, headlines;
+    for (const auto& [key, value] : result.items()) add_eval_rows(all, key, value);
+    for (const char* key : kEvalHeadlines) {
+      const auto row = std::find_if(all.begin(), all.end(), [&](const auto& r) { return r.first == key; });
+      if (row != all.end()) headlines.push_back(*row);
+    }
+    html << "<div class=\"eval\"><h3>eval/" << html_escape(file.filename().string()) << "</h3>\n";
+    if (result.empty()) html << "<p>not a hos-eval JSON file</p>\n";
+    write_eval_table(html, headlines);
+    html << "<details><summary>all figures</summary>\n";
+    write_eval_table(html, all);
+    html << "</details></div>\n";
   }
   html << "</div>\n";
 }
 
-// 6. The resolved config and the logs.
+// 7. The resolved config and the logs.
 void write_config_and_logs(std::ostream& html, const StagePaths& paths) {
   std::error_code ec;
   html << "<h2>Configuration</h2>\n<details id=\"config\"><summary>config.yaml</summary><pre>"
@@ -222,7 +253,7 @@ tr.stage-failed, tr.stage-interrupted { background: #fde8e8; }
 #photos figure { display: inline-block; margin: 0.3em; font-size: 0.8em; }
 figure.skipped { color: #b42318; }
 #photos img { display: block; }
-table.eval { display: inline-table; margin: 0.5em; vertical-align: top; } caption { font-weight: bold; }
+div.eval { display: inline-block; margin: 0 1em 1em 0; vertical-align: top; } div.eval h3 { margin: 0.3em 0; }
 div[id^=plot-] { display: inline-block; margin: 0.5em; }
 </style>)";
 
@@ -240,13 +271,13 @@ std::string run_report_html(const fs::path& workspace, const ReportOptions& opti
   html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head><meta charset=\"utf-8\"><title>hos run "
           "report</title>\n"
        << kStyle << "\n</head>\n<body>\n";
-  write_summary(html, record);
+  write_summary(html, record, paths);
   html << model_viewer_html(paths, options.viewer_script);  // 2. the model
   write_stage_table(html, record, paths);
-  write_photos(html, record, paths, sfm_report);
   html << "<h2>Plots</h2>\n";
-  write_stage_plots(html, paths);
+  write_stage_plots(html, paths);  // 4. plots (pipeline/report_plots.h)
   write_eval_results(html, paths);
+  write_photos(html, record, paths, sfm_report);
   write_config_and_logs(html, paths);
   html << "</body>\n</html>\n";
   return html.str();

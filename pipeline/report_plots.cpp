@@ -80,7 +80,7 @@ void write_recon_plots(std::ostream& html, const StagePaths& paths) {
   if (residuals.empty()) return;
   write_plot(html, "plot-solver-residual",
              svg_log_line_plot(residuals, {"recon: solver residual per iteration",
-                                           "CG iteration (every linear solve in turn); relative residual, log scale"}));
+                                           "CG iteration (all solves in turn); relative residual"}));
 }
 
 void write_texture_plots(std::ostream& html, const StagePaths& paths) {

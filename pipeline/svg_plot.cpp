@@ -93,7 +93,9 @@ std::string svg_histograms(const std::vector<std::pair<std::string, Histogram>>&
   write_legend(svg, series);
   const Histogram empty;
   const Histogram& first = series.empty() ? empty : series.front().second;
-  close_svg(svg, labels, {std::to_string(top), "0", number(first.lo), number(first.hi)});
+  // Bins of one integer each (make_count_histogram) are named by their centres.
+  const double inset = first.bin_width() == 1.0 && std::floor(first.lo) + 0.5 == first.lo ? 0.5 : 0.0;
+  close_svg(svg, labels, {std::to_string(top), "0", number(first.lo + inset), number(first.hi - inset)});
   return svg.str();
 }
 

@@ -141,6 +141,8 @@ TEST(RunReport, FinishedRunHasEveryTableAndPlot) {
     EXPECT_EQ(count(html, id), 1) << id;
   }
   EXPECT_TRUE(contains(html, "The run finished."));
+  // Paths as seen from the page: the same wherever the workspace is.
+  EXPECT_TRUE(contains(html, "photos: <code>photos</code>"));
   EXPECT_FALSE(contains(html, "failed-stage"));
   EXPECT_TRUE(contains(html, "view_001.png: registered"));
   EXPECT_TRUE(contains(html, "view_003.png: not registered"));
@@ -160,9 +162,10 @@ TEST(RunReport, FinishedRunHasEveryTableAndPlot) {
   EXPECT_TRUE(contains(html, ">after leveling</text>"));
   EXPECT_EQ(count(html, "<polyline"), 1);
   // hos-eval's numbers, nested ones by their path; lists stay in the file.
-  EXPECT_TRUE(contains(html, "<caption>eval/mesh.json</caption>"));
-  EXPECT_TRUE(contains(html, "<td>f_score</td><td>0.8125</td>"));
-  EXPECT_TRUE(contains(html, "<td>accuracy.mean</td><td>0.004</td>"));
+  EXPECT_TRUE(contains(html, "<h3>eval/mesh.json</h3>"));
+  EXPECT_EQ(count(html, "<td>f_score</td><td>0.8125</td>"), 2);  // a headline, and in all figures
+  EXPECT_EQ(count(html, "<td>accuracy.mean</td><td>0.004</td>"), 2);
+  EXPECT_LT(html.find("<td>f_score</td>"), html.find("<td>accuracy.mean</td>"));
   EXPECT_FALSE(contains(html, "<td>thresholds"));
   EXPECT_FALSE(contains(html, "nan"));
 }
@@ -248,6 +251,13 @@ TEST(SvgPlot, GroupedHistogramsDrawEveryBinOfEverySeriesWithALegend) {
   EXPECT_TRUE(contains(svg, "<title>2</title>"));
   EXPECT_TRUE(contains(svg, ">second</text>"));
   EXPECT_FALSE(contains(svg_histogram(a, {"title", "x"}), ">first</text>"));
+}
+
+TEST(SvgPlot, CountHistogramsAreLabelledByTheirFirstAndLastCount) {
+  const std::string svg = svg_histogram(make_count_histogram({0, 1, 3}, 10), {"views", "photos"});
+  EXPECT_TRUE(contains(svg, ">0</text>"));
+  EXPECT_TRUE(contains(svg, ">3</text>"));
+  EXPECT_FALSE(contains(svg, ">-0.5</text>"));
 }
 
 TEST(SvgPlot, LogLinePlotLeavesOutValuesItCannotPlace) {
