@@ -95,6 +95,8 @@ struct Output {
     }
     std::cout << table;
     if (json_requested) {
+      // e.g. WS/eval/ of a pipeline workspace, which no stage creates
+      if (fs::path(json_path).has_parent_path()) fs::create_directories(fs::path(json_path).parent_path());
       hos::write_atomically(json_path, [&](const fs::path& tmp) {
         std::ofstream out(tmp);
         out << j.dump(2) << "\n";
