@@ -23,15 +23,15 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr int kMaxWarningsPerStage = 20;
-constexpr int kThumbnailWidth = 160;   // px
+constexpr int kThumbnailWidth = 160;   // px, as hos-sfm's (sfm/image_inputs.h)
 constexpr int kThumbnailQuality = 75;  // JPEG
 // The figures of hos-eval's JSON shown first (mesh, render, cameras, sanity).
 constexpr const char* kEvalHeadlines[] = {
     "command",   "f_score",   "f_score_threshold", "accuracy.mean",           "completeness.mean", "chamfer",
     "mean_psnr", "mean_ssim", "center_error.mean", "rotation_error_deg.mean", "watertight",        "components"};
 
-std::string read_text_file(const fs::path& file) {
-  std::ifstream in(file);
+std::string read_whole_file(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
@@ -126,9 +126,14 @@ void write_stage_table(std::ostream& html, const RunRecord& record, const StageP
   html << "</table>\n";
 }
 
-// A small JPEG of the photo as a data: URI, "" if it cannot be read. The
-// decoder's reduced mode keeps this cheap for large JPEGs.
-std::string thumbnail_data_uri(const fs::path& photo) {
+// The photo's thumbnail as a data: URI: the one hos-sfm wrote while checking
+// the photos; else (a model given with --sparse, or a workspace of an older
+// hos) one made here, where the decoder's reduced mode keeps large JPEGs
+// cheap; "" if neither can be read.
+std::string thumbnail_data_uri(const StagePaths& paths, const fs::path& photo) {
+  std::error_code ec;
+  const fs::path written = paths.thumbnails / (photo.filename().string() + ".jpg");
+  if (fs::is_regular_file(written, ec)) return "data:image/jpeg;base64," + base64(read_whole_file(written));
   const cv::Mat reduced = cv::imread(photo.string(), cv::IMREAD_REDUCED_COLOR_4);
   if (reduced.empty()) return "";
   cv::Mat thumbnail = reduced;
@@ -141,19 +146,22 @@ std::string thumbnail_data_uri(const fs::path& photo) {
   return "data:image/jpeg;base64," + base64(std::string(jpeg.begin(), jpeg.end()));
 }
 
-void write_photo(std::ostream& html, const fs::path& photo, const std::string& css_class, const std::string& caption) {
+void write_photo(std::ostream& html,
+                 const StagePaths& paths,
+                 const fs::path& photo,
+                 const std::string& css_class,
+                 const std::string& caption) {
   const std::string name = photo.filename().string();
   html << "<figure class=\"" << css_class << "\">";
-  const std::string uri = thumbnail_data_uri(photo);
+  const std::string uri = thumbnail_data_uri(paths, photo);
   if (!uri.empty()) {
     html << "<img width=\"" << kThumbnailWidth << "\" src=\"" << uri << "\" alt=\"" << html_escape(name) << "\">";
   }
   html << "<figcaption>" << html_escape(name) << ": " << html_escape(caption) << "</figcaption></figure>\n";
 }
 
-// 6. Photos as embedded thumbnails: the registered ones (from sfm's
-// undistorted images), the unregistered ones (from the photo folder), the
-// skipped files with the reason.
+// 6. Photos as embedded thumbnails: the registered ones, the unregistered
+// ones, the skipped files with the reason.
 void write_photos(std::ostream& html,
                   const RunRecord& record,
                   const StagePaths& paths,
@@ -165,9 +173,9 @@ void write_photos(std::ostream& html,
     registered.push_back(entry.path());
   }
   std::sort(registered.begin(), registered.end());
-  for (const auto& photo : registered) write_photo(html, photo, "registered", "registered");
+  for (const auto& photo : registered) write_photo(html, paths, photo, "registered", "registered");
   for (const auto& name : sfm_report.value("unregistered", std::vector<std::string>{})) {
-    write_photo(html, fs::path(record.photos) / name, "skipped", "not registered (COLMAP found no pose for it)");
+    write_photo(html, paths, fs::path(record.photos) / name, "skipped", "not registered (COLMAP found no pose for it)");
   }
   for (const auto& s : sfm_report.value("skipped", nlohmann::json::array())) {
     html << "<figure class=\"skipped\"><figcaption>" << html_escape(s.value("file", "")) << ": skipped ("
@@ -235,7 +243,7 @@ void write_eval_results(std::ostream& html, const StagePaths& paths) {
 void write_config_and_logs(std::ostream& html, const StagePaths& paths) {
   std::error_code ec;
   html << "<h2>Configuration</h2>\n<details id=\"config\"><summary>config.yaml</summary><pre>"
-       << html_escape(read_text_file(paths.config)) << "</pre></details>\n";
+       << html_escape(read_whole_file(paths.config)) << "</pre></details>\n";
   html << "<p>Logs: ";
   for (const StageSpec& spec : pipeline_stages()) {
     if (fs::exists(paths.log(spec.name), ec)) {

@@ -14,6 +14,7 @@ struct StagePaths {
         sfm(workspace / "sfm"),
         sfm_report(workspace / "sfm" / "report.json"),
         undistorted(workspace / "sfm" / "undistorted"),
+        thumbnails(workspace / "sfm" / "thumbnails"),
         points(workspace / "mvs" / "points.ply"),
         mvs_report(workspace / "mvs" / "report.json"),
         mesh(workspace / "recon" / "mesh.ply"),
@@ -30,6 +31,7 @@ struct StagePaths {
   std::filesystem::path sfm;             // hos-sfm's folder
   std::filesystem::path sfm_report;      // figures of the sfm stage
   std::filesystem::path undistorted;     // sfm output: images + PINHOLE model
+  std::filesystem::path thumbnails;      // sfm output: NAME.jpg, small, per usable photo
   std::filesystem::path points;          // mvs output: oriented dense points
   std::filesystem::path mvs_report;      // figures of the mvs stage (coverage, confidence)
   std::filesystem::path mesh;            // recon output: surface
