@@ -30,13 +30,6 @@ constexpr const char* kEvalHeadlines[] = {
     "command",   "f_score",   "f_score_threshold", "accuracy.mean",           "completeness.mean", "chamfer",
     "mean_psnr", "mean_ssim", "center_error.mean", "rotation_error_deg.mean", "watertight",        "components"};
 
-std::string read_whole_file(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 // The warning and error lines a stage wrote to its log ("[mvs] warning: ...").
 std::vector<std::string> log_warnings(const fs::path& log) {
   std::vector<std::string> lines;
@@ -133,7 +126,7 @@ void write_stage_table(std::ostream& html, const RunRecord& record, const StageP
 std::string thumbnail_data_uri(const StagePaths& paths, const fs::path& photo) {
   std::error_code ec;
   const fs::path written = paths.thumbnails / (photo.filename().string() + ".jpg");
-  if (fs::is_regular_file(written, ec)) return "data:image/jpeg;base64," + base64(read_whole_file(written));
+  if (fs::is_regular_file(written, ec)) return "data:image/jpeg;base64," + base64(read_bytes(written));
   const cv::Mat reduced = cv::imread(photo.string(), cv::IMREAD_REDUCED_COLOR_4);
   if (reduced.empty()) return "";
   cv::Mat thumbnail = reduced;
@@ -243,7 +236,7 @@ void write_eval_results(std::ostream& html, const StagePaths& paths) {
 void write_config_and_logs(std::ostream& html, const StagePaths& paths) {
   std::error_code ec;
   html << "<h2>Configuration</h2>\n<details id=\"config\"><summary>config.yaml</summary><pre>"
-       << html_escape(read_whole_file(paths.config)) << "</pre></details>\n";
+       << html_escape(read_bytes(paths.config)) << "</pre></details>\n";
   html << "<p>Logs: ";
   for (const StageSpec& spec : pipeline_stages()) {
     if (fs::exists(paths.log(spec.name), ec)) {
