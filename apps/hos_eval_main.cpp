@@ -95,6 +95,8 @@ struct Output {
     }
     std::cout << table;
     if (json_requested) {
+      // e.g. WS/eval/ of a pipeline workspace, which no stage creates
+      if (fs::path(json_path).has_parent_path()) fs::create_directories(fs::path(json_path).parent_path());
       hos::write_atomically(json_path, [&](const fs::path& tmp) {
         std::ofstream out(tmp);
         out << j.dump(2) << "\n";
@@ -422,6 +424,8 @@ int main(int argc, char** argv) {
     if (sanity.cmd->parsed()) r = sanity.run(reporter);
     if (cameras.cmd->parsed()) r = cameras.run(reporter);
     if (render.cmd->parsed()) r = render.run(reporter);
+    // Names the measurement in the file, e.g. for the run report's eval/*.json tables.
+    r.j["command"] = app.get_subcommands().front()->get_name();
     output.emit(r.j, r.table);
   });
 }

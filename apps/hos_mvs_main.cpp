@@ -7,6 +7,7 @@
 #include "core/exit_codes.h"
 #include "core/ply_io.h"
 #include "core/undistorted_workspace.h"
+#include "mvs/mvs_report.h"
 #include "mvs/run_mvs.h"
 
 int main(int argc, char** argv) {
@@ -14,12 +15,13 @@ int main(int argc, char** argv) {
   hos::OptionSet option_set("mvs");
   register_options(option_set, options);
   hos::apps::CommonStageFlags flags;
-  std::string workspace_path, output_path, depth_maps;
+  std::string workspace_path, output_path, depth_maps, report_path;
 
   CLI::App app{"hos-mvs: CPU PatchMatch multi-view stereo; writes dense oriented points"};
   app.add_option("--workspace", workspace_path, "undistorted workspace (images/ + sparse/ PINHOLE model)");
   app.add_option("--output", output_path, "output PLY (x y z nx ny nz red green blue confidence)");
   app.add_option("--depth-maps", depth_maps, "also write every depth and normal map into this folder");
+  app.add_option("--report", report_path, "also write the stage's figures as JSON (coverage per view, confidence)");
   hos::apps::add_common_stage_flags(app, flags, option_set);
   if (const auto code = hos::apps::parse_stage_command_line(app, argc, argv, flags, option_set)) return *code;
   if (workspace_path.empty() || output_path.empty()) {
@@ -34,6 +36,7 @@ int main(int argc, char** argv) {
     const hos::UndistortedWorkspace workspace = hos::load_undistorted_workspace(workspace_path);
     const hos::mvs::MvsResult result = hos::mvs::run_mvs(workspace, options, reporter, depth_maps);
     hos::write_point_cloud_ply(output_path, result.points);
+    if (!report_path.empty()) hos::mvs::write_mvs_report(report_path, result);
     reporter.info(hos::format_message("wrote ", output_path, ": ", result.points.size(), " points"));
   });
 }

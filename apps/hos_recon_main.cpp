@@ -9,6 +9,7 @@
 #include "core/exit_codes.h"
 #include "core/huge_pages.h"
 #include "core/ply_io.h"
+#include "recon/recon_report.h"
 #include "recon/reconstruct.h"
 #include "recon/scans.h"
 
@@ -33,7 +34,7 @@ int main(int argc, char** argv) {
   hos::OptionSet option_set("recon");
   register_options(option_set, options);
   hos::apps::CommonStageFlags flags;
-  std::string input_path, output_path, scans_path, view_dir, scanner_pos;
+  std::string input_path, output_path, scans_path, view_dir, scanner_pos, report_path;
   bool ascii = false;
 
   CLI::App app{"hos-recon: surface reconstruction with higher-order smoothness (Pan & Skala)"};
@@ -43,6 +44,7 @@ int main(int argc, char** argv) {
   app.add_option("--view-dir", view_dir, "orient all points towards this direction x,y,z");
   app.add_option("--scanner-pos", scanner_pos, "orient every point towards this position x,y,z");
   app.add_flag("--ascii", ascii, "write an ASCII PLY");
+  app.add_option("--report", report_path, "also write the stage's figures as JSON (residual per iteration)");
   hos::apps::add_common_stage_flags(app, flags, option_set);
   if (const auto code = hos::apps::parse_stage_command_line(app, argc, argv, flags, option_set)) return *code;
   if ((input_path.empty() == scans_path.empty()) || output_path.empty()) {
@@ -78,6 +80,7 @@ int main(int argc, char** argv) {
     hos::recon::check_reconstructable(points, source);
     const hos::recon::ReconResult result = hos::recon::reconstruct_surface(points, options, reporter);
     hos::write_mesh_ply(output_path, result.mesh, ascii ? hos::PlyFormat::kAscii : hos::PlyFormat::kBinaryLittleEndian);
+    if (!report_path.empty()) hos::recon::write_recon_report(report_path, result);
     const auto& s = result.stats;
     reporter.info(hos::format_message("wrote ", output_path, ": ", result.mesh.num_vertices(), " vertices, ",
                                       result.mesh.num_faces(), " faces; grid ", s.grid_dims.x(), "x", s.grid_dims.y(),

@@ -162,6 +162,7 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
   const auto finish_view = [&](std::size_t i, const MvsView& ref, const PlaneMap& planes, PatchMatchStats& pm) {
     DepthMap map = to_depth_map(planes, ref, options, &pm);
     MvsViewStats& vs = stats.per_view[i];
+    vs.pixels = static_cast<std::size_t>(ref.width()) * static_cast<std::size_t>(ref.height());
     vs.valid_pixels = pm.valid_pixels;
     vs.textureless_pixels = pm.textureless_pixels;
     stats.megapixels_per_view = ref.width() * ref.height() / 1e6;

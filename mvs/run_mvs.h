@@ -15,7 +15,8 @@ namespace hos::mvs {
 struct MvsViewStats {
   std::string name;
   int num_sources = 0;
-  std::size_t valid_pixels = 0;
+  std::size_t pixels = 0;        // of the depth map (finest level)
+  std::size_t valid_pixels = 0;  // with a depth
   std::size_t textureless_pixels = 0;
   double seconds = 0.0;
   bool skipped = false;

@@ -4,12 +4,13 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 
 #include "core/atomic_file.h"
-#include "core/colmap_io.h"
 #include "core/error.h"
-#include "core/ply_io.h"
+#include "pipeline/report_plots.h"
 #include "pipeline/report_viewer.h"
 #include "pipeline/run_record.h"
 #include "pipeline/stage_figures.h"
@@ -22,14 +23,12 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr int kMaxWarningsPerStage = 20;
-constexpr int kMaxTrackLength = 30;
-
-std::string read_text_file(const fs::path& file) {
-  std::ifstream in(file);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+constexpr int kThumbnailWidth = 160;   // px, as hos-sfm's (sfm/image_inputs.h)
+constexpr int kThumbnailQuality = 75;  // JPEG
+// The figures of hos-eval's JSON shown first (mesh, render, cameras, sanity).
+constexpr const char* kEvalHeadlines[] = {
+    "command",   "f_score",   "f_score_threshold", "accuracy.mean",           "completeness.mean", "chamfer",
+    "mean_psnr", "mean_ssim", "center_error.mean", "rotation_error_deg.mean", "watertight",        "components"};
 
 // The warning and error lines a stage wrote to its log ("[mvs] warning: ...").
 std::vector<std::string> log_warnings(const fs::path& log) {
@@ -46,6 +45,12 @@ std::vector<std::string> log_warnings(const fs::path& log) {
 std::string format_fixed(double v, int digits) {
   std::ostringstream out;
   out << std::fixed << std::setprecision(digits) << v;
+  return out.str();
+}
+
+std::string format_significant(double v) {
+  std::ostringstream out;
+  out << std::setprecision(5) << v;
   return out.str();
 }
 
@@ -66,11 +71,21 @@ Failure find_failure(const RunRecord& record) {
   return {};
 }
 
+// A path of the run record as seen from the page's folder (the workspace):
+// it reads the same wherever the workspace sits.
+std::string relative_to_page(const std::string& path, const StagePaths& paths) {
+  std::error_code ec;
+  const fs::path page_folder = fs::absolute(paths.root, ec);
+  if (ec || !fs::path(path).is_absolute()) return path;
+  const fs::path relative = fs::path(path).lexically_relative(page_folder);
+  return relative.empty() ? path : relative.generic_string();
+}
+
 // 1. Banner: how the run ended.
-void write_summary(std::ostream& html, const RunRecord& record) {
+void write_summary(std::ostream& html, const RunRecord& record, const StagePaths& paths) {
   const Failure failure = find_failure(record);
-  html << "<h1>hos run report</h1>\n<p>photos: <code>" << html_escape(record.photos) << "</code><br>result: <code>"
-       << html_escape(record.output) << "</code></p>\n";
+  html << "<h1>hos run report</h1>\n<p>photos: <code>" << html_escape(relative_to_page(record.photos, paths))
+       << "</code><br>result: <code>" << html_escape(relative_to_page(record.output, paths)) << "</code></p>\n";
   if (failure.stage.empty()) {
     html << "<p class=\"ok\" id=\"outcome\">The run finished.</p>\n";
     return;
@@ -104,24 +119,56 @@ void write_stage_table(std::ostream& html, const RunRecord& record, const StageP
   html << "</table>\n";
 }
 
-// 4. Photos: the registered ones as thumbnails, the others with the reason.
-void write_photos(std::ostream& html, const StagePaths& paths, const nlohmann::json& sfm_report) {
-  html << "<h2>Photos</h2>\n<div id=\"photos\">\n";
-  const fs::path images = paths.undistorted / "images";
-  std::vector<std::string> registered;
+// The photo's thumbnail as a data: URI: the one hos-sfm wrote while checking
+// the photos; else (a model given with --sparse, or a workspace of an older
+// hos) one made here, where the decoder's reduced mode keeps large JPEGs
+// cheap; "" if neither can be read.
+std::string thumbnail_data_uri(const StagePaths& paths, const fs::path& photo) {
   std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(images, ec)) registered.push_back(entry.path().filename().string());
-  std::sort(registered.begin(), registered.end());
-  for (const auto& name : registered) {
-    // Relative to the page: it stays valid when the workspace is moved.
-    html << "<figure class=\"registered\"><img loading=\"lazy\" width=\"160\" "
-            "src=\"sfm/undistorted/images/"
-         << html_escape(name) << "\" alt=\"" << html_escape(name) << "\"><figcaption>" << html_escape(name)
-         << ": registered</figcaption></figure>\n";
+  const fs::path written = paths.thumbnails / (photo.filename().string() + ".jpg");
+  if (fs::is_regular_file(written, ec)) return "data:image/jpeg;base64," + base64(read_bytes(written));
+  const cv::Mat reduced = cv::imread(photo.string(), cv::IMREAD_REDUCED_COLOR_4);
+  if (reduced.empty()) return "";
+  cv::Mat thumbnail = reduced;
+  if (reduced.cols > kThumbnailWidth) {
+    const int height = std::max(1, reduced.rows * kThumbnailWidth / reduced.cols);
+    cv::resize(reduced, thumbnail, cv::Size(kThumbnailWidth, height), 0.0, 0.0, cv::INTER_AREA);
   }
+  std::vector<unsigned char> jpeg;
+  if (!cv::imencode(".jpg", thumbnail, jpeg, {cv::IMWRITE_JPEG_QUALITY, kThumbnailQuality})) return "";
+  return "data:image/jpeg;base64," + base64(std::string(jpeg.begin(), jpeg.end()));
+}
+
+void write_photo(std::ostream& html,
+                 const StagePaths& paths,
+                 const fs::path& photo,
+                 const std::string& css_class,
+                 const std::string& caption) {
+  const std::string name = photo.filename().string();
+  html << "<figure class=\"" << css_class << "\">";
+  const std::string uri = thumbnail_data_uri(paths, photo);
+  if (!uri.empty()) {
+    html << "<img width=\"" << kThumbnailWidth << "\" src=\"" << uri << "\" alt=\"" << html_escape(name) << "\">";
+  }
+  html << "<figcaption>" << html_escape(name) << ": " << html_escape(caption) << "</figcaption></figure>\n";
+}
+
+// 6. Photos as embedded thumbnails: the registered ones, the unregistered
+// ones, the skipped files with the reason.
+void write_photos(std::ostream& html,
+                  const RunRecord& record,
+                  const StagePaths& paths,
+                  const nlohmann::json& sfm_report) {
+  html << "<h2>Photos</h2>\n<div id=\"photos\">\n";
+  std::vector<fs::path> registered;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(paths.undistorted / "images", ec)) {
+    registered.push_back(entry.path());
+  }
+  std::sort(registered.begin(), registered.end());
+  for (const auto& photo : registered) write_photo(html, paths, photo, "registered", "registered");
   for (const auto& name : sfm_report.value("unregistered", std::vector<std::string>{})) {
-    html << "<figure class=\"skipped\"><figcaption>" << html_escape(name)
-         << ": not registered (COLMAP found no pose for it)</figcaption></figure>\n";
+    write_photo(html, paths, fs::path(record.photos) / name, "skipped", "not registered (COLMAP found no pose for it)");
   }
   for (const auto& s : sfm_report.value("skipped", nlohmann::json::array())) {
     html << "<figure class=\"skipped\"><figcaption>" << html_escape(s.value("file", "")) << ": skipped ("
@@ -131,56 +178,65 @@ void write_photos(std::ostream& html, const StagePaths& paths, const nlohmann::j
   html << "</div>\n";
 }
 
-// 5. Plots, each only where its data is in the workspace.
-void write_sfm_plots(std::ostream& html, const StagePaths& paths) {
-  SparseModel model;
-  try {
-    model = read_colmap_model(paths.undistorted / "sparse");
-  } catch (const Error&) {
+using EvalRows = std::vector<std::pair<std::string, std::string>>;
+
+// One row per number, flag or text; one level of nesting is spelled
+// "accuracy.mean"; lists (per view, per threshold) are left to the file.
+void add_eval_rows(EvalRows& rows, const std::string& key, const nlohmann::json& value) {
+  if (value.is_object()) {
+    for (const auto& [inner, v] : value.items()) {
+      if (v.is_primitive()) add_eval_rows(rows, key + "." + inner, v);
+    }
     return;
   }
-  if (model.points.empty()) return;
-  std::vector<double> errors, tracks;
-  double max_error = 0.0;
-  for (const auto& [id, p] : model.points) {
-    errors.push_back(p.error);
-    tracks.push_back(double(p.track.size()));
-    max_error = std::max(max_error, p.error);
-  }
-  Histogram error_plot = make_histogram(errors, 30, 0.0, std::max(max_error, 0.5));
-  error_plot.title = "sfm: reprojection error per 3D point";
-  error_plot.x_label = "mean reprojection error (px)";
-  // One bin per track length from 2, the longer ones in the last bin.
-  Histogram track_plot = make_histogram(tracks, kMaxTrackLength - 1, 2.0, double(kMaxTrackLength + 1));
-  track_plot.title = "sfm: track length per 3D point";
-  track_plot.x_label = "photos observing the point (last bin: " + std::to_string(kMaxTrackLength) + " or more)";
-  html << "<div id=\"plot-reprojection-error\">" << svg_histogram(error_plot) << "</div>\n";
-  html << "<div id=\"plot-track-length\">" << svg_histogram(track_plot) << "</div>\n";
+  if (!value.is_primitive()) return;
+  rows.emplace_back(key, value.is_number_float() ? format_significant(value.get<double>())
+                         : value.is_string()     ? value.get<std::string>()
+                                                 : value.dump());
 }
 
-void write_mvs_plots(std::ostream& html, const StagePaths& paths) {
-  PointCloud cloud;
-  try {
-    cloud = read_point_cloud_ply(paths.points);
-  } catch (const Error&) {
-    return;
+void write_eval_table(std::ostream& html, const EvalRows& rows) {
+  html << "<table>\n";
+  for (const auto& [key, text] : rows) {
+    html << "<tr><td>" << html_escape(key) << "</td><td>" << html_escape(text) << "</td></tr>\n";
   }
-  if (!cloud.has_confidence()) return;
-  const float top = *std::max_element(cloud.confidence.begin(), cloud.confidence.end());
-  const std::vector<double> values(cloud.confidence.begin(), cloud.confidence.end());
-  // Confidence counts agreeing views (mvs/fusion.h): one bin per count.
-  const int bins = std::clamp(int(std::ceil(top)), 1, 40);
-  Histogram plot = make_histogram(values, bins, 0.5, double(bins) + 0.5);
-  plot.title = "mvs: confidence of the dense points";
-  plot.x_label = "confidence (agreeing views)";
-  html << "<div id=\"plot-mvs-confidence\">" << svg_histogram(plot) << "</div>\n";
+  html << "</table>\n";
 }
 
-// 6. The resolved config and the logs.
+// 5. hos-eval results saved as WS/eval/*.json (docs/eval.md): per file the
+// headline figures (kEvalHeadlines, in that order), then all of them folded.
+void write_eval_results(std::ostream& html, const StagePaths& paths) {
+  std::vector<fs::path> files;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(paths.eval, ec)) {
+    if (entry.path().extension() == ".json") files.push_back(entry.path());
+  }
+  if (files.empty()) return;
+  std::sort(files.begin(), files.end());
+  html << "<h2>Evaluation</h2>\n<div id=\"eval\">\n";
+  for (const fs::path& file : files) {
+    const nlohmann::json result = read_json_or_empty(file);
+    EvalRows all, headlines;
+    for (const auto& [key, value] : result.items()) add_eval_rows(all, key, value);
+    for (const char* key : kEvalHeadlines) {
+      const auto row = std::find_if(all.begin(), all.end(), [&](const auto& r) { return r.first == key; });
+      if (row != all.end()) headlines.push_back(*row);
+    }
+    html << "<div class=\"eval\"><h3>eval/" << html_escape(file.filename().string()) << "</h3>\n";
+    if (result.empty()) html << "<p>not a hos-eval JSON file</p>\n";
+    write_eval_table(html, headlines);
+    html << "<details><summary>all figures</summary>\n";
+    write_eval_table(html, all);
+    html << "</details></div>\n";
+  }
+  html << "</div>\n";
+}
+
+// 7. The resolved config and the logs.
 void write_config_and_logs(std::ostream& html, const StagePaths& paths) {
   std::error_code ec;
   html << "<h2>Configuration</h2>\n<details id=\"config\"><summary>config.yaml</summary><pre>"
-       << html_escape(read_text_file(paths.config)) << "</pre></details>\n";
+       << html_escape(read_bytes(paths.config)) << "</pre></details>\n";
   html << "<p>Logs: ";
   for (const StageSpec& spec : pipeline_stages()) {
     if (fs::exists(paths.log(spec.name), ec)) {
@@ -190,16 +246,6 @@ void write_config_and_logs(std::ostream& html, const StagePaths& paths) {
   html << "</p>\n";
 }
 
-nlohmann::json load_sfm_report(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) return nlohmann::json::object();
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception&) {
-    return nlohmann::json::object();
-  }
-}
-
 constexpr const char* kStyle = R"(<style>
 body { font-family: sans-serif; margin: 2em; max-width: 75em; }
 table { border-collapse: collapse; } td, th { border: 1px solid #ccc; padding: 0.3em 0.6em; text-align: left; }
@@ -207,6 +253,8 @@ table { border-collapse: collapse; } td, th { border: 1px solid #ccc; padding: 0
 tr.stage-failed, tr.stage-interrupted { background: #fde8e8; }
 #photos figure { display: inline-block; margin: 0.3em; font-size: 0.8em; }
 figure.skipped { color: #b42318; }
+#photos img { display: block; }
+div.eval { display: inline-block; margin: 0 1em 1em 0; vertical-align: top; } div.eval h3 { margin: 0.3em 0; }
 div[id^=plot-] { display: inline-block; margin: 0.5em; }
 </style>)";
 
@@ -219,18 +267,18 @@ std::string run_report_html(const fs::path& workspace, const ReportOptions& opti
     throw InputError(workspace.string(), "has no run.json: not a hos-pipeline workspace");
   }
   const RunRecord record = load_run_record(paths.run_record);
-  const nlohmann::json sfm_report = load_sfm_report(paths.sfm_report);
+  const nlohmann::json sfm_report = read_json_or_empty(paths.sfm_report);
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head><meta charset=\"utf-8\"><title>hos run "
           "report</title>\n"
        << kStyle << "\n</head>\n<body>\n";
-  write_summary(html, record);
+  write_summary(html, record, paths);
   html << model_viewer_html(paths, options.viewer_script);  // 2. the model
   write_stage_table(html, record, paths);
-  write_photos(html, paths, sfm_report);
   html << "<h2>Plots</h2>\n";
-  write_sfm_plots(html, paths);
-  write_mvs_plots(html, paths);
+  write_stage_plots(html, paths);  // 4. plots (pipeline/report_plots.h)
+  write_eval_results(html, paths);
+  write_photos(html, record, paths, sfm_report);
   write_config_and_logs(html, paths);
   html << "</body>\n</html>\n";
   return html.str();

@@ -12,13 +12,6 @@ namespace hos::pipeline {
 namespace fs = std::filesystem;
 namespace {
 
-std::string read_bytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
 // The bundle without its source-map comment (the map is not shipped).
 std::string viewer_script_text(const fs::path& script) {
   std::string text = read_bytes(script);
@@ -90,6 +83,13 @@ std::string model_viewer_html(const StagePaths& paths, const fs::path& viewer_sc
           "  document.getElementById('viewer').classList.toggle('hide-cameras', "
           "!e.target.checked));\n</script>\n";
   return html.str();
+}
+
+std::string read_bytes(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
 }
 
 std::string base64(const std::string& bytes) {

@@ -18,6 +18,9 @@ std::filesystem::path default_viewer_script(const std::filesystem::path& bin_dir
 // the script (not built) the section is a link to the model.
 std::string model_viewer_html(const StagePaths& paths, const std::filesystem::path& viewer_script);
 
+// The whole file ("" if it cannot be read), for data: URIs and the page.
+std::string read_bytes(const std::filesystem::path& file);
+
 // Standard base64 (RFC 4648) of bytes, for data: URIs.
 std::string base64(const std::string& bytes);
 

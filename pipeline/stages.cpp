@@ -41,13 +41,15 @@ const std::vector<StageSpec>& pipeline_stages() {
        typed_config<sfm::SfmOptions>("sfm")},
       {"mvs", "hos-mvs",
        [](const DriverOptions&, const StagePaths& p) {
-         return std::vector<std::string>{"--workspace", p.undistorted.string(), "--output", p.points.string()};
+         return std::vector<std::string>{"--workspace", p.undistorted.string(), "--output", p.points.string(),
+                                         "--report",    p.mvs_report.string()};
        },
        [](Fingerprint& f, const DriverOptions&, const StagePaths& p) { add_undistorted_workspace(f, p); },
        [](const StagePaths& p) { return fs::exists(p.points); }, typed_config<mvs::MvsOptions>("mvs")},
       {"recon", "hos-recon",
        [](const DriverOptions&, const StagePaths& p) {
-         return std::vector<std::string>{"--input", p.points.string(), "--output", p.mesh.string()};
+         return std::vector<std::string>{"--input",       p.points.string(), "--output",
+                                         p.mesh.string(), "--report",        p.recon_report.string()};
        },
        [](Fingerprint& f, const DriverOptions&, const StagePaths& p) { f.add_file_contents(p.points); },
        [](const StagePaths& p) { return fs::exists(p.mesh); }, typed_config<recon::ReconOptions>("recon")},
@@ -63,8 +65,9 @@ const std::vector<StageSpec>& pipeline_stages() {
        [](const StagePaths& p) { return fs::exists(p.refined_mesh); }, typed_config<refine::RefineOptions>("refine")},
       {"texture", "hos-texture",
        [](const DriverOptions&, const StagePaths& p) {
-         return std::vector<std::string>{"--workspace", p.undistorted.string(),   "--mesh", p.refined_mesh.string(),
-                                         "--output",    p.textured_model.string()};
+         return std::vector<std::string>{
+             "--workspace", p.undistorted.string(),    "--mesh",   p.refined_mesh.string(),
+             "--output",    p.textured_model.string(), "--report", p.texture_report.string()};
        },
        [](Fingerprint& f, const DriverOptions&, const StagePaths& p) {
          f.add_file_contents(p.refined_mesh);

@@ -2,26 +2,36 @@
 // the page stays self-contained and works offline.
 #pragma once
 
-#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include "core/histogram.h"
 
 namespace hos::pipeline {
 
-struct Histogram {
+struct PlotLabels {
   std::string title;    // above the plot
   std::string x_label;  // below the x axis
-  double lo = 0.0;      // left edge of the first bin
-  double hi = 1.0;      // right edge of the last bin
-  std::vector<std::int64_t> counts;
 };
 
-// Bins values into `bins` equal bins over [lo, hi]; values outside are
-// clamped into the end bins so that nothing is silently dropped.
-Histogram make_histogram(const std::vector<double>& values, int bins, double lo, double hi);
+// Histograms over the same bins as grouped bars, one colour per series,
+// with a legend when there is more than one (e.g. seam jumps before and
+// after leveling). Each bar's tooltip is its count. Every series must have
+// as many bins as the first.
+std::string svg_histograms(const std::vector<std::pair<std::string, Histogram>>& series, const PlotLabels& labels);
+// One histogram.
+std::string svg_histogram(const Histogram& h, const PlotLabels& labels);
 
-// The histogram as an inline <svg> element with class "plot".
-std::string svg_histogram(const Histogram& h);
+// One bar per item (e.g. depth-map coverage per view), heights over
+// [0, y_max]; each bar's tooltip is "name: value".
+std::string svg_bar_chart(const std::vector<std::pair<std::string, double>>& items,
+                          double y_max,
+                          const PlotLabels& labels);
+
+// values[i] at x = i + 1 as a line on a log10 y axis (e.g. a solver's
+// residual per iteration); values <= 0 or not finite are left out.
+std::string svg_log_line_plot(const std::vector<double>& values, const PlotLabels& labels);
 
 // Escapes & < > " for HTML text and attributes.
 std::string html_escape(const std::string& text);

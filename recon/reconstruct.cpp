@@ -213,6 +213,8 @@ void solve_and_report(const EnergyOperator& op,
   stats.solver_iterations += report.iterations;
   stats.multigrid_levels = report.levels;
   stats.relative_residual = report.relative_residual;
+  stats.residual_history.insert(stats.residual_history.end(), report.residual_history.begin(),
+                                report.residual_history.end());
   reporter.info(format_message("recon: ", report.iterations, " CG iterations, ", report.levels,
                                " multigrid levels, relative residual ", report.relative_residual));
   reporter.debug(

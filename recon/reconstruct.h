@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/reporter.h"
 #include "core/types.h"
@@ -20,7 +21,10 @@ struct ReconStats {
   int multigrid_levels = 0;
   int solver_iterations = 0;       // summed over all linear solves
   double relative_residual = 0.0;  // of the final linear solve
-  std::int64_t band_nodes = 0;     // fine nodes solved in the band; 0 = every node
+  // Relative residual after each iteration of every linear solve, in order
+  // (the TV energy's reweighting rounds each start a new solve).
+  std::vector<double> residual_history;
+  std::int64_t band_nodes = 0;  // fine nodes solved in the band; 0 = every node
   double isovalue = 0.0;
   std::size_t faces_before_trim = 0;
   std::size_t faces_trimmed = 0;

@@ -179,11 +179,22 @@ std::optional<DecodedPhoto> decode_photo(const fs::path& file, const SfmOptions&
   return photo;
 }
 
+// The upright photo kThumbnailWidth wide as a small JPEG.
+void write_thumbnail(const cv::Mat& image, const fs::path& file) {
+  const int height = std::max(1, image.rows * kThumbnailWidth / std::max(image.cols, 1));
+  cv::Mat thumbnail;
+  cv::resize(image, thumbnail, cv::Size(kThumbnailWidth, height), 0.0, 0.0, cv::INTER_AREA);
+  if (!cv::imwrite(file.string(), thumbnail, {cv::IMWRITE_JPEG_QUALITY, 75})) {
+    throw OutputError(file.string(), "cannot write the thumbnail");
+  }
+}
+
 // Puts the photo into staging_dir as COLMAP must see it: 8 bits, upright and
 // at most sfm.max_image_size; a link to the user's file when nothing changes.
 StagedImage stage_photo(const fs::path& file,
                         DecodedPhoto photo,
                         const fs::path& staging_dir,
+                        const fs::path& thumbnail_dir,
                         const SfmOptions& options) {
   StagedImage staged;
   staged.name = file.filename().string();
@@ -209,6 +220,7 @@ StagedImage stage_photo(const fs::path& file,
   }
   staged.width = image.cols;
   staged.height = image.rows;
+  if (!thumbnail_dir.empty()) write_thumbnail(image, thumbnail_dir / (staged.name + ".jpg"));
   const fs::path target = staging_dir / staged.name;
   std::error_code ec;
   fs::remove(target, ec);
@@ -241,10 +253,12 @@ void require_enough_photos(const fs::path& folder, const ImageInputs& inputs) {
 ImageInputs prepare_images(const fs::path& folder,
                            const fs::path& staging_dir,
                            const SfmOptions& options,
-                           Reporter& reporter) {
+                           Reporter& reporter,
+                           const fs::path& thumbnail_dir) {
   const std::vector<fs::path> files = list_photo_candidates(folder);
   ImageInputs inputs;
   fs::create_directories(staging_dir);
+  if (!thumbnail_dir.empty()) fs::create_directories(thumbnail_dir);
   reporter.begin("checking photos", static_cast<std::int64_t>(files.size()));
   for (const auto& file : files) {
     reporter.throw_if_cancelled();
@@ -256,7 +270,7 @@ ImageInputs prepare_images(const fs::path& folder,
       reporter.warn("skipping " + file.string() + ": " + reason);
       continue;
     }
-    inputs.images.push_back(stage_photo(file, std::move(*photo), staging_dir, options));
+    inputs.images.push_back(stage_photo(file, std::move(*photo), staging_dir, thumbnail_dir, options));
   }
   reporter.end();
   require_enough_photos(folder, inputs);

@@ -42,15 +42,22 @@ const std::vector<std::string>& supported_image_extensions();
 // Applies an EXIF orientation (1..8) so the image becomes upright.
 cv::Mat apply_exif_orientation(const cv::Mat& image, int orientation);
 
+// Width of the thumbnails prepare_images writes for the run report (px).
+inline constexpr int kThumbnailWidth = 160;
+
 // Checks every file at the top level of folder (hidden files are ignored),
 // warns about each skipped one with the reason (an entry that cannot be
 // read at all, such as a symlink loop, included), and stages the usable photos
 // (converted to 8 bits per channel when deeper)
-// into staging_dir (created). Throws InputError when the folder is missing or
-// fewer than 3 usable photos remain, listing what was skipped.
+// into staging_dir (created). With a thumbnail_dir, also writes each usable
+// photo, upright and kThumbnailWidth wide, as thumbnail_dir/NAME.jpg (the
+// photo is decoded anyway, so this costs next to nothing). Throws InputError
+// when the folder is missing or fewer than 3 usable photos remain, listing
+// what was skipped.
 ImageInputs prepare_images(const std::filesystem::path& folder,
                            const std::filesystem::path& staging_dir,
                            const SfmOptions& options,
-                           Reporter& reporter);
+                           Reporter& reporter,
+                           const std::filesystem::path& thumbnail_dir = {});
 
 }  // namespace hos::sfm

@@ -102,8 +102,8 @@ void undistort_with_colmap(const ColmapInfo& colmap,
 
 void clear_previous_run(const SfmPaths& paths) {
   std::error_code ec;
-  for (const auto& p :
-       {paths.report, paths.undistorted, paths.sparse, paths.database, paths.vocab_tree, paths.images}) {
+  for (const auto& p : {paths.report, paths.undistorted, paths.sparse, paths.database, paths.vocab_tree, paths.images,
+                        paths.thumbnails}) {
     fs::remove_all(p, ec);
   }
   fs::remove(paths.database.string() + "-shm", ec);
@@ -188,7 +188,7 @@ void prepare_workspace(const SfmPaths& paths) {
 ImageInputs stage_photos(
     const SfmInput& input, const SfmOptions& options, const SfmPaths& paths, Reporter& reporter, SfmResult& result) {
   const auto started = Clock::now();
-  ImageInputs inputs = prepare_images(input.images, paths.images, options, reporter);
+  ImageInputs inputs = prepare_images(input.images, paths.images, options, reporter, paths.thumbnails);
   result.step_seconds.emplace_back("prepare_images", seconds_since(started));
   result.skipped = inputs.skipped;
   result.images_given = static_cast<int>(inputs.images.size());
@@ -320,6 +320,7 @@ SfmPaths sfm_paths(const fs::path& workspace) {
   SfmPaths p;
   p.root = workspace / "sfm";
   p.images = p.root / "images";
+  p.thumbnails = p.root / "thumbnails";
   p.database = p.root / "database.db";
   p.vocab_tree = p.root / "vocab_tree.bin";
   p.sparse = p.root / "sparse";

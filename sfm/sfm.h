@@ -27,6 +27,7 @@ namespace hos::sfm {
 struct SfmPaths {
   std::filesystem::path root;  // WS/sfm
   std::filesystem::path images;
+  std::filesystem::path thumbnails;  // NAME.jpg per usable photo, for the run report
   std::filesystem::path database;
   std::filesystem::path vocab_tree;
   std::filesystem::path sparse;

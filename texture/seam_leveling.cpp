@@ -2,6 +2,7 @@
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/Sparse>
+#include <numeric>
 #include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
@@ -9,6 +10,10 @@
 namespace hos::texture {
 
 namespace {
+
+double mean(const std::vector<double>& values) {
+  return std::accumulate(values.begin(), values.end(), 0.0) / double(values.size());
+}
 
 // The global index of chart c's vertex i is first[c] + i.
 std::vector<int> chart_vertex_offsets(const std::vector<Chart>& charts) {
@@ -155,18 +160,18 @@ SeamLeveling level_seams(const TriangleMesh& mesh,
     result.solver_iterations = solve_offsets(leveling_matrix(copies, charts, first, options), copies, f, g, reporter);
   }
 
-  // Mean colour jump between chart copies, before and after leveling.
-  double jump_before = 0.0, jump_after = 0.0;
-  int num_pairs = 0;
+  // Colour jump between chart copies, before and after leveling.
+  std::vector<double> jumps_before, jumps_after;
   for_each_copy_pair(copies, [&](int i, int j) {
-    jump_before += (f[i] - f[j]).norm();
-    jump_after += (f[i] + g[i] - f[j] - g[j]).norm();
-    ++num_pairs;
+    jumps_before.push_back((f[i] - f[j]).norm());
+    jumps_after.push_back((f[i] + g[i] - f[j] - g[j]).norm());
   });
-  if (num_pairs > 0) {
-    result.mean_seam_jump_before = jump_before / num_pairs;
-    result.mean_seam_jump_after = jump_after / num_pairs;
+  if (!jumps_before.empty()) {
+    result.mean_seam_jump_before = mean(jumps_before);
+    result.mean_seam_jump_after = mean(jumps_after);
   }
+  result.seam_jumps_before = make_histogram(jumps_before, kSeamJumpPlotBins, 0.0, kSeamJumpPlotMax);
+  result.seam_jumps_after = make_histogram(jumps_after, kSeamJumpPlotBins, 0.0, kSeamJumpPlotMax);
   result.offsets.resize(charts.size());
   result.vertex_colors.resize(charts.size());
   for (std::size_t c = 0; c < charts.size(); ++c) {

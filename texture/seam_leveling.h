@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "core/histogram.h"
 #include "core/reporter.h"
 #include "core/types.h"
 #include "texture/charts.h"
@@ -27,8 +28,14 @@ struct SeamLeveling {
   // Mean colour difference between chart copies of seam vertices.
   double mean_seam_jump_before = 0.0;
   double mean_seam_jump_after = 0.0;
+  // The same per pair of chart copies, binned over [0, kSeamJumpPlotMax]
+  // (larger jumps in the last bin), for the run report.
+  Histogram seam_jumps_before, seam_jumps_after;
   int solver_iterations = 0;
 };
+
+inline constexpr double kSeamJumpPlotMax = 64.0;  // 8-bit RGB distance
+inline constexpr int kSeamJumpPlotBins = 64;
 
 // gains: per-view RGB exposure gains applied to the views' colours. With
 // options.global_leveling false, offsets are zero (the colours are still

@@ -32,6 +32,12 @@ class StepTimer {
   Clock::time_point start_;
 };
 
+Histogram views_per_face_histogram(const FaceViewCandidates& candidates) {
+  std::vector<double> views(static_cast<std::size_t>(candidates.num_faces()));
+  for (int f = 0; f < candidates.num_faces(); ++f) views[std::size_t(f)] = candidates.end(f) - candidates.begin(f);
+  return make_count_histogram(views, kMaxPlottedViewsPerFace);
+}
+
 // Colours of unseen faces: vertex colours of textured charts, diffused over
 // mesh edges into the unseen region ring by ring.
 std::vector<FlatFace> colour_unseen_faces(const TriangleMesh& mesh,
@@ -169,6 +175,7 @@ TextureResult texture_mesh(const TriangleMesh& input_mesh,
   timer.lap("topology");
   FaceViewCandidates candidates = compute_visibility(mesh, topology, views, options, reporter);
   stats.num_candidates = static_cast<std::int64_t>(candidates.samples.size());
+  stats.views_per_face = views_per_face_histogram(candidates);
   timer.lap("visibility");
 
   std::vector<Eigen::Vector3f> gains(views.size(), Eigen::Vector3f::Ones());
@@ -192,6 +199,8 @@ TextureResult texture_mesh(const TriangleMesh& input_mesh,
   stats.num_seam_vertices = leveling.num_seam_vertices;
   stats.mean_seam_jump_before = leveling.mean_seam_jump_before;
   stats.mean_seam_jump_after = leveling.mean_seam_jump_after;
+  stats.seam_jumps_before = leveling.seam_jumps_before;
+  stats.seam_jumps_after = leveling.seam_jumps_after;
   timer.lap("seam leveling");
 
   const std::vector<FlatFace> flat = colour_unseen_faces(mesh, topology, selection.labels, charts, leveling);

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/histogram.h"
 #include "core/reporter.h"
 #include "core/types.h"
 #include "core/undistorted_workspace.h"
@@ -20,6 +21,8 @@
 #include "texture/textured_mesh.h"
 
 namespace hos::texture {
+
+inline constexpr int kMaxPlottedViewsPerFace = 30;
 
 struct TextureStats {
   std::size_t input_faces = 0;
@@ -35,6 +38,10 @@ struct TextureStats {
   int num_seam_vertices = 0;
   double mean_seam_jump_before = 0.0;  // 8-bit RGB distance at seam vertices
   double mean_seam_jump_after = 0.0;
+  Histogram seam_jumps_before, seam_jumps_after;  // per pair of chart copies (seam_leveling.h)
+  // Faces by the number of photos that see them (after the visibility test),
+  // one bin per count from 0 to kMaxPlottedViewsPerFace (more in the last bin).
+  Histogram views_per_face;
   std::vector<Eigen::Vector3f> exposure_gains;              // RGB gain per view, in workspace image order
   Eigen::Vector3d estimated_up = Eigen::Vector3d::UnitY();  // model frame
   // Wall time of each step in seconds, in order.

@@ -1,14 +1,10 @@
 #include "texture/texture_report.h"
 
-#include <fstream>
-#include <nlohmann/json.hpp>
-
-#include "core/atomic_file.h"
-#include "core/error.h"
+#include "core/json_report.h"
 
 namespace hos::texture {
 
-std::string texture_report_json(const TextureResult& result) {
+nlohmann::ordered_json texture_report_json(const TextureResult& result) {
   const TextureStats& s = result.stats;
   nlohmann::ordered_json j;
   j["input_faces"] = s.input_faces;
@@ -25,6 +21,9 @@ std::string texture_report_json(const TextureResult& result) {
   j["seam_vertices"] = s.num_seam_vertices;
   j["mean_seam_jump_before"] = s.mean_seam_jump_before;
   j["mean_seam_jump_after"] = s.mean_seam_jump_after;
+  j["seam_jumps_before"] = histogram_json(s.seam_jumps_before);
+  j["seam_jumps_after"] = histogram_json(s.seam_jumps_after);
+  j["views_per_face"] = histogram_json(s.views_per_face);
   nlohmann::ordered_json gains = nlohmann::ordered_json::array();
   for (const auto& g : s.exposure_gains) gains.push_back({g.x(), g.y(), g.z()});
   j["exposure_gains"] = gains;
@@ -34,16 +33,11 @@ std::string texture_report_json(const TextureResult& result) {
   nlohmann::ordered_json steps;
   for (const auto& [step, seconds] : s.step_seconds) steps[step] = seconds;
   j["step_seconds"] = steps;
-  return j.dump(2);
+  return j;
 }
 
 void write_texture_report(const std::filesystem::path& path, const TextureResult& result) {
-  const std::string text = texture_report_json(result);
-  write_atomically(path, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp);
-    out << text << "\n";
-    if (!out) throw OutputError(path.string(), "cannot write the texture report");
-  });
+  write_json_report(path, texture_report_json(result));
 }
 
 }  // namespace hos::texture

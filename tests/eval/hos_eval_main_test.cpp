@@ -38,7 +38,8 @@ TEST(HosEvalMain, SanityJsonFileAndTable) {
   TriangleMesh holed = synth::icosphere(2, 1.0);
   holed.faces.pop_back();
   write_mesh_ply(dir / "m.ply", holed);
-  const auto json_path = dir / "s.json";
+  // In a folder that does not exist yet, as WS/eval/ of a pipeline workspace.
+  const auto json_path = dir / "eval" / "s.json";
   ASSERT_EQ(hos::testing::run_command(exe() + " sanity --mesh " + shell_quote((dir / "m.ply").string()) + " --json " +
                                           shell_quote(json_path.string()),
                                       dir / "log.txt"),
@@ -47,6 +48,7 @@ TEST(HosEvalMain, SanityJsonFileAndTable) {
   const auto j = nlohmann::json::parse(read_text(json_path));
   EXPECT_FALSE(j["watertight"].get<bool>());
   EXPECT_EQ(j["boundary_edges"].get<int>(), 3);
+  EXPECT_EQ(j["command"].get<std::string>(), "sanity");
 }
 
 TEST(HosEvalMain, BadInputsGiveDocumentedExitCodes) {

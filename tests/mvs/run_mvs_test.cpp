@@ -11,6 +11,7 @@
 #include <unordered_set>
 
 #include "core/error.h"
+#include "mvs/mvs_report.h"
 #include "tests/mvs/synthetic_workspace.h"
 
 namespace hos::mvs {
@@ -51,6 +52,25 @@ TEST(RunMvs, FusedPointsAreAccurateAndCorrectlyOriented) {
   const float min_views =
       defaults.two_view_max_cost > 0 ? 2.0f : 1.0f + static_cast<float>(defaults.min_consistent_views);
   for (float c : points.confidence) EXPECT_GE(c, min_views);
+}
+
+// The report file's figures are the run's: coverage is each view's share of
+// pixels with a depth, the confidence histogram counts every point.
+TEST(MvsReport, CoveragePerViewAndConfidenceMatchTheResult) {
+  const MvsResult& result = mvs_result();
+  const nlohmann::ordered_json j = mvs_report_json(result);
+  ASSERT_EQ(j["per_view"].size(), result.stats.per_view.size());
+  for (std::size_t i = 0; i < result.stats.per_view.size(); ++i) {
+    const MvsViewStats& v = result.stats.per_view[i];
+    if (v.skipped) continue;
+    ASSERT_GT(v.pixels, 0u) << v.name;
+    EXPECT_LE(v.valid_pixels, v.pixels) << v.name;
+    EXPECT_DOUBLE_EQ(j["per_view"][i]["coverage"].get<double>(), double(v.valid_pixels) / double(v.pixels));
+    EXPECT_GT(j["per_view"][i]["coverage"].get<double>(), 0.1) << v.name << ": the synthetic scene fills the views";
+  }
+  std::int64_t counted = 0;
+  for (const auto& c : j["confidence"]["counts"]) counted += c.get<std::int64_t>();
+  EXPECT_EQ(counted, static_cast<std::int64_t>(result.points.size()));
 }
 
 TEST(RunMvs, PointsCoverTheSurfaceThatTwoViewsSee) {

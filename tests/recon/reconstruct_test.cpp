@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "recon/recon_report.h"
 #include "synth/shapes.h"
 #include "tests/recon/shape_samples.h"
 
@@ -58,6 +59,20 @@ TEST(ReconstructSurface, NoisySphereIsAccurateAndClosedForEveryQuadraticEnergy) 
     EXPECT_TRUE(r.stats.relative_residual <= ReconOptions{}.solver.tolerance);
     expect_closed_surface(r.mesh, 2);
   }
+}
+
+// The residual per iteration, for the run report's plot: one entry per CG
+// iteration, ending at the reported residual, in the report file.
+TEST(ReconReport, ResidualHistoryHasEveryIterationAndEndsConverged) {
+  const ReconResult r = reconstruct_surface(synth::sample_sphere(5000, 1.0, 0.0, 2), options_at(32), null_reporter());
+  const std::vector<double>& history = r.stats.residual_history;
+  ASSERT_EQ(history.size(), std::size_t(r.stats.solver_iterations));
+  ASSERT_FALSE(history.empty());
+  EXPECT_DOUBLE_EQ(history.back(), r.stats.relative_residual);
+  EXPECT_LT(history.back(), history.front());
+  const nlohmann::ordered_json j = recon_report_json(r);
+  EXPECT_EQ(j["residual_history"].get<std::vector<double>>(), history);
+  EXPECT_EQ(j["faces"].get<std::size_t>(), r.mesh.num_faces());
 }
 
 TEST(ReconstructSurface, SphereFromSixScanDirectionsStaysWithinTheSameBound) {

@@ -146,6 +146,29 @@ TEST(ImageInputs, ExifOrientationIsAppliedAndLargePhotosDownscaled) {
   EXPECT_EQ(inputs.images[0].width, 150);
 }
 
+// The run report's thumbnails: one per usable photo, upright, kThumbnailWidth
+// wide; none for a skipped file.
+TEST(ImageInputs, ThumbnailsAreSmallUprightAndOnlyOfUsablePhotos) {
+  hos::testing::TempDir dir;
+  const fs::path photos = dir / "photos";
+  fs::create_directories(photos);
+  write_good_jpegs(photos, 2, 640, 480);
+  write_bytes(photos / "portrait.jpg", testing::jpeg_with_exif(testing::gradient_image(640, 480), 6, 24.0, true));
+  std::ofstream(photos / "notes.txt") << "not a photo";
+  const ImageInputs inputs = prepare_images(photos, dir / "staged", SfmOptions{}, null_reporter(), dir / "thumbs");
+  ASSERT_EQ(inputs.images.size(), 3u);
+  const cv::Mat landscape = cv::imread((dir / "thumbs" / "good0.jpg.jpg").string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(landscape.empty());
+  EXPECT_EQ(landscape.cols, kThumbnailWidth);
+  EXPECT_EQ(landscape.rows, kThumbnailWidth * 480 / 640);
+  const cv::Mat portrait = cv::imread((dir / "thumbs" / "portrait.jpg.jpg").string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(portrait.empty());
+  EXPECT_EQ(portrait.cols, kThumbnailWidth);
+  EXPECT_EQ(portrait.rows, kThumbnailWidth * 640 / 480);
+  EXPECT_LT(fs::file_size(dir / "thumbs" / "portrait.jpg.jpg"), 20000u);
+  EXPECT_FALSE(fs::exists(dir / "thumbs" / "notes.txt.jpg"));
+}
+
 TEST(ImageInputs, OrientationTableMatchesExifDefinition) {
   // A 2x3 image with distinct pixels; each orientation's upright result is
   // checked at its corners against the EXIF definition.

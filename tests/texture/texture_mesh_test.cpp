@@ -160,6 +160,14 @@ double mean_seam_jump(const TexturedMesh& mesh) {
   return count > 0 ? sum / count : 0.0;
 }
 
+// The mean of the values a histogram counts, each at its bin's centre.
+double histogram_mean(const Histogram& h) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < h.counts.size(); ++i)
+    sum += double(h.counts[i]) * (h.lo + (double(i) + 0.5) * h.bin_width());
+  return sum / double(std::max<std::int64_t>(h.total(), 1));
+}
+
 TEST(TextureMesh, ExposureAndLevelingReduceSeamJumps) {
   const TriangleMesh mesh = synth::icosphere(4, kRadius);
   std::vector<float> gains(10, 1.0f);
@@ -188,6 +196,20 @@ TEST(TextureMesh, ExposureAndLevelingReduceSeamJumps) {
   }
   EXPECT_LT(jump_on, 0.5 * jump_off) << "off " << jump_off << " on " << jump_on;
   EXPECT_LT(jump_on, 8.0) << "off " << jump_off << " on " << jump_on;
+  // The run report's figures: every face in the views-per-face histogram (a
+  // ring of 10 photos sees each face from a few), every seam pair before and
+  // after leveling.
+  const TextureStats& s = leveled.stats;
+  EXPECT_EQ(s.views_per_face.total(), std::int64_t(s.faces));
+  ASSERT_GE(s.views_per_face.counts.size(), 3u);
+  EXPECT_GT(s.views_per_face.total() - s.views_per_face.counts[0] - s.views_per_face.counts[1], 0)
+      << "some faces are seen by two photos or more";
+  EXPECT_GT(s.seam_jumps_before.total(), 0);
+  EXPECT_EQ(s.seam_jumps_before.total(), s.seam_jumps_after.total());
+  // Each histogram agrees with its mean to within a bin (no jump here exceeds the last bin).
+  EXPECT_NEAR(histogram_mean(s.seam_jumps_before), s.mean_seam_jump_before, s.seam_jumps_before.bin_width());
+  EXPECT_NEAR(histogram_mean(s.seam_jumps_after), s.mean_seam_jump_after, s.seam_jumps_after.bin_width());
+  EXPECT_LT(s.mean_seam_jump_after, s.mean_seam_jump_before);
 }
 
 int count_red_samples(const TexturedMesh& mesh) {
