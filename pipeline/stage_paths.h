@@ -15,6 +15,7 @@ struct StagePaths {
         sfm_report(workspace / "sfm" / "report.json"),
         undistorted(workspace / "sfm" / "undistorted"),
         points(workspace / "mvs" / "points.ply"),
+        depth_maps(workspace / "mvs" / "depth_maps"),
         mesh(workspace / "recon" / "mesh.ply"),
         refined_mesh(workspace / "refine" / "mesh.ply"),
         textured_model(workspace / "texture" / "model.glb") {}
@@ -27,6 +28,7 @@ struct StagePaths {
   std::filesystem::path sfm_report;      // figures of the sfm stage
   std::filesystem::path undistorted;     // sfm output: images + PINHOLE model
   std::filesystem::path points;          // mvs output: oriented dense points
+  std::filesystem::path depth_maps;      // mvs split runs: the depth maps of the view chunks
   std::filesystem::path mesh;            // recon output: surface
   std::filesystem::path refined_mesh;    // refine output: the surface the photos agree on
   std::filesystem::path textured_model;  // texture output: binary glTF
