@@ -327,10 +327,11 @@ class SlurmRun {
 
   int task_count(const Job& job) const { return std::max(job.tasks, 1); }
 
-  std::vector<std::string> active_ids(const std::set<std::string>& active) {
+  // The active jobs among jobs_[from..].
+  std::vector<std::string> active_ids(const std::set<std::string>& active, std::size_t from = 0) {
     std::vector<std::string> ids;
-    for (const Job& job : jobs_) {
-      for (const auto& [task, id] : recorded_tasks(entry(job))) {
+    for (std::size_t j = from; j < jobs_.size(); ++j) {
+      for (const auto& [task, id] : recorded_tasks(entry(jobs_[j]))) {
         if (active.count(id)) ids.push_back(id);
       }
     }
@@ -468,12 +469,12 @@ class SlurmRun {
         const StageSpec& spec = pipeline_stages()[s];
         if (record_.stages[spec.name].state == "done") continue;
         bool stage_completed = true;
-        for (const Job& job : jobs_) {
-          if (job.stage != s) continue;
-          for (const auto& [t, id] : recorded_tasks(entry(job))) {
-            const TaskStatus status = task_status(id, status_file(paths_, job, t), active);
+        for (std::size_t j = 0; j < jobs_.size(); ++j) {
+          if (jobs_[j].stage != s) continue;
+          for (const auto& [t, id] : recorded_tasks(entry(jobs_[j]))) {
+            const TaskStatus status = task_status(id, status_file(paths_, jobs_[j], t), active);
             if (status.state == TaskState::kActive) stage_completed = false;
-            if (status.state == TaskState::kFailed) fail(job, t, id, status, active);
+            if (status.state == TaskState::kFailed) fail(j, t, id, status, active);
           }
         }
         if (stage_completed && spec.output_exists(paths_)) {
@@ -492,10 +493,16 @@ class SlurmRun {
   }
 
   // A failed job: the jobs after it can never start (afterok), so they are
-  // cancelled; the error names the job's log and keeps its exit code's cause.
-  [[noreturn]] void fail(
-      const Job& job, int task, const std::string& id, const TaskStatus& status, const std::set<std::string>& active) {
-    cancel_jobs(active_ids(active), reporter_);
+  // cancelled; the other tasks of its array go on, and a re-run keeps what
+  // they computed. The error names the job's log and keeps its exit code's
+  // cause.
+  [[noreturn]] void fail(std::size_t job_index,
+                         int task,
+                         const std::string& id,
+                         const TaskStatus& status,
+                         const std::set<std::string>& active) {
+    const Job& job = jobs_[job_index];
+    cancel_jobs(active_ids(active, job_index + 1), reporter_);
     const StageSpec& spec = pipeline_stages()[job.stage];
     StageRecord& r = record_.stages[spec.name];
     r.state = "failed";

@@ -242,12 +242,13 @@ TEST_F(SlurmExecutorTest, InterruptCancelsEverySubmittedJob) {
   EXPECT_EQ(lines_of(fake_ / "scancel.log"), (std::vector<std::string>{"100 101_0 101_1 101_2 102 103 104 105"}));
 }
 
-TEST_F(SlurmExecutorTest, FailedTaskFailsTheRunWithItsCauseAndLogAndCancelsTheRest) {
+TEST_F(SlurmExecutorTest, FailedTaskFailsTheRunWithItsCauseAndLogAndCancelsTheJobsAfterIt) {
   options_.executor_options = {"mvs_tasks=3", "poll_seconds=0"};
-  // squeue's first call is the submission's; on the second, sfm and two
-  // depth tasks have finished and task 1 rejected its input.
-  on_squeue_call(2, {"sfm=0", "mvs-depth.0=0", "mvs-depth.1=3", "mvs-depth.2=0"}, true);
-  set_active({"102", "103", "104", "105"});
+  // squeue's first call is the submission's; on the second, sfm and depth
+  // task 0 have finished, task 1 rejected its input and task 2 still runs:
+  // it goes on (a re-run keeps its maps), the jobs after the array stop.
+  on_squeue_call(2, {"sfm=0", "mvs-depth.0=0", "mvs-depth.1=3"}, true);
+  set_active({"101_2", "102", "103", "104", "105"});
   try {
     run_pipeline(options_, log_);
     FAIL() << "a failed array task did not fail the run";
