@@ -365,7 +365,7 @@ std::vector<std::string> summary_table(const DriverResult& result) {
     const bool has_record = s.record.state == "done";
     row << std::left << std::setw(9) << s.stage << std::setw(12) << s.state << std::setw(11)
         << (has_record ? format_seconds(s.record.wall_seconds) : "-") << std::setw(11)
-        << (has_record ? format_memory(s.record.peak_memory_bytes) : "-")
+        << (has_record && s.record.peak_memory_bytes > 0 ? format_memory(s.record.peak_memory_bytes) : "-")
         << (has_record ? figures_text(s.stage, s.record.figures) : "");
     lines.push_back(row.str());
   }

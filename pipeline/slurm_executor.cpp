@@ -153,7 +153,7 @@ std::string job_script(const Job& job,
   if (!options.account.empty()) s << "#SBATCH --account=" << options.account << "\n";
   if (!options.qos.empty()) s << "#SBATCH --qos=" << options.qos << "\n";
   if (!options.constraint.empty()) s << "#SBATCH --constraint=" << options.constraint << "\n";
-  s << "task=\"${SLURM_ARRAY_TASK_ID:-0}\"\n";
+  s << "task=\"${SLURM_ARRAY_TASK_ID:-0}\"\nstart=$(date +%s)\n";
   if (job.tasks > 0) s << "first=$((task * " << job.chunk << "))\nlast=$((first + " << job.chunk - 1 << "))\n";
   for (std::size_t i = 0; i < job.argv.size(); ++i) {
     std::string arg = shell_quote(job.argv[i]);
@@ -169,7 +169,7 @@ std::string job_script(const Job& job,
     status_text.replace(at, 7, ".'\"$task\"'.exit");
   }
   s << "\ncode=$?\n";
-  s << "echo \"$code\" > " << status_text << "\n";
+  s << "echo \"$code $(($(date +%s) - start))\" > " << status_text << "\n";
   s << "exit \"$code\"\n";
   return s.str();
 }
@@ -234,15 +234,18 @@ struct TaskStatus {
   TaskState state = TaskState::kFailed;
   int exit_code = 0;
   std::string reason;
+  double seconds = 0;  // the job's wall time, from its status file
 };
 
 TaskStatus task_status(const std::string& id, const fs::path& status, const std::set<std::string>& active) {
   if (active.count(id)) return {TaskState::kActive, 0, ""};
   std::ifstream in(status);
   int code = -1;
+  double seconds = 0;
   if (in >> code) {
-    if (code == 0) return {TaskState::kCompleted, 0, ""};
-    return {TaskState::kFailed, code, "exit code " + std::to_string(code)};
+    in >> seconds;
+    if (code == 0) return {TaskState::kCompleted, 0, "", seconds};
+    return {TaskState::kFailed, code, "exit code " + std::to_string(code), seconds};
   }
   const std::string state = sacct_state(id);
   return {TaskState::kFailed, -1,
@@ -356,6 +359,19 @@ class SlurmRun {
     r.exit_code = 0;
     r.finished_at = utc_timestamp();
     r.figures = stage_figures(spec.name, paths_.root);
+    // Wall time: the stage's jobs one after the other, an array's tasks side
+    // by side (the longest counts). Peak memory needs the cluster's
+    // accounting, which hos does not rely on: not recorded.
+    r.wall_seconds = 0;
+    r.peak_memory_bytes = 0;
+    for (const Job& job : jobs_) {
+      if (job.stage != stage) continue;
+      double longest = 0;
+      for (const auto& [t, id] : recorded_tasks(entry(job))) {
+        longest = std::max(longest, task_status(id, status_file(paths_, job, t), {}).seconds);
+      }
+      r.wall_seconds += longest;
+    }
     save();
     reporter_.info(spec.name + ": done");
   }

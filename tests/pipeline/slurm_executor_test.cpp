@@ -187,7 +187,8 @@ TEST_F(SlurmExecutorTest, ArrayTaskScriptRunsItsViewChunkAndRecordsItsExitCode) 
   EXPECT_THAT(calls, HasSubstr(std::string("hos-mvs --workspace ") + (ws() / "sfm" / "undistorted").string() +
                                std::string(" --views 4-7 --depth-maps ") + (ws() / "mvs" / "depth_maps").string()));
   EXPECT_THAT(calls, HasSubstr(std::string("--log ") + (ws() / "logs" / "mvs-depth.1.log").string()));
-  EXPECT_EQ(read_text(ws() / "slurm" / "status" / "mvs-depth.1.exit"), "0\n");
+  // Exit code and wall seconds.
+  EXPECT_THAT(read_text(ws() / "slurm" / "status" / "mvs-depth.1.exit"), ::testing::MatchesRegex("0 [0-9]+\n"));
 }
 
 TEST_F(SlurmExecutorTest, ReRunSubmitsOnlyTheFailedArrayTaskAndWhatFollowsIt) {
@@ -262,9 +263,11 @@ TEST_F(SlurmExecutorTest, FailedTaskFailsTheRunWithItsCauseAndLogAndCancelsTheJo
 
 TEST_F(SlurmExecutorTest, WaitsUntilEveryJobCompletedAndCopiesTheResult) {
   options_.executor_options = {"mvs_tasks=3", "poll_seconds=0"};
-  on_squeue_call(
-      2, {"sfm=0", "mvs-depth.0=0", "mvs-depth.1=0", "mvs-depth.2=0", "mvs-fuse=0", "recon=0", "refine=0", "texture=0"},
-      true);
+  // Status files hold the exit code and the wall seconds.
+  on_squeue_call(2,
+                 {"sfm=0 1", "mvs-depth.0=0 5", "mvs-depth.1=0 9", "mvs-depth.2=0 4", "mvs-fuse=0 2", "recon=0 3",
+                  "refine=0 1", "texture=0 7"},
+                 true);
   for (const char* file : {"mvs/points.ply", "recon/mesh.ply", "refine/mesh.ply", "texture/model.glb"}) {
     fs::create_directories((ws() / file).parent_path());
     std::ofstream(ws() / file) << "result " << file;
@@ -272,6 +275,9 @@ TEST_F(SlurmExecutorTest, WaitsUntilEveryJobCompletedAndCopiesTheResult) {
   const DriverResult result = run_pipeline(options_, log_);
   EXPECT_EQ(read_text(options_.output), "result texture/model.glb");
   for (const auto& stage : result.stages) EXPECT_EQ(stage.state, "done") << stage.stage;
+  // An array's tasks run side by side: the longest one, then the fusion.
+  EXPECT_EQ(run_json()["stages"]["mvs"]["wall_seconds"], 11.0);
+  EXPECT_EQ(run_json()["stages"]["texture"]["wall_seconds"], 7.0);
 }
 
 TEST(SlurmOptions, UnknownKeyAndBadValuesAreConfigErrors) {
