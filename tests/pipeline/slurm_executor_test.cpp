@@ -280,6 +280,14 @@ TEST_F(SlurmExecutorTest, WaitsUntilEveryJobCompletedAndCopiesTheResult) {
   EXPECT_EQ(run_json()["stages"]["texture"]["wall_seconds"], 7.0);
 }
 
+TEST_F(SlurmExecutorTest, UnknownExecutorOrExecutorOptionsOfTheLocalOneAreConfigErrors) {
+  options_.executor = "pbs";
+  EXPECT_THROW(run_pipeline(options_, log_), ConfigError);
+  options_.executor = "local";
+  EXPECT_THROW(run_pipeline(options_, log_), ConfigError);  // executor_options given
+  EXPECT_FALSE(fs::exists(fake_ / "sbatch.log"));
+}
+
 TEST(SlurmOptions, UnknownKeyAndBadValuesAreConfigErrors) {
   EXPECT_EQ(parse_slurm_options({"partition=long", "mvs_tasks=8"}).mvs_tasks, 8);
   EXPECT_THROW(parse_slurm_options({"partion=long"}), ConfigError);
