@@ -490,7 +490,12 @@ class SlurmRun {
           for (const auto& [t, id] : recorded_tasks(entry(jobs_[j]))) {
             const TaskStatus status = task_status(id, status_file(paths_, jobs_[j], t), active);
             if (status.state == TaskState::kActive) stage_completed = false;
-            if (status.state == TaskState::kFailed) fail(j, t, id, status, active);
+            if (status.state != TaskState::kFailed) continue;
+            if (status.exit_code < 0 && !grace_over(id)) {
+              stage_completed = false;  // no status file yet: look again at the next poll
+              continue;
+            }
+            fail(j, t, id, status, active);
           }
         }
         if (stage_completed && spec.output_exists(paths_)) {
@@ -506,6 +511,14 @@ class SlurmRun {
         std::this_thread::sleep_for(std::chrono::milliseconds(100));
       }
     }
+  }
+
+  // True once the job has been missing from squeue without a status file
+  // for options_.status_grace_seconds.
+  bool grace_over(const std::string& id) {
+    const auto now = std::chrono::steady_clock::now();
+    const auto first = missing_since_.emplace(id, now).first->second;
+    return std::chrono::duration<double>(now - first).count() >= options_.status_grace_seconds;
   }
 
   // A failed job: the jobs after it can never start (afterok), so they are
@@ -539,6 +552,7 @@ class SlurmRun {
   RunRecord& record_;
   Reporter& reporter_;
   std::vector<Job> jobs_;
+  std::map<std::string, std::chrono::steady_clock::time_point> missing_since_;
 };
 
 }  // namespace
@@ -567,13 +581,15 @@ SlurmOptions parse_slurm_options(const std::vector<std::string>& items) {
       o.mvs_tasks = parse_int(key, value, 1);
     } else if (key == "poll_seconds") {
       o.poll_seconds = parse_int(key, value, 0);
+    } else if (key == "status_grace_seconds") {
+      o.status_grace_seconds = parse_int(key, value, 0);
     } else if (key == "wait") {
       if (value != "true" && value != "false") throw ConfigError("--executor-option " + item, "must be true or false");
       o.wait = value == "true";
     } else {
       throw ConfigError("--executor-option " + item,
                         "unknown key; the keys are partition, account, qos, constraint, time, mem_mb, cpus, "
-                        "mvs_tasks, poll_seconds, wait");
+                        "mvs_tasks, poll_seconds, status_grace_seconds, wait");
     }
   }
   return o;

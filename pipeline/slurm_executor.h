@@ -38,7 +38,11 @@ struct SlurmOptions {
   int cpus = 0;              // sbatch --cpus-per-task (0: not given)
   int mvs_tasks = 4;         // array tasks of the mvs depth maps
   double poll_seconds = 10;  // between squeue queries while waiting
-  bool wait = true;          // wait for the jobs (Ctrl-C cancels them); false: submit and return
+  // A job squeue no longer lists whose status file is not (yet) visible
+  // counts as failed after this long: a shared filesystem may show a file
+  // written on a compute node later on the login node.
+  double status_grace_seconds = 30;
+  bool wait = true;  // wait for the jobs (Ctrl-C cancels them); false: submit and return
 };
 
 // Parses KEY=VALUE items; ConfigError naming an unknown key (and the known

@@ -280,6 +280,30 @@ TEST_F(SlurmExecutorTest, WaitsUntilEveryJobCompletedAndCopiesTheResult) {
   EXPECT_EQ(run_json()["stages"]["texture"]["wall_seconds"], 7.0);
 }
 
+// The texture job has left the queue, but its status file shows up only at
+// the next poll (a shared filesystem's cache): not a failure within the grace.
+TEST_F(SlurmExecutorTest, StatusFileSeenLateWithinTheGraceIsNotAFailure) {
+  options_.executor_options = {"mvs_tasks=3", "poll_seconds=0", "status_grace_seconds=60"};
+  on_squeue_call(
+      2,
+      {"sfm=0 1", "mvs-depth.0=0 1", "mvs-depth.1=0 1", "mvs-depth.2=0 1", "mvs-fuse=0 1", "recon=0 1", "refine=0 1"},
+      true);
+  on_squeue_call(3, {"texture=0 1"}, false);
+  for (const char* file : {"mvs/points.ply", "recon/mesh.ply", "refine/mesh.ply", "texture/model.glb"}) {
+    fs::create_directories((ws() / file).parent_path());
+    std::ofstream(ws() / file) << "result " << file;
+  }
+  run_pipeline(options_, log_);
+  EXPECT_EQ(run_json()["stages"]["texture"]["state"], "done") << log_.all();
+}
+
+TEST_F(SlurmExecutorTest, JobGoneWithoutStatusFileAfterTheGraceIsAFailure) {
+  options_.executor_options = {"mvs_tasks=3", "poll_seconds=0", "status_grace_seconds=0"};
+  on_squeue_call(2, {"sfm=0 1"}, true);  // the depth tasks vanished (killed)
+  EXPECT_THROW(run_pipeline(options_, log_), StageError);
+  EXPECT_THAT(log_.all(), HasSubstr("mvs-depth task 0 (Slurm job 101_0) ended without a status file"));
+}
+
 TEST_F(SlurmExecutorTest, UnknownExecutorOrExecutorOptionsOfTheLocalOneAreConfigErrors) {
   options_.executor = "pbs";
   EXPECT_THROW(run_pipeline(options_, log_), ConfigError);
