@@ -33,7 +33,7 @@ struct DriverOptions {
 
 struct StageOutcome {
   std::string stage;
-  std::string state;  // "ran", "up to date", "not run"
+  std::string state;  // "ran", "up to date", "not run"; on Slurm "done", "submitted", "not run"
   StageRecord record;
 };
 

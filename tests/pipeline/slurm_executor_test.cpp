@@ -175,6 +175,7 @@ TEST_F(SlurmExecutorTest, SubmitsEveryStageAfterTheOneBeforeAndMvsAsAnArrayThenA
   EXPECT_EQ(record["slurm"]["jobs"]["mvs-depth"]["tasks"]["2"], "101_2");
   EXPECT_EQ(record["slurm"]["jobs"]["texture"]["tasks"]["0"], "105");
   EXPECT_EQ(record["stages"]["mvs"]["state"], "submitted");
+  EXPECT_THAT(read_text(ws() / "report.html"), HasSubstr("sfm</b>: it was submitted to Slurm and had not finished"));
 }
 
 TEST_F(SlurmExecutorTest, ArrayTaskScriptRunsItsViewChunkAndRecordsItsExitCode) {
