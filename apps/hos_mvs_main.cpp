@@ -1,6 +1,8 @@
 // hos-mvs: undistorted workspace -> dense oriented points PLY.
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <optional>
+#include <regex>
 
 #include "apps/stage_main.h"
 #include "core/atomic_file.h"
@@ -10,31 +12,66 @@
 #include "mvs/mvs_report.h"
 #include "mvs/run_mvs.h"
 
+namespace {
+
+// "3-9" or "4"; nothing for anything else.
+std::optional<hos::mvs::ViewRange> parse_view_range(const std::string& text) {
+  static const std::regex kRange(R"((\d{1,9})(?:-(\d{1,9}))?)");
+  std::smatch m;
+  if (!std::regex_match(text, m, kRange)) return std::nullopt;
+  hos::mvs::ViewRange range;
+  range.first = std::stoi(m[1]);
+  range.last = m[2].matched ? std::stoi(m[2]) : range.first;
+  if (range.last < range.first) return std::nullopt;
+  return range;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   hos::mvs::MvsOptions options;
   hos::OptionSet option_set("mvs");
   register_options(option_set, options);
   hos::apps::CommonStageFlags flags;
-  std::string workspace_path, output_path, depth_maps, report_path;
+  std::string workspace_path, output_path, depth_maps, report_path, views, fuse;
 
   CLI::App app{"hos-mvs: CPU PatchMatch multi-view stereo; writes dense oriented points"};
   app.add_option("--workspace", workspace_path, "undistorted workspace (images/ + sparse/ PINHOLE model)");
   app.add_option("--output", output_path, "output PLY (x y z nx ny nz red green blue confidence)");
   app.add_option("--depth-maps", depth_maps, "also write every depth and normal map into this folder");
   app.add_option("--report", report_path, "also write the stage's figures as JSON (coverage per view, confidence)");
+  // Job splitting (docs/scale.md): view chunks in parallel jobs, then one fusion.
+  app.add_option("--views", views,
+                 "only compute the depth maps of the views FIRST-LAST (0-based, in image id order) into "
+                 "--depth-maps; no fusion, no --output");
+  app.add_option("--fuse", fuse, "fuse the depth maps --views wrote into this folder into --output");
   hos::apps::add_common_stage_flags(app, flags, option_set);
   if (const auto code = hos::apps::parse_stage_command_line(app, argc, argv, flags, option_set)) return *code;
-  if (workspace_path.empty() || output_path.empty()) {
-    std::cerr << "hos-mvs: error: --workspace and --output are required (see --help)\n";
+  const bool split = !views.empty();
+  if (workspace_path.empty() || (output_path.empty() != split) || (split && depth_maps.empty()) ||
+      (split && !fuse.empty())) {
+    std::cerr << "hos-mvs: error: --workspace and --output are required; or --workspace, --views and --depth-maps "
+                 "(see --help)\n";
+    return hos::kExitUsage;
+  }
+  const std::optional<hos::mvs::ViewRange> range = split ? parse_view_range(views) : std::nullopt;
+  if (split && !range) {
+    std::cerr << "hos-mvs: error: --views " << views << ": expected FIRST-LAST or INDEX, e.g. 0-9\n";
     return hos::kExitUsage;
   }
 
   return hos::apps::run_stage_main("mvs", flags, [&](hos::Reporter& reporter) {
     hos::apps::apply_config_and_overrides(option_set, flags);
     options.validate();
-    hos::check_writable_target(output_path);  // before the work, not after
     const hos::UndistortedWorkspace workspace = hos::load_undistorted_workspace(workspace_path);
-    const hos::mvs::MvsResult result = hos::mvs::run_mvs(workspace, options, reporter, depth_maps);
+    if (split) {
+      hos::mvs::compute_depth_maps(workspace, options, reporter, *range, depth_maps);
+      return;
+    }
+    hos::check_writable_target(output_path);  // before the work, not after
+    const hos::mvs::MvsResult result = fuse.empty()
+                                           ? hos::mvs::run_mvs(workspace, options, reporter, depth_maps)
+                                           : hos::mvs::fuse_depth_map_folder(workspace, options, reporter, fuse);
     hos::write_point_cloud_ply(output_path, result.points);
     if (!report_path.empty()) hos::mvs::write_mvs_report(report_path, result);
     reporter.info(hos::format_message("wrote ", output_path, ": ", result.points.size(), " points"));

@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
+#include <fstream>
+#include <functional>
 #include <opencv2/imgcodecs.hpp>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "mvs/fusion.h"
 #include "mvs/patch_match.h"
@@ -121,12 +125,68 @@ void write_depth_map(const std::filesystem::path& folder, const std::string& nam
   cv::imwrite(stem + ".normal.tiff", map.normal);
 }
 
-}  // namespace
+// The .dmap file: a tag, width and height, then the depth, normal and cost
+// rows as raw floats, so a map read back is the map written, bit for bit.
+constexpr char kDepthMapTag[8] = {'H', 'O', 'S', 'D', 'M', 'A', 'P', '1'};
 
-MvsResult run_mvs(const UndistortedWorkspace& workspace,
+std::filesystem::path depth_map_file(const std::filesystem::path& folder, const std::string& name) {
+  return folder / (name + ".dmap");
+}
+
+void write_raw(std::ofstream& out, const cv::Mat& m) {
+  const cv::Mat c = m.isContinuous() ? m : m.clone();
+  out.write(reinterpret_cast<const char*>(c.data), static_cast<std::streamsize>(c.total() * c.elemSize()));
+}
+
+void write_depth_map_file(const std::filesystem::path& file, const DepthMap& map) {
+  std::filesystem::create_directories(file.parent_path());
+  write_atomically(file, [&](const std::filesystem::path& tmp) {
+    std::ofstream out(tmp, std::ios::binary);
+    const std::int32_t size[2] = {map.depth.cols, map.depth.rows};
+    out.write(kDepthMapTag, sizeof(kDepthMapTag));
+    out.write(reinterpret_cast<const char*>(size), sizeof(size));
+    write_raw(out, map.depth);
+    write_raw(out, map.normal);
+    write_raw(out, map.cost);
+    if (!out) throw OutputError(file.string(), "cannot write the depth map");
+  });
+}
+
+DepthMap read_depth_map_file(const std::filesystem::path& file, int width, int height) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file.string(), "missing depth map; compute it with hos-mvs --views first");
+  char tag[sizeof(kDepthMapTag)] = {};
+  std::int32_t size[2] = {0, 0};
+  in.read(tag, sizeof(tag));
+  in.read(reinterpret_cast<char*>(size), sizeof(size));
+  if (!in || !std::equal(tag, tag + sizeof(tag), kDepthMapTag)) throw InputError(file.string(), "not a depth map");
+  if (size[0] != width || size[1] != height) {
+    throw InputError(file.string(), "depth map of " + std::to_string(size[0]) + "x" + std::to_string(size[1]) +
+                                        " pixels, the view is " + std::to_string(width) + "x" + std::to_string(height) +
+                                        " (computed with other options?)");
+  }
+  DepthMap map{cv::Mat(height, width, CV_32F), cv::Mat(height, width, CV_32FC3), cv::Mat(height, width, CV_32F)};
+  for (cv::Mat* m : {&map.depth, &map.normal, &map.cost}) {
+    in.read(reinterpret_cast<char*>(m->data), static_cast<std::streamsize>(m->total() * m->elemSize()));
+  }
+  if (!in || in.peek() != std::ifstream::traits_type::eof()) {
+    throw InputError(file.string(), "truncated or damaged depth map");
+  }
+  return map;
+}
+
+// What every mode shares: the views' plans and the matching levels.
+struct MvsPlan {
+  std::vector<ViewPlan> views;
+  std::vector<int> sizes;
+  std::map<int, std::size_t> index_of;  // image id -> index into views
+  bool multi_scale() const { return sizes.size() > 1; }
+};
+
+MvsPlan make_plan(const UndistortedWorkspace& workspace,
                   const MvsOptions& options,
                   Reporter& reporter,
-                  const std::filesystem::path& depth_map_folder) {
+                  MvsStats& stats) {
   options.validate();
   if (options.backend == "colmap") {
     throw ConfigError("mvs.backend",
@@ -136,29 +196,45 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
 #ifdef _OPENMP
   if (options.threads > 0) omp_set_num_threads(options.threads);
 #endif
-  MvsResult result;
-  MvsStats& stats = result.stats;
-  const std::vector<ViewPlan> plans = plan_views(workspace.model, options, reporter, stats);
-  stats.views = static_cast<int>(plans.size());
-  const std::vector<int> sizes = level_sizes(options, workspace.model);
-  if (!depth_map_folder.empty()) std::filesystem::create_directories(depth_map_folder);
-  std::map<int, std::size_t> plan_of;
-  for (std::size_t i = 0; i < plans.size(); ++i) plan_of[plans[i].image->id] = i;
-  for (const auto& plan : plans) {
+  MvsPlan plan;
+  plan.views = plan_views(workspace.model, options, reporter, stats);
+  plan.sizes = level_sizes(options, workspace.model);
+  for (std::size_t i = 0; i < plan.views.size(); ++i) plan.index_of[plan.views[i].image->id] = i;
+  stats.views = static_cast<int>(plan.views.size());
+  for (const auto& view : plan.views) {
     MvsViewStats vs;
-    vs.name = plan.image->name;
-    vs.num_sources = static_cast<int>(plan.sources.size());
-    vs.skipped = plan.skipped;
+    vs.name = view.image->name;
+    vs.num_sources = static_cast<int>(view.sources.size());
+    vs.skipped = view.skipped;
     stats.per_view.push_back(vs);
   }
+  return plan;
+}
 
-  // Coarse level, every view: full PatchMatch. Its planes start the view's
-  // finer levels; its reliable depths vote on the neighbours' finer levels.
-  const bool multi_scale = sizes.size() > 1;
+using DepthMapSink = std::function<void(std::size_t view, const MvsView& ref, DepthMap map)>;
+
+// The depth maps of the selected views, each handed to sink in view order.
+// Coarse level, every selected view and (with finer levels) its sources:
+// full PatchMatch. Its planes start the view's finer levels; its reliable
+// depths vote on the neighbours' finer levels.
+void match_views(const UndistortedWorkspace& workspace,
+                 const MvsOptions& options,
+                 const MvsPlan& plan,
+                 const std::vector<bool>& selected,
+                 Reporter& reporter,
+                 MvsStats& stats,
+                 const DepthMapSink& sink) {
+  const auto& plans = plan.views;
+  const auto& sizes = plan.sizes;
+  const bool multi_scale = plan.multi_scale();
+  std::vector<bool> coarse_needed = selected;
+  for (std::size_t i = 0; multi_scale && i < plans.size(); ++i) {
+    if (!selected[i] || plans[i].skipped) continue;
+    for (int id : plans[i].sources) coarse_needed[plan.index_of.at(id)] = true;
+  }
   const auto t_depth = Clock::now();
   std::vector<PlaneMap> coarse(plans.size());
   std::vector<DepthPrior> priors(plans.size());
-  std::vector<FusionView> fusion_views;
   const auto finish_view = [&](std::size_t i, const MvsView& ref, const PlaneMap& planes, PatchMatchStats& pm) {
     DepthMap map = to_depth_map(planes, ref, options, &pm);
     MvsViewStats& vs = stats.per_view[i];
@@ -166,14 +242,16 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
     vs.valid_pixels = pm.valid_pixels;
     vs.textureless_pixels = pm.textureless_pixels;
     stats.megapixels_per_view = ref.width() * ref.height() / 1e6;
-    if (!depth_map_folder.empty()) write_depth_map(depth_map_folder, plans[i].image->name, map);
     reporter.debug(format_message("mvs: ", vs.name, ": ", pm.valid_pixels, " pixels with depth, ",
                                   pm.textureless_pixels, " textureless, ", pm.refined_pixels, " refined, ",
                                   pm.restored_pixels, " restored against the coarse vote"));
-    fusion_views.push_back(make_fusion_view(ref, std::move(map)));
+    sink(i, ref, std::move(map));
   };
-  reporter.begin("depth maps", static_cast<std::int64_t>(plans.size() * (multi_scale ? 2 : 1)));
+  const auto work = std::count(coarse_needed.begin(), coarse_needed.end(), true) +
+                    (multi_scale ? std::count(selected.begin(), selected.end(), true) : 0);
+  reporter.begin("depth maps", static_cast<std::int64_t>(work));
   for (std::size_t i = 0; i < plans.size(); ++i) {
+    if (!coarse_needed[i]) continue;
     reporter.throw_if_cancelled();
     if (plans[i].skipped) {
       reporter.advance();
@@ -195,6 +273,7 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
 
   // Finer levels, one view at a time (only its images are in memory).
   for (std::size_t i = 0; multi_scale && i < plans.size(); ++i) {
+    if (!selected[i]) continue;
     reporter.throw_if_cancelled();
     if (plans[i].skipped) {
       reporter.advance();
@@ -203,7 +282,7 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
     const auto t_view = Clock::now();
     const ViewSet full = load_view_set(workspace, plans[i], sizes.back());
     std::vector<const DepthPrior*> source_priors;
-    for (int id : plans[i].sources) source_priors.push_back(&priors[plan_of.at(id)]);
+    for (int id : plans[i].sources) source_priors.push_back(&priors[plan.index_of.at(id)]);
     PlaneMap planes = std::move(coarse[i]);
     PatchMatchStats pm;
     for (std::size_t level = 1; level < sizes.size(); ++level) {
@@ -219,14 +298,23 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
   }
   reporter.end();
   stats.seconds_depth = seconds_since(t_depth);
+}
+
+// Fusion of the matched views (in view order) into the result's points.
+void fuse_views(const std::vector<FusionView>& fusion_views,
+                const MvsPlan& plan,
+                const MvsOptions& options,
+                Reporter& reporter,
+                MvsResult& result) {
+  MvsStats& stats = result.stats;
   if (fusion_views.size() < 2) {
     throw StageError("mvs", "fewer than two views could be matched (" + std::to_string(fusion_views.size()) + " of " +
-                                std::to_string(plans.size()) + "); the images overlap too little");
+                                std::to_string(plan.views.size()) + "); the images overlap too little");
   }
   const auto t_fusion = Clock::now();
   // Density control is for the finer levels' pixels; one level keeps every pixel.
   MvsOptions fusion_options = options;
-  if (!multi_scale) fusion_options.fusion_spacing_px = 0;
+  if (!plan.multi_scale()) fusion_options.fusion_spacing_px = 0;
   result.points = fuse_depth_maps(fusion_views, fusion_options, reporter);
   stats.seconds_fusion = seconds_since(t_fusion);
   stats.points = result.points.size();
@@ -236,6 +324,72 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
   reporter.info(format_message("mvs: ", stats.points, " points from ", stats.views - stats.views_skipped, "/",
                                stats.views, " views; depth maps ", stats.seconds_depth, " s, fusion ",
                                stats.seconds_fusion, " s"));
+}
+
+}  // namespace
+
+MvsResult run_mvs(const UndistortedWorkspace& workspace,
+                  const MvsOptions& options,
+                  Reporter& reporter,
+                  const std::filesystem::path& depth_map_folder) {
+  MvsResult result;
+  const MvsPlan plan = make_plan(workspace, options, reporter, result.stats);
+  if (!depth_map_folder.empty()) std::filesystem::create_directories(depth_map_folder);
+  std::vector<FusionView> fusion_views;
+  match_views(workspace, options, plan, std::vector<bool>(plan.views.size(), true), reporter, result.stats,
+              [&](std::size_t i, const MvsView& ref, DepthMap map) {
+                if (!depth_map_folder.empty()) {
+                  write_depth_map(depth_map_folder, plan.views[i].image->name, map);
+                  write_depth_map_file(depth_map_file(depth_map_folder, plan.views[i].image->name), map);
+                }
+                fusion_views.push_back(make_fusion_view(ref, std::move(map)));
+              });
+  fuse_views(fusion_views, plan, options, reporter, result);
+  return result;
+}
+
+int count_views(const UndistortedWorkspace& workspace) { return static_cast<int>(workspace.model.images.size()); }
+
+MvsStats compute_depth_maps(const UndistortedWorkspace& workspace,
+                            const MvsOptions& options,
+                            Reporter& reporter,
+                            const ViewRange& range,
+                            const std::filesystem::path& folder) {
+  MvsStats stats;
+  const MvsPlan plan = make_plan(workspace, options, reporter, stats);
+  std::vector<bool> selected(plan.views.size(), false);
+  for (int i = std::max(range.first, 0); i <= range.last && i < static_cast<int>(plan.views.size()); ++i) {
+    selected[static_cast<std::size_t>(i)] = true;
+  }
+  std::filesystem::create_directories(folder);
+  match_views(workspace, options, plan, selected, reporter, stats, [&](std::size_t i, const MvsView&, DepthMap map) {
+    write_depth_map(folder, plan.views[i].image->name, map);
+    write_depth_map_file(depth_map_file(folder, plan.views[i].image->name), map);
+  });
+  const auto count = std::count(selected.begin(), selected.end(), true);
+  reporter.info(format_message("mvs: depth maps of views ", range.first, "-", range.last, ": ", count, " of ",
+                               plan.views.size(), " views in ", stats.seconds_depth, " s"));
+  return stats;
+}
+
+MvsResult fuse_depth_map_folder(const UndistortedWorkspace& workspace,
+                                const MvsOptions& options,
+                                Reporter& reporter,
+                                const std::filesystem::path& folder) {
+  MvsResult result;
+  const MvsPlan plan = make_plan(workspace, options, reporter, result.stats);
+  std::vector<FusionView> fusion_views;
+  reporter.begin("reading depth maps", static_cast<std::int64_t>(plan.views.size()));
+  for (const ViewPlan& view : plan.views) {
+    reporter.throw_if_cancelled();
+    reporter.advance();
+    if (view.skipped) continue;
+    const MvsView ref = load_view(workspace, *view.image, plan.sizes.back());
+    fusion_views.push_back(make_fusion_view(
+        ref, read_depth_map_file(depth_map_file(folder, view.image->name), ref.width(), ref.height())));
+  }
+  reporter.end();
+  fuse_views(fusion_views, plan, options, reporter, result);
   return result;
 }
 

@@ -46,4 +46,37 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
                   Reporter& reporter,
                   const std::filesystem::path& depth_map_folder = {});
 
+// Split runs (job arrays on a cluster): the views are the model's registered
+// images in the order of their ids, numbered from 0. A range of them is the
+// views first..last (inclusive); the part past the last view is empty.
+struct ViewRange {
+  int first = 0;
+  int last = 0;
+};
+
+// Number of views run_mvs would match (the model's registered images).
+int count_views(const UndistortedWorkspace& workspace);
+
+// The depth maps of the views in `range` only, each written atomically into
+// folder as <image name>.dmap (what fuse_depth_map_folder reads) beside the
+// .tiff maps run_mvs writes. The finer levels of a view need the coarse maps
+// of its sources, which are recomputed here; every map equals the one of a
+// whole run bit for bit (PatchMatch's random numbers depend on the pixel and
+// the iteration only). Returns the per-view figures of the range. Throws as
+// run_mvs, except that no fusion happens.
+MvsStats compute_depth_maps(const UndistortedWorkspace& workspace,
+                            const MvsOptions& options,
+                            Reporter& reporter,
+                            const ViewRange& range,
+                            const std::filesystem::path& folder);
+
+// Fuses the depth maps compute_depth_maps wrote into folder (every view that
+// is not skipped must have one) into the points run_mvs returns: the same
+// points, byte for byte. Throws InputError naming a missing or damaged map,
+// StageError as run_mvs.
+MvsResult fuse_depth_map_folder(const UndistortedWorkspace& workspace,
+                                const MvsOptions& options,
+                                Reporter& reporter,
+                                const std::filesystem::path& folder);
+
 }  // namespace hos::mvs

@@ -15,6 +15,7 @@
 #include "pipeline/pipeline_config.h"
 #include "pipeline/report.h"
 #include "pipeline/report_viewer.h"
+#include "pipeline/slurm_executor.h"
 #include "pipeline/stage_figures.h"
 #include "pipeline/stage_paths.h"
 #include "pipeline/stages.h"
@@ -28,28 +29,6 @@ std::string config_fingerprint(const PipelineConfig& config, const std::string& 
   Fingerprint f;
   f.add(config.section_yaml(stage));
   return f.hex();
-}
-
-// Maps a failed stage's exit code onto the same error kind, so the driver
-// exits with the code that names the cause. input_hint is added when the
-// stage rejects its input.
-[[noreturn]] void throw_stage_failure(const std::string& stage,
-                                      int code,
-                                      const fs::path& log,
-                                      const std::string& input_hint) {
-  const std::string where = "see " + log.string();
-  switch (code) {
-    case kExitUsage:
-      throw ConfigError(stage, "the stage rejected its configuration; " + where);
-    case kExitBadInput:
-      throw InputError(stage, "the stage rejected its input; " + where + (input_hint.empty() ? "" : "; " + input_hint));
-    case kExitOutputFailed:
-      throw OutputError(stage, "the stage could not write its output; " + where);
-    case kExitInterrupted:
-      throw Cancelled();
-    default:
-      throw StageError(stage, "failed (exit code " + std::to_string(code) + "); " + where);
-  }
 }
 
 void check_invocation(const DriverOptions& o) {
@@ -84,6 +63,25 @@ std::string format_memory(std::int64_t bytes) {
 }
 
 }  // namespace
+
+// Maps a failed stage's exit code onto the same error kind, so the driver
+// exits with the code that names the cause. input_hint is added when the
+// stage rejects its input.
+void throw_stage_failure(const std::string& stage, int code, const fs::path& log, const std::string& input_hint) {
+  const std::string where = "see " + log.string();
+  switch (code) {
+    case kExitUsage:
+      throw ConfigError(stage, "the stage rejected its configuration; " + where);
+    case kExitBadInput:
+      throw InputError(stage, "the stage rejected its input; " + where + (input_hint.empty() ? "" : "; " + input_hint));
+    case kExitOutputFailed:
+      throw OutputError(stage, "the stage could not write its output; " + where);
+    case kExitInterrupted:
+      throw Cancelled();
+    default:
+      throw StageError(stage, "failed (exit code " + std::to_string(code) + "); " + where);
+  }
+}
 
 fs::path default_workspace(const fs::path& output) {
   const fs::path parent = output.parent_path().empty() ? fs::path(".") : output.parent_path();
@@ -302,6 +300,13 @@ void write_report_or_warn(const DriverOptions& options, const fs::path& workspac
 
 DriverResult run_pipeline(const DriverOptions& options, Reporter& reporter) {
   check_invocation(options);
+  if (options.executor != "local" && options.executor != "slurm") {
+    throw ConfigError("--executor " + options.executor, "unknown executor; the executors are local and slurm");
+  }
+  if (options.executor == "local" && !options.executor_options.empty()) {
+    throw ConfigError("--executor-option " + options.executor_options.front(), "needs --executor slurm");
+  }
+  const SlurmOptions slurm = parse_slurm_options(options.executor_options);
   const StageRange range = select_stages(options);
   const PipelineConfig config = load_config(options);
   check_executables(options, range);
@@ -321,7 +326,25 @@ DriverResult run_pipeline(const DriverOptions& options, Reporter& reporter) {
   // The report is written however the run ends: a failed or interrupted
   // run's page shows how far it got.
   try {
-    run_stage_range(options, range, paths, config, record, result, reporter);
+    if (options.executor == "slurm") {
+      // Stages run as Slurm jobs; the result is copied once they are done.
+      if (run_on_slurm(options, slurm, range.first, range.last, paths, config, record, reporter) &&
+          range.last == specs.size() - 1) {
+        copy_result(paths.textured_model, options.output);
+        result.output = options.output;
+      }
+      for (std::size_t i = 0; i < specs.size(); ++i) {
+        const auto it = record.stages.find(specs[i].name);
+        const bool done = range.contains(i) && it != record.stages.end() && it->second.state == "done";
+        result.stages.push_back({specs[i].name,
+                                 done                ? "done"
+                                 : range.contains(i) ? "submitted"
+                                                     : "not run",
+                                 it != record.stages.end() ? it->second : StageRecord{}});
+      }
+    } else {
+      run_stage_range(options, range, paths, config, record, result, reporter);
+    }
   } catch (...) {
     write_report_or_warn(options, paths.root, reporter);
     throw;
@@ -342,7 +365,7 @@ std::vector<std::string> summary_table(const DriverResult& result) {
     const bool has_record = s.record.state == "done";
     row << std::left << std::setw(9) << s.stage << std::setw(12) << s.state << std::setw(11)
         << (has_record ? format_seconds(s.record.wall_seconds) : "-") << std::setw(11)
-        << (has_record ? format_memory(s.record.peak_memory_bytes) : "-")
+        << (has_record && s.record.peak_memory_bytes > 0 ? format_memory(s.record.peak_memory_bytes) : "-")
         << (has_record ? figures_text(s.stage, s.record.figures) : "");
     lines.push_back(row.str());
   }

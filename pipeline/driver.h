@@ -26,12 +26,14 @@ struct DriverOptions {
   bool force = false;                    // run the stages in range even if up to date
   std::string progress = "auto";         // passed to the stages
   bool verbose = false;
-  std::filesystem::path bin_dir;  // where the stage executables are
+  std::filesystem::path bin_dir;              // where the stage executables are
+  std::string executor = "local";             // local | slurm (pipeline/slurm_executor.h)
+  std::vector<std::string> executor_options;  // --executor-option KEY=VALUE (slurm: partition, account, ...)
 };
 
 struct StageOutcome {
   std::string stage;
-  std::string state;  // "ran", "up to date", "not run"
+  std::string state;  // "ran", "up to date", "not run"; on Slurm "done", "submitted", "not run"
   StageRecord record;
 };
 
@@ -49,6 +51,14 @@ std::filesystem::path default_workspace(const std::filesystem::path& output);
 // executable missing or failed; its own exit code is kept where it names a
 // cause: bad input, bad config, unwritable output), Cancelled.
 DriverResult run_pipeline(const DriverOptions& options, Reporter& reporter);
+
+// Throws the error a stage's exit code names (ConfigError for 2, InputError
+// for 3 with input_hint, OutputError for 5, Cancelled for 130, StageError
+// otherwise), naming its log.
+[[noreturn]] void throw_stage_failure(const std::string& stage,
+                                      int code,
+                                      const std::filesystem::path& log,
+                                      const std::string& input_hint);
 
 // The summary table printed at the end.
 std::vector<std::string> summary_table(const DriverResult& result);

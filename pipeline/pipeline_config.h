@@ -28,6 +28,11 @@ class PipelineConfig {
   void validate() const;
 
   bool has_stage(const std::string& stage) const { return stages_.count(stage) > 0; }
+  // The stage's options (null when its library is not built).
+  const StageConfig* stage_config(const std::string& stage) const {
+    const auto it = stages_.find(stage);
+    return it == stages_.end() ? nullptr : it->second.get();
+  }
   // The stages whose options are known (their libraries are built).
   std::vector<std::string> available_stages() const;
   // The section as YAML text (its hash decides whether the stage re-runs).

@@ -64,7 +64,7 @@ Failure find_failure(const RunRecord& record) {
     const auto it = record.stages.find(spec.name);
     if (it == record.stages.end()) continue;
     const std::string& state = it->second.state;
-    if (state == "failed" || state == "interrupted" || state == "running") {
+    if (state == "failed" || state == "interrupted" || state == "running" || state == "submitted") {
       return {spec.name, state, it->second.exit_code};
     }
   }
@@ -92,6 +92,7 @@ void write_summary(std::ostream& html, const RunRecord& record, const StagePaths
   }
   const std::string how = failure.state == "failed" ? "failed (exit code " + std::to_string(failure.exit_code) + ")"
                           : failure.state == "interrupted" ? "was interrupted"
+                          : failure.state == "submitted"   ? "was submitted to Slurm and had not finished"
                                                            : "did not finish (the driver stopped)";
   html << "<p class=\"failed\" id=\"outcome\">The run stopped at stage <b id=\"failed-stage\">" << failure.stage
        << "</b>: it " << how << ". See <a href=\"logs/" << failure.stage << ".log\">logs/" << failure.stage

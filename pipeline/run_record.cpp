@@ -32,6 +32,7 @@ RunRecord load_run_record(const fs::path& file) {
         record.stages[name] = r;
       }
     }
+    if (j.contains("slurm")) record.slurm = j.at("slurm");
   } catch (const nlohmann::json::exception&) {
     return RunRecord{};  // a damaged record only costs a full re-run
   }
@@ -57,6 +58,7 @@ void save_run_record(const RunRecord& record, const fs::path& file) {
                     {"figures", r.figures}};
   }
   j["stages"] = stages;
+  if (!record.slurm.empty()) j["slurm"] = record.slurm;
   write_atomically(file, [&](const fs::path& tmp) {
     std::ofstream out(tmp);
     out << j.dump(2) << "\n";

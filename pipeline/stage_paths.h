@@ -17,6 +17,7 @@ struct StagePaths {
         thumbnails(workspace / "sfm" / "thumbnails"),
         points(workspace / "mvs" / "points.ply"),
         mvs_report(workspace / "mvs" / "report.json"),
+        depth_maps(workspace / "mvs" / "depth_maps"),
         mesh(workspace / "recon" / "mesh.ply"),
         recon_report(workspace / "recon" / "report.json"),
         refined_mesh(workspace / "refine" / "mesh.ply"),
@@ -34,6 +35,7 @@ struct StagePaths {
   std::filesystem::path thumbnails;      // sfm output: NAME.jpg, small, per usable photo
   std::filesystem::path points;          // mvs output: oriented dense points
   std::filesystem::path mvs_report;      // figures of the mvs stage (coverage, confidence)
+  std::filesystem::path depth_maps;      // mvs split runs: the depth maps of the view chunks
   std::filesystem::path mesh;            // recon output: surface
   std::filesystem::path recon_report;    // figures of the recon stage (solver residuals)
   std::filesystem::path refined_mesh;    // refine output: the surface the photos agree on

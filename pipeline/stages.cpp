@@ -38,21 +38,32 @@ const std::vector<StageSpec>& pipeline_stages() {
          if (!o.existing_model.empty()) f.add_folder_contents(o.existing_model);
        },
        [](const StagePaths& p) { return fs::exists(p.undistorted / "sparse") && fs::exists(p.sfm_report); },
-       typed_config<sfm::SfmOptions>("sfm")},
+       typed_config<sfm::SfmOptions>("sfm"), std::nullopt},
       {"mvs", "hos-mvs",
        [](const DriverOptions&, const StagePaths& p) {
          return std::vector<std::string>{"--workspace", p.undistorted.string(), "--output", p.points.string(),
                                          "--report",    p.mvs_report.string()};
        },
        [](Fingerprint& f, const DriverOptions&, const StagePaths& p) { add_undistorted_workspace(f, p); },
-       [](const StagePaths& p) { return fs::exists(p.points); }, typed_config<mvs::MvsOptions>("mvs")},
+       [](const StagePaths& p) { return fs::exists(p.points); }, typed_config<mvs::MvsOptions>("mvs"),
+       StageSplit{"depth", "fuse",
+                  [](const StagePaths& p, const std::string& views) {
+                    return std::vector<std::string>{"--workspace", p.undistorted.string(), "--views",
+                                                    views,         "--depth-maps",         p.depth_maps.string()};
+                  },
+                  [](const StagePaths& p) {
+                    return std::vector<std::string>{
+                        "--workspace", p.undistorted.string(), "--fuse",   p.depth_maps.string(),
+                        "--output",    p.points.string(),      "--report", p.mvs_report.string()};
+                  }}},
       {"recon", "hos-recon",
        [](const DriverOptions&, const StagePaths& p) {
          return std::vector<std::string>{"--input",       p.points.string(), "--output",
                                          p.mesh.string(), "--report",        p.recon_report.string()};
        },
        [](Fingerprint& f, const DriverOptions&, const StagePaths& p) { f.add_file_contents(p.points); },
-       [](const StagePaths& p) { return fs::exists(p.mesh); }, typed_config<recon::ReconOptions>("recon")},
+       [](const StagePaths& p) { return fs::exists(p.mesh); }, typed_config<recon::ReconOptions>("recon"),
+       std::nullopt},
       {"refine", "hos-refine",
        [](const DriverOptions&, const StagePaths& p) {
          return std::vector<std::string>{"--workspace", p.undistorted.string(), "--mesh", p.mesh.string(),
@@ -62,7 +73,8 @@ const std::vector<StageSpec>& pipeline_stages() {
          f.add_file_contents(p.mesh);
          add_undistorted_workspace(f, p);
        },
-       [](const StagePaths& p) { return fs::exists(p.refined_mesh); }, typed_config<refine::RefineOptions>("refine")},
+       [](const StagePaths& p) { return fs::exists(p.refined_mesh); }, typed_config<refine::RefineOptions>("refine"),
+       std::nullopt},
       {"texture", "hos-texture",
        [](const DriverOptions&, const StagePaths& p) {
          return std::vector<std::string>{
@@ -74,7 +86,7 @@ const std::vector<StageSpec>& pipeline_stages() {
          add_undistorted_workspace(f, p);
        },
        [](const StagePaths& p) { return fs::exists(p.textured_model); },
-       typed_config<texture::TextureOptions>("texture")},
+       typed_config<texture::TextureOptions>("texture"), std::nullopt},
   };
   return kSpecs;
 }

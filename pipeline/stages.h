@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,17 @@
 #include "pipeline/stage_paths.h"
 
 namespace hos::pipeline {
+
+// A stage whose per-view work can run as parallel parts (a job array on a
+// cluster), then one step that joins the parts.
+struct StageSplit {
+  std::string part_name;  // "depth": the parts are the jobs "mvs-depth"
+  std::string join_name;  // "fuse"
+  // Arguments of the part computing the views `views` ("FIRST-LAST").
+  std::function<std::vector<std::string>(const StagePaths&, const std::string& views)> part_arguments;
+  // Arguments of the join, which writes the stage's result.
+  std::function<std::vector<std::string>(const StagePaths&)> join_arguments;
+};
 
 struct StageSpec {
   std::string name;  // also its YAML section and its workspace folder
@@ -28,6 +40,8 @@ struct StageSpec {
   // A fresh config with the stage's defaults; nullptr when the stage's
   // library is not part of this build.
   std::function<std::unique_ptr<StageConfig>()> make_config;
+  // Set for a stage that splits (executors that run parts in parallel use it).
+  std::optional<StageSplit> split;
 };
 
 const std::vector<StageSpec>& pipeline_stages();

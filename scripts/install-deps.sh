@@ -10,8 +10,11 @@ packages=(
   libgtest-dev libgmock-dev libcli11-dev nlohmann-json3-dev libstb-dev
   libnanoflann-dev libmaxflow-dev libmeshoptimizer-dev
   clang-tidy chromium
+  slurm-wlm munge
 )
 # Chromium opens the run report in the browser test (tests/pipeline).
+# slurm-wlm and munge run the one-node Slurm of the Slurm executor's test
+# (tests/pipeline/slurm_cluster_test.cpp); the test starts its own daemons.
 # Node.js and npm run the glTF validator in the texture and pipeline tests
 # and fetch the report's model viewer at build time.
 # Many machines already carry them from another source, and Debian's npm

@@ -1,0 +1,632 @@
+#include "pipeline/slurm_executor.h"
+
+#include <pwd.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/subprocess.h"
+#include "mvs/mvs_options.h"
+#include "pipeline/file_hash.h"
+#include "pipeline/stage_figures.h"
+#include "pipeline/stages.h"
+#include "recon/recon_options.h"
+
+namespace hos::pipeline {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr const char* kViews = "@VIEWS@";  // stands for the task's "$first-$last" in a script
+
+// One sbatch submission: a stage, or one part of a stage that splits.
+struct Job {
+  std::string name;  // "sfm", "mvs-depth", "mvs-fuse", ...: the status file, log and record key
+  std::size_t stage = 0;
+  std::vector<std::string> argv;
+  fs::path log;
+  int tasks = 0;  // job array size; 0: a single job
+  int chunk = 0;  // views per array task
+};
+
+std::string shell_quote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+int parse_int(const std::string& key, const std::string& value, int min) {
+  try {
+    std::size_t used = 0;
+    const int v = std::stoi(value, &used);
+    if (used == value.size() && v >= min) return v;
+  } catch (const std::exception&) {
+  }
+  throw ConfigError("--executor-option " + key + "=" + value, "must be an integer >= " + std::to_string(min));
+}
+
+// Upper bound of the views: the files in the photo folder (sfm registers at
+// most these); array tasks past the registered views compute nothing.
+int count_photos(const fs::path& photos) {
+  int n = 0;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(photos, ec)) {
+    if (entry.is_regular_file(ec) && entry.path().filename().string().rfind('.', 0) != 0) ++n;
+  }
+  return std::max(n, 1);
+}
+
+std::vector<std::string> with_common_flags(std::vector<std::string> argv,
+                                           const fs::path& log,
+                                           const StagePaths& paths,
+                                           const DriverOptions& driver) {
+  argv.insert(argv.end(), {"--config", paths.config.string(), "--log", log.string(), "--progress", "none"});
+  if (driver.verbose) argv.push_back("--verbose");
+  return argv;
+}
+
+std::vector<Job> plan_jobs(const DriverOptions& driver,
+                           const SlurmOptions& options,
+                           std::size_t first,
+                           std::size_t last,
+                           const StagePaths& paths) {
+  const auto& specs = pipeline_stages();
+  const int views = count_photos(driver.photos);
+  std::vector<Job> jobs;
+  for (std::size_t s = first; s <= last; ++s) {
+    const StageSpec& spec = specs[s];
+    const std::string exe = (driver.bin_dir / spec.executable).string();
+    if (spec.split) {
+      Job part;
+      part.name = spec.name + "-" + spec.split->part_name;
+      part.stage = s;
+      part.tasks = std::min(options.mvs_tasks, views);
+      part.chunk = (views + part.tasks - 1) / part.tasks;
+      part.log = paths.logs / (part.name + ".@TASK@.log");
+      part.argv.push_back(exe);
+      const auto args = spec.split->part_arguments(paths, kViews);
+      part.argv.insert(part.argv.end(), args.begin(), args.end());
+      part.argv = with_common_flags(part.argv, part.log, paths, driver);
+      jobs.push_back(part);
+      Job join;
+      join.name = spec.name + "-" + spec.split->join_name;
+      join.stage = s;
+      join.log = paths.log(spec.name);
+      join.argv.push_back(exe);
+      const auto join_args = spec.split->join_arguments(paths);
+      join.argv.insert(join.argv.end(), join_args.begin(), join_args.end());
+      join.argv = with_common_flags(join.argv, join.log, paths, driver);
+      jobs.push_back(join);
+    } else {
+      Job job;
+      job.name = spec.name;
+      job.stage = s;
+      job.log = paths.log(spec.name);
+      job.argv.push_back(exe);
+      const auto args = spec.arguments(driver, paths);
+      job.argv.insert(job.argv.end(), args.begin(), args.end());
+      job.argv = with_common_flags(job.argv, job.log, paths, driver);
+      jobs.push_back(job);
+    }
+  }
+  return jobs;
+}
+
+fs::path status_file(const StagePaths& paths, const Job& job, int task) {
+  return paths.root / "slurm" / "status" /
+         (job.name + (job.tasks > 0 ? "." + std::to_string(task) : std::string()) + ".exit");
+}
+
+fs::path task_log(const Job& job, int task) {
+  std::string log = job.log.string();
+  const auto at = log.find("@TASK@");
+  if (at != std::string::npos) log.replace(at, 6, std::to_string(task));
+  return log;
+}
+
+// The job script: #SBATCH lines for what does not change between
+// submissions; the dependency and the array's task list go on sbatch's
+// command line.
+std::string job_script(const Job& job,
+                       const SlurmOptions& options,
+                       const PipelineConfig& config,
+                       const DriverOptions& driver,
+                       const StagePaths& paths) {
+  std::ostringstream s;
+  s << "#!/bin/sh\n";
+  s << "#SBATCH --job-name=hos-" << job.name << "\n";
+  s << "#SBATCH --output=" << (paths.logs / (job.name + (job.tasks > 0 ? ".%a" : "") + ".slurm.out")).string() << "\n";
+  if (const int mem = job_memory_mb(job.name, config, count_photos(driver.photos), options)) {
+    s << "#SBATCH --mem=" << mem << "M\n";
+  }
+  if (!options.time.empty()) s << "#SBATCH --time=" << options.time << "\n";
+  if (options.cpus > 0) s << "#SBATCH --cpus-per-task=" << options.cpus << "\n";
+  if (!options.partition.empty()) s << "#SBATCH --partition=" << options.partition << "\n";
+  if (!options.account.empty()) s << "#SBATCH --account=" << options.account << "\n";
+  if (!options.qos.empty()) s << "#SBATCH --qos=" << options.qos << "\n";
+  if (!options.constraint.empty()) s << "#SBATCH --constraint=" << options.constraint << "\n";
+  s << "task=\"${SLURM_ARRAY_TASK_ID:-0}\"\nstart=$(date +%s)\n";
+  if (job.tasks > 0) s << "first=$((task * " << job.chunk << "))\nlast=$((first + " << job.chunk - 1 << "))\n";
+  for (std::size_t i = 0; i < job.argv.size(); ++i) {
+    std::string arg = shell_quote(job.argv[i]);
+    if (job.argv[i] == kViews) arg = "\"$first-$last\"";
+    const auto at = arg.find("@TASK@");
+    if (at != std::string::npos) arg.replace(at, 6, "'\"$task\"'");
+    s << (i ? " " : "") << arg;
+  }
+  const fs::path status = status_file(paths, job, 0);
+  std::string status_text = shell_quote(status.string());
+  if (job.tasks > 0) {
+    const auto at = status_text.rfind(".0.exit");
+    status_text.replace(at, 7, ".'\"$task\"'.exit");
+  }
+  s << "\ncode=$?\n";
+  s << "echo \"$code $(($(date +%s) - start))\" > " << status_text << "\n";
+  s << "exit \"$code\"\n";
+  return s.str();
+}
+
+struct CommandOutput {
+  int exit_code = 0;
+  std::string text;
+};
+
+CommandOutput run_command(const std::vector<std::string>& argv) {
+  ProcessOptions process;
+  process.argv = argv;
+  CommandOutput out;
+  process.on_line = [&](std::string_view line) {
+    out.text += line;
+    out.text += '\n';
+  };
+  out.exit_code = run_process(process).exit_code;
+  return out;
+}
+
+std::string trimmed(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
+}
+
+std::string user_name() {
+  const passwd* pw = getpwuid(getuid());
+  return pw ? pw->pw_name : std::to_string(getuid());
+}
+
+// The job ids squeue lists as pending, running or about to end, one per
+// array task.
+std::set<std::string> active_job_ids() {
+  const CommandOutput out = run_command({"squeue", "--noheader", "--array", "--format=%i", "--user=" + user_name()});
+  if (out.exit_code != 0) throw StageError("pipeline", "squeue failed: " + trimmed(out.text));
+  std::set<std::string> ids;
+  std::istringstream lines(out.text);
+  for (std::string line; std::getline(lines, line);) {
+    if (!trimmed(line).empty()) ids.insert(trimmed(line));
+  }
+  return ids;
+}
+
+// Why a job without a status file ended, from sacct when the cluster keeps
+// accounting ("CANCELLED", "OUT_OF_MEMORY", "TIMEOUT", "NODE_FAIL").
+std::string sacct_state(const std::string& id) {
+  const CommandOutput out =
+      run_command({"sacct", "--noheader", "--parsable2", "--allocations", "--format=JobID,State", "--jobs=" + id});
+  std::istringstream lines(out.text);
+  for (std::string line; out.exit_code == 0 && std::getline(lines, line);) {
+    const auto bar = line.find('|');
+    if (bar != std::string::npos && line.substr(0, bar) == id) return trimmed(line.substr(bar + 1));
+  }
+  return "";
+}
+
+enum class TaskState { kActive, kCompleted, kFailed };
+
+struct TaskStatus {
+  TaskState state = TaskState::kFailed;
+  int exit_code = 0;
+  std::string reason;
+  double seconds = 0;  // the job's wall time, from its status file
+};
+
+TaskStatus task_status(const std::string& id, const fs::path& status, const std::set<std::string>& active) {
+  if (active.count(id)) return {TaskState::kActive, 0, ""};
+  std::ifstream in(status);
+  int code = -1;
+  double seconds = 0;
+  if (in >> code) {
+    in >> seconds;
+    if (code == 0) return {TaskState::kCompleted, 0, "", seconds};
+    return {TaskState::kFailed, code, "exit code " + std::to_string(code), seconds};
+  }
+  const std::string state = sacct_state(id);
+  return {TaskState::kFailed, -1,
+          state.empty() ? "ended without a status file (killed?)" : "ended without a status file, sacct: " + state};
+}
+
+void cancel_jobs(const std::vector<std::string>& ids, Reporter& reporter) {
+  if (ids.empty()) return;
+  std::vector<std::string> argv{"scancel"};
+  argv.insert(argv.end(), ids.begin(), ids.end());
+  const CommandOutput out = run_command(argv);
+  std::string list;
+  for (const auto& id : ids) list += " " + id;
+  if (out.exit_code != 0) {
+    reporter.warn("scancel" + list + " failed: " + trimmed(out.text));
+  } else {
+    reporter.info("cancelled Slurm jobs" + list);
+  }
+}
+
+// The recorded task ids of a job ("0" -> "13_0"), from run.json.
+std::map<int, std::string> recorded_tasks(const nlohmann::ordered_json& entry) {
+  std::map<int, std::string> tasks;
+  if (!entry.is_object() || !entry.contains("tasks")) return tasks;
+  for (const auto& [task, id] : entry.at("tasks").items()) tasks[std::stoi(task)] = id.get<std::string>();
+  return tasks;
+}
+
+class SlurmRun {
+ public:
+  SlurmRun(const DriverOptions& driver,
+           const SlurmOptions& options,
+           std::size_t first,
+           std::size_t last,
+           const StagePaths& paths,
+           const PipelineConfig& config,
+           RunRecord& record,
+           Reporter& reporter)
+      : driver_(driver),
+        options_(options),
+        first_(first),
+        last_(last),
+        paths_(paths),
+        config_(config),
+        record_(record),
+        reporter_(reporter),
+        jobs_(plan_jobs(driver, options, first, last, paths)) {
+    if (!record_.slurm.is_object()) record_.slurm = nlohmann::ordered_json::object();
+    if (!record_.slurm.contains("jobs")) record_.slurm["jobs"] = nlohmann::ordered_json::object();
+  }
+
+  bool run() {
+    try {
+      submit();
+      if (!options_.wait) {
+        reporter_.info("submitted; run the same command again to follow the jobs or resume");
+        return false;
+      }
+      return wait();
+    } catch (const Cancelled&) {
+      cancel_jobs(active_ids(active_job_ids()), reporter_);
+      save();
+      reporter_.error("interrupted: the run's Slurm jobs are cancelled; re-run the same command to resume");
+      throw;
+    }
+  }
+
+ private:
+  nlohmann::ordered_json& entry(const Job& job) { return record_.slurm["jobs"][job.name]; }
+  void save() { save_run_record(record_, paths_.run_record); }
+
+  std::string config_hash(std::size_t stage) const {
+    Fingerprint f;
+    f.add(config_.section_yaml(pipeline_stages()[stage].name));
+    return f.hex();
+  }
+  std::string input_hash(std::size_t stage) const {
+    Fingerprint f;
+    pipeline_stages()[stage].inputs(f, driver_, paths_);
+    return f.hex();
+  }
+
+  int task_count(const Job& job) const { return std::max(job.tasks, 1); }
+
+  // The active jobs among jobs_[from..].
+  std::vector<std::string> active_ids(const std::set<std::string>& active, std::size_t from = 0) {
+    std::vector<std::string> ids;
+    for (std::size_t j = from; j < jobs_.size(); ++j) {
+      for (const auto& [task, id] : recorded_tasks(entry(jobs_[j]))) {
+        if (active.count(id)) ids.push_back(id);
+      }
+    }
+    return ids;
+  }
+
+  // A stage whose result is current, as the local driver decides it.
+  bool up_to_date(std::size_t stage) {
+    const StageSpec& spec = pipeline_stages()[stage];
+    const auto it = record_.stages.find(spec.name);
+    if (it == record_.stages.end() || it->second.state != "done") return false;
+    return it->second.config_hash == config_hash(stage) && spec.output_exists(paths_) &&
+           it->second.input_hash == input_hash(stage);
+  }
+
+  void mark_done(std::size_t stage) {
+    const StageSpec& spec = pipeline_stages()[stage];
+    StageRecord& r = record_.stages[spec.name];
+    r.state = "done";
+    r.config_hash = config_hash(stage);
+    r.input_hash = input_hash(stage);
+    r.exit_code = 0;
+    r.finished_at = utc_timestamp();
+    r.figures = stage_figures(spec.name, paths_.root);
+    // Wall time: the stage's jobs one after the other, an array's tasks side
+    // by side (the longest counts). Peak memory needs the cluster's
+    // accounting, which hos does not rely on: not recorded.
+    r.wall_seconds = 0;
+    r.peak_memory_bytes = 0;
+    for (const Job& job : jobs_) {
+      if (job.stage != stage) continue;
+      double longest = 0;
+      for (const auto& [t, id] : recorded_tasks(entry(job))) {
+        longest = std::max(longest, task_status(id, status_file(paths_, job, t), {}).seconds);
+      }
+      r.wall_seconds += longest;
+    }
+    save();
+    reporter_.info(spec.name + ": done");
+  }
+
+  std::string submit_job(const Job& job, const std::vector<int>& tasks, const std::vector<std::string>& after) {
+    const fs::path script = paths_.root / "slurm" / (job.name + ".sh");
+    std::error_code ec;
+    fs::create_directories(paths_.root / "slurm" / "status", ec);
+    write_atomically(script, [&](const fs::path& tmp) {
+      std::ofstream out(tmp);
+      out << job_script(job, options_, config_, driver_, paths_);
+      if (!out) throw OutputError(script.string(), "cannot write the job script");
+    });
+    for (int t : tasks) fs::remove(status_file(paths_, job, t), ec);
+    std::vector<std::string> argv{"sbatch", "--parsable"};
+    if (job.tasks > 0) {
+      std::string list;
+      for (int t : tasks) list += (list.empty() ? "" : ",") + std::to_string(t);
+      argv.push_back("--array=" + list);
+    }
+    if (!after.empty()) {
+      std::string dependency = "--dependency=afterok";
+      for (const auto& id : after) dependency += ":" + id;
+      argv.push_back(dependency);
+    }
+    argv.push_back(script.string());
+    const CommandOutput out = run_command(argv);
+    const std::string id = trimmed(out.text.substr(0, out.text.find_first_of(";\n")));
+    if (out.exit_code != 0 || id.empty() || id.find_first_not_of("0123456789") != std::string::npos) {
+      throw StageError(pipeline_stages()[job.stage].name, "sbatch failed for " + job.name + ": " + trimmed(out.text));
+    }
+    std::string list;
+    for (int t : tasks) list += (list.empty() ? " tasks " : ",") + std::to_string(t);
+    reporter_.info("submitted " + job.name + " as Slurm job " + id + (job.tasks > 0 ? list : ""));
+    return id;
+  }
+
+  // Submits what is not done, pending or running, in stage order; what
+  // follows a submission is submitted again too (its input will change).
+  void submit() {
+    const std::set<std::string> active = active_job_ids();
+    bool changed = driver_.force;
+    std::vector<std::string> after;  // the active or new jobs the next job waits for
+    for (std::size_t s = first_; s <= last_; ++s) {
+      const StageSpec& spec = pipeline_stages()[s];
+      if (!changed && up_to_date(s)) {
+        reporter_.info(spec.name + ": up to date, skipped");
+        continue;
+      }
+      const std::string hash = config_hash(s);
+      bool all_completed = true;
+      for (const Job& job : jobs_) {
+        if (job.stage != s) continue;
+        nlohmann::ordered_json& e = entry(job);
+        const auto old = recorded_tasks(e);
+        const bool reusable = !changed && e.is_object() && e.value("config_hash", "") == hash;
+        std::vector<int> to_submit;
+        std::vector<std::string> keep, stale;
+        for (int t = 0; t < task_count(job); ++t) {
+          const auto it = old.find(t);
+          if (it == old.end()) {
+            to_submit.push_back(t);
+            continue;
+          }
+          const TaskStatus status = task_status(it->second, status_file(paths_, job, t), active);
+          if (!reusable) {
+            if (status.state == TaskState::kActive) stale.push_back(it->second);
+            to_submit.push_back(t);
+          } else if (status.state == TaskState::kActive) {
+            keep.push_back(it->second);
+          } else if (status.state == TaskState::kFailed) {
+            reporter_.info(job.name + (job.tasks > 0 ? " task " + std::to_string(t) : "") + " (job " + it->second +
+                           ") " + status.reason + "; submitting it again");
+            to_submit.push_back(t);
+          }
+        }
+        cancel_jobs(stale, reporter_);
+        nlohmann::ordered_json tasks = nlohmann::ordered_json::object();
+        for (const auto& [t, id] : old) {
+          if (std::find(to_submit.begin(), to_submit.end(), t) == to_submit.end()) tasks[std::to_string(t)] = id;
+        }
+        if (!to_submit.empty()) {
+          const std::string id = submit_job(job, to_submit, after);
+          for (int t : to_submit) tasks[std::to_string(t)] = job.tasks > 0 ? id + "_" + std::to_string(t) : id;
+          keep.push_back(id);
+          changed = true;
+        }
+        if (!keep.empty()) all_completed = false;
+        e = {{"config_hash", hash}, {"array", job.tasks > 0}, {"tasks", tasks}};
+        after = keep;
+        save();
+      }
+      if (all_completed && spec.output_exists(paths_)) {
+        mark_done(s);
+      } else {
+        record_.stages[spec.name] = StageRecord{};
+        record_.stages[spec.name].state = "submitted";
+        record_.stages[spec.name].config_hash = hash;
+        save();
+      }
+    }
+  }
+
+  // Polls until every stage of the range is done or a job failed.
+  bool wait() {
+    for (;;) {
+      reporter_.throw_if_cancelled();
+      const std::set<std::string> active = active_job_ids();
+      bool all_done = true;
+      for (std::size_t s = first_; s <= last_; ++s) {
+        const StageSpec& spec = pipeline_stages()[s];
+        if (record_.stages[spec.name].state == "done") continue;
+        bool stage_completed = true;
+        for (std::size_t j = 0; j < jobs_.size(); ++j) {
+          if (jobs_[j].stage != s) continue;
+          for (const auto& [t, id] : recorded_tasks(entry(jobs_[j]))) {
+            const TaskStatus status = task_status(id, status_file(paths_, jobs_[j], t), active);
+            if (status.state == TaskState::kActive) stage_completed = false;
+            if (status.state != TaskState::kFailed) continue;
+            if (status.exit_code < 0 && !grace_over(id)) {
+              stage_completed = false;  // no status file yet: look again at the next poll
+              continue;
+            }
+            fail(j, t, id, status, active);
+          }
+        }
+        if (stage_completed && spec.output_exists(paths_)) {
+          mark_done(s);
+        } else {
+          all_done = false;
+        }
+      }
+      if (all_done) return true;
+      const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(options_.poll_seconds);
+      while (std::chrono::steady_clock::now() < until) {
+        reporter_.throw_if_cancelled();
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      }
+    }
+  }
+
+  // True once the job has been missing from squeue without a status file
+  // for options_.status_grace_seconds.
+  bool grace_over(const std::string& id) {
+    const auto now = std::chrono::steady_clock::now();
+    const auto first = missing_since_.emplace(id, now).first->second;
+    return std::chrono::duration<double>(now - first).count() >= options_.status_grace_seconds;
+  }
+
+  // A failed job: the jobs after it can never start (afterok), so they are
+  // cancelled; the other tasks of its array go on, and a re-run keeps what
+  // they computed. The error names the job's log and keeps its exit code's
+  // cause.
+  [[noreturn]] void fail(std::size_t job_index,
+                         int task,
+                         const std::string& id,
+                         const TaskStatus& status,
+                         const std::set<std::string>& active) {
+    const Job& job = jobs_[job_index];
+    cancel_jobs(active_ids(active, job_index + 1), reporter_);
+    const StageSpec& spec = pipeline_stages()[job.stage];
+    StageRecord& r = record_.stages[spec.name];
+    r.state = "failed";
+    r.exit_code = status.exit_code;
+    r.finished_at = utc_timestamp();
+    save();
+    const fs::path log = job.tasks > 0 ? task_log(job, task) : job.log;
+    reporter_.error(job.name + (job.tasks > 0 ? " task " + std::to_string(task) : "") + " (Slurm job " + id + ") " +
+                    status.reason + "; re-run the same command to submit only what failed again");
+    throw_stage_failure(spec.name, status.exit_code > 0 ? status.exit_code : 4, log, "");
+  }
+
+  const DriverOptions& driver_;
+  const SlurmOptions& options_;
+  std::size_t first_, last_;
+  const StagePaths& paths_;
+  const PipelineConfig& config_;
+  RunRecord& record_;
+  Reporter& reporter_;
+  std::vector<Job> jobs_;
+  std::map<std::string, std::chrono::steady_clock::time_point> missing_since_;
+};
+
+}  // namespace
+
+SlurmOptions parse_slurm_options(const std::vector<std::string>& items) {
+  SlurmOptions o;
+  for (const std::string& item : items) {
+    const auto eq = item.find('=');
+    if (eq == std::string::npos) throw ConfigError("--executor-option " + item, "expected KEY=VALUE");
+    const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
+    if (key == "partition") {
+      o.partition = value;
+    } else if (key == "account") {
+      o.account = value;
+    } else if (key == "qos") {
+      o.qos = value;
+    } else if (key == "constraint") {
+      o.constraint = value;
+    } else if (key == "time") {
+      o.time = value;
+    } else if (key == "mem_mb") {
+      o.mem_mb = parse_int(key, value, 0);
+    } else if (key == "cpus") {
+      o.cpus = parse_int(key, value, 0);
+    } else if (key == "mvs_tasks") {
+      o.mvs_tasks = parse_int(key, value, 1);
+    } else if (key == "poll_seconds") {
+      o.poll_seconds = parse_int(key, value, 0);
+    } else if (key == "status_grace_seconds") {
+      o.status_grace_seconds = parse_int(key, value, 0);
+    } else if (key == "wait") {
+      if (value != "true" && value != "false") throw ConfigError("--executor-option " + item, "must be true or false");
+      o.wait = value == "true";
+    } else {
+      throw ConfigError("--executor-option " + item,
+                        "unknown key; the keys are partition, account, qos, constraint, time, mem_mb, cpus, "
+                        "mvs_tasks, poll_seconds, status_grace_seconds, wait");
+    }
+  }
+  return o;
+}
+
+int job_memory_mb(const std::string& job, const PipelineConfig& config, int views, const SlurmOptions& options) {
+  if (job == "mvs-depth" || job == "mvs-fuse") {
+    const auto* typed = dynamic_cast<const TypedStageConfig<mvs::MvsOptions>*>(config.stage_config("mvs"));
+    if (typed) {
+      const mvs::MvsOptions& mvs = typed->options();
+      // The finest level at a 4:3 aspect; a depth chunk holds the reference
+      // view and its sources (grey float + colour), the planes, costs and
+      // the sources' coarse priors; fusion holds every view's maps and colour.
+      const double pixels = 0.75 * double(mvs.max_image_size) * mvs.max_image_size;
+      const double bytes = job == "mvs-depth" ? pixels * (7.0 * (1 + mvs.num_source_views) + 80.0)
+                                              : pixels * views * (4.0 + 12.0 + 4.0 + 3.0 + 8.0);
+      return static_cast<int>(std::ceil(512.0 + 1.5 * bytes / (1024.0 * 1024.0)));
+    }
+  }
+  if (job == "recon") {
+    const auto* typed = dynamic_cast<const TypedStageConfig<recon::ReconOptions>*>(config.stage_config("recon"));
+    // recon refuses a grid whose estimated peak exceeds its budget, so the
+    // budget (with room for the process itself) bounds the job.
+    if (typed && typed->options().max_memory_mb > 0) return typed->options().max_memory_mb + 512;
+  }
+  return options.mem_mb;
+}
+
+bool run_on_slurm(const DriverOptions& driver,
+                  const SlurmOptions& options,
+                  std::size_t first,
+                  std::size_t last,
+                  const StagePaths& paths,
+                  const PipelineConfig& config,
+                  RunRecord& record,
+                  Reporter& reporter) {
+  return SlurmRun(driver, options, first, last, paths, config, record, reporter).run();
+}
+
+}  // namespace hos::pipeline

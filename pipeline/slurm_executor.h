@@ -1,0 +1,73 @@
+// The Slurm executor of hos-pipeline (--executor slurm): every stage of the
+// range becomes an sbatch job that starts after the one before it
+// (--dependency=afterok), the stages that split (mvs) become a job array of
+// view chunks and a job that joins them. The workspace must be on a
+// filesystem every node sees. docs/scale.md describes it for users.
+//
+// Each job script ends by writing its exit code to
+// WS/slurm/status/<job>[.<task>].exit. That file says a job finished and how;
+// squeue says which jobs are still pending or running, and sacct (when the
+// cluster keeps accounting) why one without a status file ended. The run
+// record (run.json, "slurm") holds every job id, so a re-run resumes: stages
+// whose jobs completed are done, pending and running jobs are kept, and only
+// failed jobs (for an array: only its failed tasks) and what follows them are
+// submitted again.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/reporter.h"
+#include "pipeline/driver.h"
+#include "pipeline/pipeline_config.h"
+#include "pipeline/run_record.h"
+#include "pipeline/stage_paths.h"
+
+namespace hos::pipeline {
+
+// --executor-option KEY=VALUE.
+struct SlurmOptions {
+  std::string partition;     // sbatch --partition (empty: the cluster's default)
+  std::string account;       // sbatch --account
+  std::string qos;           // sbatch --qos
+  std::string constraint;    // sbatch --constraint
+  std::string time;          // sbatch --time of every job (no stage estimates its time)
+  int mem_mb = 0;            // sbatch --mem of jobs without an estimate of their own (0: not given)
+  int cpus = 0;              // sbatch --cpus-per-task (0: not given)
+  int mvs_tasks = 4;         // array tasks of the mvs depth maps
+  double poll_seconds = 10;  // between squeue queries while waiting
+  // A job squeue no longer lists whose status file is not (yet) visible
+  // counts as failed after this long: a shared filesystem may show a file
+  // written on a compute node later on the login node.
+  double status_grace_seconds = 30;
+  bool wait = true;  // wait for the jobs (Ctrl-C cancels them); false: submit and return
+};
+
+// Parses KEY=VALUE items; ConfigError naming an unknown key (and the known
+// ones) or a bad value.
+SlurmOptions parse_slurm_options(const std::vector<std::string>& items);
+
+// The memory a job asks for, in MB (0: not given): mvs depth chunks and
+// fusion from the image size the options allow, recon from its own memory
+// budget (recon.max_memory_mb) when one is set, the others SlurmOptions::mem_mb.
+int job_memory_mb(const std::string& job, const PipelineConfig& config, int views, const SlurmOptions& options);
+
+// Submits (or resumes) the stages first..last of pipeline_stages() on Slurm
+// and, with options.wait, waits for them and records each stage as done
+// (figures and fingerprints as a local run would, so a later local run finds
+// them up to date). Returns true when every stage of the range is done.
+// Throws as the local driver does for a failed stage (its log named),
+// StageError when sbatch fails, Cancelled on Ctrl-C after cancelling every
+// job of the run (scancel).
+bool run_on_slurm(const DriverOptions& driver,
+                  const SlurmOptions& options,
+                  std::size_t first,
+                  std::size_t last,
+                  const StagePaths& paths,
+                  const PipelineConfig& config,
+                  RunRecord& record,
+                  Reporter& reporter);
+
+}  // namespace hos::pipeline

@@ -1,0 +1,339 @@
+// pipeline/slurm_executor.*: the submitted scripts, dependencies, array
+// ranges, resume and cancel, with shell scripts on PATH standing in for
+// sbatch, squeue, sacct and scancel (the one-node Slurm test is
+// slurm_cluster_test.cpp).
+#include "pipeline/slurm_executor.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/subprocess.h"
+#include "pipeline/driver.h"
+#include "tests/support/message_log.h"
+#include "tests/support/test_support.h"
+
+namespace hos::pipeline {
+namespace {
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+// sbatch records its arguments (one call a line) and the script, and answers
+// job ids from 100 on; squeue runs the script on_squeue_<n> on its n-th call
+// if there is one (jobs finishing while the driver waits), then lists the
+// ids in active.txt; sacct prints sacct.txt; scancel records its arguments.
+constexpr const char* kFakeSbatch = R"(#!/bin/sh
+n=$(cat "$HOS_FAKE_SLURM/next_id" 2>/dev/null || echo 100)
+echo "$*" >> "$HOS_FAKE_SLURM/sbatch.log"
+for last; do :; done
+cp "$last" "$HOS_FAKE_SLURM/script.$n.sh"
+echo $((n + 1)) > "$HOS_FAKE_SLURM/next_id"
+echo "$n"
+)";
+constexpr const char* kFakeSqueue = R"(#!/bin/sh
+n=$(($(cat "$HOS_FAKE_SLURM/squeue_calls" 2>/dev/null || echo 0) + 1))
+echo "$n" > "$HOS_FAKE_SLURM/squeue_calls"
+if [ -f "$HOS_FAKE_SLURM/on_squeue_$n" ]; then sh "$HOS_FAKE_SLURM/on_squeue_$n"; fi
+cat "$HOS_FAKE_SLURM/active.txt" 2>/dev/null
+exit 0
+)";
+constexpr const char* kFakeSacct = R"(#!/bin/sh
+cat "$HOS_FAKE_SLURM/sacct.txt" 2>/dev/null
+exit 0
+)";
+constexpr const char* kFakeScancel = R"(#!/bin/sh
+echo "$*" >> "$HOS_FAKE_SLURM/scancel.log"
+)";
+// A stage executable that records its arguments.
+constexpr const char* kFakeStage = R"(#!/bin/sh
+echo "$(basename "$0") $*" >> "$HOS_FAKE_SLURM/stage_calls"
+)";
+
+void write_executable(const fs::path& file, const std::string& text) {
+  std::ofstream(file) << text;
+  fs::permissions(file, fs::perms::owner_all);
+}
+
+std::string read_text(const fs::path& file) {
+  std::ifstream in(file);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+std::vector<std::string> lines_of(const fs::path& file) {
+  std::vector<std::string> lines;
+  std::ifstream in(file);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+class CancellingReporter : public testing::MessageLog {
+ public:
+  bool cancel_requested() const override { return true; }
+};
+
+class SlurmExecutorTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    fs::create_directories(fake_);
+    fs::create_directories(bin_);
+    fs::create_directories(photos_);
+    for (const char* name : {"p0", "p1", "p2", "p3", "p4", "p5", "p6", "p7", "p8", "p9"}) {
+      std::ofstream(photos_ / (std::string(name) + ".jpg")) << "x";
+    }
+    write_executable(fake_ / "sbatch", kFakeSbatch);
+    write_executable(fake_ / "squeue", kFakeSqueue);
+    write_executable(fake_ / "sacct", kFakeSacct);
+    write_executable(fake_ / "scancel", kFakeScancel);
+    for (const char* exe : {"hos-sfm", "hos-mvs", "hos-recon", "hos-refine", "hos-texture"}) {
+      write_executable(bin_ / exe, kFakeStage);
+    }
+    old_path_ = std::getenv("PATH") ? std::getenv("PATH") : "";
+    setenv("PATH", (fake_.string() + ":" + old_path_).c_str(), 1);
+    setenv("HOS_FAKE_SLURM", fake_.c_str(), 1);
+    options_.photos = photos_;
+    options_.output = dir_.path() / "out.glb";
+    options_.bin_dir = bin_;
+    options_.executor = "slurm";
+    options_.executor_options = {"mvs_tasks=3", "wait=false", "partition=gpu", "account=lab"};
+  }
+  void TearDown() override { setenv("PATH", old_path_.c_str(), 1); }
+
+  std::vector<std::string> sbatch_calls() const { return lines_of(fake_ / "sbatch.log"); }
+  fs::path ws() const { return dir_.path() / "out_workspace"; }
+  void set_status(const std::string& name, int code) {
+    fs::create_directories(ws() / "slurm" / "status");
+    std::ofstream(ws() / "slurm" / "status" / (name + ".exit")) << code << "\n";
+  }
+  // Shell commands that write what set_status and write_sfm_outputs write,
+  // run by the n-th squeue call.
+  void on_squeue_call(int n, const std::vector<std::string>& statuses, bool sfm_outputs) {
+    std::ofstream out(fake_ / ("on_squeue_" + std::to_string(n)));
+    const fs::path status = ws() / "slurm" / "status";
+    out << "mkdir -p '" << status.string() << "'\n";
+    for (const auto& s : statuses) {
+      const auto eq = s.find('=');
+      out << "echo " << s.substr(eq + 1) << " > '" << (status / (s.substr(0, eq) + ".exit")).string() << "'\n";
+    }
+    if (sfm_outputs) {
+      out << "mkdir -p '" << (ws() / "sfm" / "undistorted" / "sparse").string() << "'\n";
+      out << "echo '# none' > '" << (ws() / "sfm" / "undistorted" / "sparse" / "cameras.txt").string() << "'\n";
+      out << "echo '{}' > '" << (ws() / "sfm" / "report.json").string() << "'\n";
+    }
+  }
+  void set_active(const std::vector<std::string>& ids) {
+    std::ofstream out(fake_ / "active.txt");
+    for (const auto& id : ids) out << id << "\n";
+  }
+  // What hos-sfm leaves behind, so the sfm stage counts as done.
+  void write_sfm_outputs() {
+    fs::create_directories(ws() / "sfm" / "undistorted" / "sparse");
+    std::ofstream(ws() / "sfm" / "undistorted" / "sparse" / "cameras.txt") << "# none\n";
+    std::ofstream(ws() / "sfm" / "report.json") << "{}\n";
+  }
+  nlohmann::json run_json() const { return nlohmann::json::parse(read_text(ws() / "run.json")); }
+
+  testing::TempDir dir_{"hos-slurm"};
+  fs::path fake_ = dir_.path() / "fake_slurm";
+  fs::path bin_ = dir_.path() / "bin";
+  fs::path photos_ = dir_.path() / "photos";
+  std::string old_path_;
+  DriverOptions options_;
+  testing::MessageLog log_;
+};
+
+TEST_F(SlurmExecutorTest, SubmitsEveryStageAfterTheOneBeforeAndMvsAsAnArrayThenAFuse) {
+  run_pipeline(options_, log_);
+  const auto calls = sbatch_calls();
+  ASSERT_EQ(calls.size(), 6u) << log_.all();
+  const fs::path scripts = ws() / "slurm";
+  EXPECT_EQ(calls[0], std::string("--parsable ") + (scripts / "sfm.sh").string());
+  // 10 photos in 3 tasks: 4 views a task (the last one has 2).
+  EXPECT_EQ(calls[1],
+            std::string("--parsable --array=0,1,2 --dependency=afterok:100 ") + (scripts / "mvs-depth.sh").string());
+  EXPECT_EQ(calls[2], std::string("--parsable --dependency=afterok:101 ") + (scripts / "mvs-fuse.sh").string());
+  EXPECT_EQ(calls[3], std::string("--parsable --dependency=afterok:102 ") + (scripts / "recon.sh").string());
+  EXPECT_EQ(calls[4], std::string("--parsable --dependency=afterok:103 ") + (scripts / "refine.sh").string());
+  EXPECT_EQ(calls[5], std::string("--parsable --dependency=afterok:104 ") + (scripts / "texture.sh").string());
+
+  const std::string depth = read_text(fake_ / "script.101.sh");
+  EXPECT_THAT(depth, HasSubstr("#SBATCH --job-name=hos-mvs-depth\n"));
+  EXPECT_THAT(depth, HasSubstr("#SBATCH --partition=gpu\n"));
+  EXPECT_THAT(depth, HasSubstr("#SBATCH --account=lab\n"));
+  EXPECT_THAT(depth, HasSubstr("#SBATCH --mem="));
+  EXPECT_THAT(depth, HasSubstr("first=$((task * 4))"));
+  EXPECT_THAT(read_text(fake_ / "script.100.sh"), Not(HasSubstr("--mem=")));  // sfm has no estimate
+
+  const nlohmann::json record = run_json();
+  EXPECT_EQ(record["slurm"]["jobs"]["sfm"]["tasks"]["0"], "100");
+  EXPECT_EQ(record["slurm"]["jobs"]["mvs-depth"]["tasks"]["2"], "101_2");
+  EXPECT_EQ(record["slurm"]["jobs"]["texture"]["tasks"]["0"], "105");
+  EXPECT_EQ(record["stages"]["mvs"]["state"], "submitted");
+  EXPECT_THAT(read_text(ws() / "report.html"), HasSubstr("sfm</b>: it was submitted to Slurm and had not finished"));
+}
+
+TEST_F(SlurmExecutorTest, ArrayTaskScriptRunsItsViewChunkAndRecordsItsExitCode) {
+  run_pipeline(options_, log_);
+  ProcessOptions process;
+  process.argv = {"/bin/sh", (ws() / "slurm" / "mvs-depth.sh").string()};
+  process.environment = {{"SLURM_ARRAY_TASK_ID", "1"}};
+  ASSERT_TRUE(run_process(process).ok());
+  const std::string calls = read_text(fake_ / "stage_calls");
+  EXPECT_THAT(calls, HasSubstr(std::string("hos-mvs --workspace ") + (ws() / "sfm" / "undistorted").string() +
+                               std::string(" --views 4-7 --depth-maps ") + (ws() / "mvs" / "depth_maps").string()));
+  EXPECT_THAT(calls, HasSubstr(std::string("--log ") + (ws() / "logs" / "mvs-depth.1.log").string()));
+  // Exit code and wall seconds.
+  EXPECT_THAT(read_text(ws() / "slurm" / "status" / "mvs-depth.1.exit"), ::testing::MatchesRegex("0 [0-9]+\n"));
+}
+
+TEST_F(SlurmExecutorTest, ReRunSubmitsOnlyTheFailedArrayTaskAndWhatFollowsIt) {
+  run_pipeline(options_, log_);
+  write_sfm_outputs();
+  set_status("sfm", 0);
+  set_status("mvs-depth.0", 0);
+  set_status("mvs-depth.2", 0);
+  // Task 1 was killed (no status file); Slurm forgot it, sacct says why.
+  std::ofstream(fake_ / "sacct.txt") << "101_1|CANCELLED by 0\n";
+  // The fuse was cancelled when task 1 failed; nothing is active.
+  run_pipeline(options_, log_);
+  const auto calls = sbatch_calls();
+  ASSERT_EQ(calls.size(), 11u) << log_.all();
+  EXPECT_EQ(calls[6], std::string("--parsable --array=1 ") + (ws() / "slurm" / "mvs-depth.sh").string());
+  EXPECT_THAT(calls[7], HasSubstr("--dependency=afterok:106 "));
+  EXPECT_THAT(calls[7], HasSubstr("mvs-fuse.sh"));
+  EXPECT_THAT(calls[10], HasSubstr("texture.sh"));
+  EXPECT_THAT(log_.all(), HasSubstr("CANCELLED by 0"));
+  const nlohmann::json record = run_json();
+  EXPECT_EQ(record["stages"]["sfm"]["state"], "done");
+  EXPECT_EQ(record["slurm"]["jobs"]["sfm"]["tasks"]["0"], "100");
+  EXPECT_EQ(record["slurm"]["jobs"]["mvs-depth"]["tasks"]["0"], "101_0");
+  EXPECT_EQ(record["slurm"]["jobs"]["mvs-depth"]["tasks"]["1"], "106_1");
+  EXPECT_EQ(record["slurm"]["jobs"]["mvs-depth"]["tasks"]["2"], "101_2");
+}
+
+TEST_F(SlurmExecutorTest, ReRunKeepsPendingAndRunningJobs) {
+  run_pipeline(options_, log_);
+  set_active({"100", "101_0", "101_1", "101_2", "102", "103", "104", "105"});
+  run_pipeline(options_, log_);
+  EXPECT_EQ(sbatch_calls().size(), 6u) << log_.all();
+  EXPECT_FALSE(fs::exists(fake_ / "scancel.log"));
+}
+
+TEST_F(SlurmExecutorTest, ChangedOptionCancelsTheStagesJobsAndSubmitsThemAgain) {
+  run_pipeline(options_, log_);
+  set_active({"100", "101_0", "101_1", "101_2", "102", "103", "104", "105"});
+  options_.assignments = {"recon.lambda=0.5"};
+  run_pipeline(options_, log_);
+  const auto calls = sbatch_calls();
+  ASSERT_EQ(calls.size(), 9u) << log_.all();
+  EXPECT_EQ(calls[6], std::string("--parsable --dependency=afterok:102 ") + (ws() / "slurm" / "recon.sh").string());
+  EXPECT_EQ(lines_of(fake_ / "scancel.log"), (std::vector<std::string>{"103", "104", "105"}));
+}
+
+TEST_F(SlurmExecutorTest, InterruptCancelsEverySubmittedJob) {
+  options_.executor_options = {"mvs_tasks=3", "poll_seconds=0"};
+  set_active({"100", "101_0", "101_1", "101_2", "102", "103", "104", "105"});
+  CancellingReporter cancelling;
+  EXPECT_THROW(run_pipeline(options_, cancelling), Cancelled);
+  EXPECT_EQ(lines_of(fake_ / "scancel.log"), (std::vector<std::string>{"100 101_0 101_1 101_2 102 103 104 105"}));
+}
+
+TEST_F(SlurmExecutorTest, FailedTaskFailsTheRunWithItsCauseAndLogAndCancelsTheJobsAfterIt) {
+  options_.executor_options = {"mvs_tasks=3", "poll_seconds=0"};
+  // squeue's first call is the submission's; on the second, sfm and depth
+  // task 0 have finished, task 1 rejected its input and task 2 still runs:
+  // it goes on (a re-run keeps its maps), the jobs after the array stop.
+  on_squeue_call(2, {"sfm=0", "mvs-depth.0=0", "mvs-depth.1=3"}, true);
+  set_active({"101_2", "102", "103", "104", "105"});
+  try {
+    run_pipeline(options_, log_);
+    FAIL() << "a failed array task did not fail the run";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr((ws() / "logs" / "mvs-depth.1.log").string()));
+  }
+  EXPECT_EQ(lines_of(fake_ / "scancel.log"), (std::vector<std::string>{"102 103 104 105"}));
+  EXPECT_EQ(run_json()["stages"]["mvs"]["state"], "failed");
+  EXPECT_EQ(run_json()["stages"]["sfm"]["state"], "done");
+}
+
+TEST_F(SlurmExecutorTest, WaitsUntilEveryJobCompletedAndCopiesTheResult) {
+  options_.executor_options = {"mvs_tasks=3", "poll_seconds=0"};
+  // Status files hold the exit code and the wall seconds.
+  on_squeue_call(2,
+                 {"sfm=0 1", "mvs-depth.0=0 5", "mvs-depth.1=0 9", "mvs-depth.2=0 4", "mvs-fuse=0 2", "recon=0 3",
+                  "refine=0 1", "texture=0 7"},
+                 true);
+  for (const char* file : {"mvs/points.ply", "recon/mesh.ply", "refine/mesh.ply", "texture/model.glb"}) {
+    fs::create_directories((ws() / file).parent_path());
+    std::ofstream(ws() / file) << "result " << file;
+  }
+  const DriverResult result = run_pipeline(options_, log_);
+  EXPECT_EQ(read_text(options_.output), "result texture/model.glb");
+  for (const auto& stage : result.stages) EXPECT_EQ(stage.state, "done") << stage.stage;
+  // An array's tasks run side by side: the longest one, then the fusion.
+  EXPECT_EQ(run_json()["stages"]["mvs"]["wall_seconds"], 11.0);
+  EXPECT_EQ(run_json()["stages"]["texture"]["wall_seconds"], 7.0);
+}
+
+// The texture job has left the queue, but its status file shows up only at
+// the next poll (a shared filesystem's cache): not a failure within the grace.
+TEST_F(SlurmExecutorTest, StatusFileSeenLateWithinTheGraceIsNotAFailure) {
+  options_.executor_options = {"mvs_tasks=3", "poll_seconds=0", "status_grace_seconds=60"};
+  on_squeue_call(
+      2,
+      {"sfm=0 1", "mvs-depth.0=0 1", "mvs-depth.1=0 1", "mvs-depth.2=0 1", "mvs-fuse=0 1", "recon=0 1", "refine=0 1"},
+      true);
+  on_squeue_call(3, {"texture=0 1"}, false);
+  for (const char* file : {"mvs/points.ply", "recon/mesh.ply", "refine/mesh.ply", "texture/model.glb"}) {
+    fs::create_directories((ws() / file).parent_path());
+    std::ofstream(ws() / file) << "result " << file;
+  }
+  run_pipeline(options_, log_);
+  EXPECT_EQ(run_json()["stages"]["texture"]["state"], "done") << log_.all();
+}
+
+TEST_F(SlurmExecutorTest, JobGoneWithoutStatusFileAfterTheGraceIsAFailure) {
+  options_.executor_options = {"mvs_tasks=3", "poll_seconds=0", "status_grace_seconds=0"};
+  on_squeue_call(2, {"sfm=0 1"}, true);  // the depth tasks vanished (killed)
+  EXPECT_THROW(run_pipeline(options_, log_), StageError);
+  EXPECT_THAT(log_.all(), HasSubstr("mvs-depth task 0 (Slurm job 101_0) ended without a status file"));
+}
+
+TEST_F(SlurmExecutorTest, UnknownExecutorOrExecutorOptionsOfTheLocalOneAreConfigErrors) {
+  options_.executor = "pbs";
+  EXPECT_THROW(run_pipeline(options_, log_), ConfigError);
+  options_.executor = "local";
+  EXPECT_THROW(run_pipeline(options_, log_), ConfigError);  // executor_options given
+  EXPECT_FALSE(fs::exists(fake_ / "sbatch.log"));
+}
+
+TEST(SlurmOptions, UnknownKeyAndBadValuesAreConfigErrors) {
+  EXPECT_EQ(parse_slurm_options({"partition=long", "mvs_tasks=8"}).mvs_tasks, 8);
+  EXPECT_THROW(parse_slurm_options({"partion=long"}), ConfigError);
+  EXPECT_THROW(parse_slurm_options({"mvs_tasks=0"}), ConfigError);
+  EXPECT_THROW(parse_slurm_options({"wait=maybe"}), ConfigError);
+  EXPECT_THROW(parse_slurm_options({"partition"}), ConfigError);
+}
+
+TEST(SlurmOptions, MemoryRequestsComeFromTheStagesOwnEstimates) {
+  PipelineConfig config;
+  const SlurmOptions options = parse_slurm_options({"mem_mb=3000"});
+  const int depth = job_memory_mb("mvs-depth", config, 100, options);
+  EXPECT_GT(depth, 512);
+  config.apply_assignment("mvs.max_image_size=4096");
+  EXPECT_GT(job_memory_mb("mvs-depth", config, 100, options), 2 * depth - 512);
+  EXPECT_GT(job_memory_mb("mvs-fuse", config, 200, options), job_memory_mb("mvs-fuse", config, 100, options));
+  EXPECT_EQ(job_memory_mb("recon", config, 100, options), 3000);  // no budget set: the default request
+  config.apply_assignment("recon.max_memory_mb=8000");
+  EXPECT_EQ(job_memory_mb("recon", config, 100, options), 8512);
+  EXPECT_EQ(job_memory_mb("sfm", config, 100, options), 3000);
+}
+
+}  // namespace
+}  // namespace hos::pipeline
