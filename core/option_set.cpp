@@ -101,7 +101,7 @@ void OptionSet::add(const std::string& key, std::string& value, std::string doc)
 
 void OptionSet::add_choice(const std::string& key,
                            std::string& value,
-                           std::vector<std::string> choices,
+                           const std::vector<std::string>& choices,
                            std::string doc) {
   std::string allowed = "one of:";
   for (const auto& c : choices) allowed += " " + c;

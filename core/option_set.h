@@ -41,7 +41,7 @@ class OptionSet {
       const std::string& key, Number& value, std::string doc, Number min, Number max);
   void add(const std::string& key, std::string& value, std::string doc);
   // A string restricted to a list of choices.
-  void add_choice(const std::string& key, std::string& value, std::vector<std::string> choices, std::string doc);
+  void add_choice(const std::string& key, std::string& value, const std::vector<std::string>& choices, std::string doc);
   // An enum parsed by name from a table; the error lists the valid names.
   template <typename Enum>
   void add_enum(const std::string& key, Enum& value, std::vector<std::pair<std::string, Enum>> table, std::string doc);

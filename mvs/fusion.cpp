@@ -201,6 +201,7 @@ void fuse_pixel(const std::vector<FusionView>& views,
 PointCloud fuse_depth_maps(const std::vector<FusionView>& views, const MvsOptions& options, Reporter& reporter) {
   const FusionRules rules(views, options);
   std::vector<cv::Mat> used;
+  used.reserve(views.size());
   for (const auto& v : views) used.push_back(cv::Mat::zeros(v.map.depth.size(), CV_8U));
   PointCloud cloud;
   reporter.begin("fusion", static_cast<std::int64_t>(views.size()));

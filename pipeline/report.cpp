@@ -287,7 +287,7 @@ std::string run_report_html(const fs::path& workspace, const ReportOptions& opti
 
 fs::path write_run_report(const fs::path& workspace, const ReportOptions& options) {
   const std::string html = run_report_html(workspace, options);
-  const fs::path file = StagePaths(workspace).root / "report.html";
+  fs::path file = StagePaths(workspace).root / "report.html";
   write_atomically(file, [&](const fs::path& tmp) {
     std::ofstream out(tmp);
     out << html;

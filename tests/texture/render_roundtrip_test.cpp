@@ -39,6 +39,7 @@ TEST(RenderRoundTrip, HeldOutViewsOfTheRendererMatch) {
   const std::vector<render::RenderObject> truth = {truth_object(mesh)};
   render::RenderOptions options;  // shaded, light fixed in the world: bakeable
   std::vector<TextureView> views;
+  views.reserve(12);
   for (int i = 0; i < 12; ++i) {
     views.push_back(rendered_view(truth, 30.0 * i + 5.0, i % 2 ? 35.0 : -30.0, options));
   }
