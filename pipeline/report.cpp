@@ -186,7 +186,10 @@ using EvalRows = std::vector<std::pair<std::string, std::string>>;
 void add_eval_rows(EvalRows& rows, const std::string& key, const nlohmann::json& value) {
   if (value.is_object()) {
     for (const auto& [inner, v] : value.items()) {
-      if (v.is_primitive()) add_eval_rows(rows, key + "." + inner, v);
+      if (!v.is_primitive()) continue;
+      std::string nested = key;
+      nested.append(".").append(inner);
+      add_eval_rows(rows, nested, v);
     }
     return;
   }

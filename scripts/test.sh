@@ -6,6 +6,9 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$root/scripts/install-deps.sh"
 "$root/scripts/check-format.sh"
 "$root/scripts/build.sh" -DHOS_WERROR=ON
+# clang-tidy on the sources the last commits changed (the whole tree takes
+# about an hour on 2 cores: scripts/tidy.sh without arguments).
+HOS_TIDY_MAX_FILES="${HOS_TIDY_MAX_FILES:-8}" "$root/scripts/tidy.sh" --recent 3
 build="${HOS_BUILD_DIR:-$root/build}"
 cd "$build"
 ctest --output-on-failure -j "${HOS_TEST_JOBS:-2}" "$@"

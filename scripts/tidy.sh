@@ -5,7 +5,7 @@
 #   scripts/tidy.sh                      # every source (about an hour on 2 cores)
 #   scripts/tidy.sh 'energy_operator\.cpp'   # sources matching a regex below the folders
 #   scripts/tidy.sh --recent N           # the sources changed by the last N commits
-#                                          (at most HOS_TIDY_MAX_FILES, default 12; CI)
+#                                          (at most HOS_TIDY_MAX_FILES, default 12; test.sh: 8)
 # Extra arguments after these go to run-clang-tidy.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
