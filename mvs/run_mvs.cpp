@@ -118,13 +118,6 @@ ViewSet load_view_set(const UndistortedWorkspace& workspace, const ViewPlan& pla
   return set;
 }
 
-void write_depth_map(const std::filesystem::path& folder, const std::string& name, const DepthMap& map) {
-  const std::string stem = (folder / name).string();
-  std::filesystem::create_directories(std::filesystem::path(stem).parent_path());
-  cv::imwrite(stem + ".depth.tiff", map.depth);
-  cv::imwrite(stem + ".normal.tiff", map.normal);
-}
-
 // The .dmap file: a tag, width and height, then the depth, normal and cost
 // rows as raw floats, so a map read back is the map written, bit for bit.
 constexpr char kDepthMapTag[8] = {'H', 'O', 'S', 'D', 'M', 'A', 'P', '1'};
@@ -150,6 +143,15 @@ void write_depth_map_file(const std::filesystem::path& file, const DepthMap& map
     write_raw(out, map.cost);
     if (!out) throw OutputError(file.string(), "cannot write the depth map");
   });
+}
+
+// A view's maps in folder: TIFFs to look at, the .dmap file to fuse again.
+void write_depth_map(const std::filesystem::path& folder, const std::string& name, const DepthMap& map) {
+  const std::string stem = (folder / name).string();
+  std::filesystem::create_directories(std::filesystem::path(stem).parent_path());
+  cv::imwrite(stem + ".depth.tiff", map.depth);
+  cv::imwrite(stem + ".normal.tiff", map.normal);
+  write_depth_map_file(depth_map_file(folder, name), map);
 }
 
 DepthMap read_depth_map_file(const std::filesystem::path& file, int width, int height) {
@@ -338,10 +340,7 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
   std::vector<FusionView> fusion_views;
   match_views(workspace, options, plan, std::vector<bool>(plan.views.size(), true), reporter, result.stats,
               [&](std::size_t i, const MvsView& ref, DepthMap map) {
-                if (!depth_map_folder.empty()) {
-                  write_depth_map(depth_map_folder, plan.views[i].image->name, map);
-                  write_depth_map_file(depth_map_file(depth_map_folder, plan.views[i].image->name), map);
-                }
+                if (!depth_map_folder.empty()) write_depth_map(depth_map_folder, plan.views[i].image->name, map);
                 fusion_views.push_back(make_fusion_view(ref, std::move(map)));
               });
   fuse_views(fusion_views, plan, options, reporter, result);
@@ -364,7 +363,6 @@ MvsStats compute_depth_maps(const UndistortedWorkspace& workspace,
   std::filesystem::create_directories(folder);
   match_views(workspace, options, plan, selected, reporter, stats, [&](std::size_t i, const MvsView&, DepthMap map) {
     write_depth_map(folder, plan.views[i].image->name, map);
-    write_depth_map_file(depth_map_file(folder, plan.views[i].image->name), map);
   });
   const auto count = std::count(selected.begin(), selected.end(), true);
   reporter.info(format_message("mvs: depth maps of views ", range.first, "-", range.last, ": ", count, " of ",
