@@ -361,9 +361,10 @@ MvsStats compute_depth_maps(const UndistortedWorkspace& workspace,
     selected[static_cast<std::size_t>(i)] = true;
   }
   std::filesystem::create_directories(folder);
-  match_views(workspace, options, plan, selected, reporter, stats, [&](std::size_t i, const MvsView&, DepthMap map) {
-    write_depth_map(folder, plan.views[i].image->name, map);
-  });
+  match_views(workspace, options, plan, selected, reporter, stats,
+              [&](std::size_t i, const MvsView&, const DepthMap& map) {
+                write_depth_map(folder, plan.views[i].image->name, map);
+              });
   const auto count = std::count(selected.begin(), selected.end(), true);
   reporter.info(format_message("mvs: depth maps of views ", range.first, "-", range.last, ": ", count, " of ",
                                plan.views.size(), " views in ", stats.seconds_depth, " s"));
