@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "recon/grid.h"
+#include "recon/row_runs.h"
 
 namespace hos::recon {
 
@@ -41,10 +42,10 @@ class ActiveNodes {
   ActiveNodes() = default;
   // Every node of the grid, stored densely.
   static ActiveNodes all(const GridGeometry& g);
-  // The nodes with mask[node] != 0 (one byte per node), stored with their halo.
-  static ActiveNodes from_mask(const GridGeometry& g, std::vector<std::uint8_t> mask);
+  // The nodes of a set, stored with their halo.
+  static ActiveNodes from_runs(const GridGeometry& g, RowRuns active);
 
-  bool is_all() const { return mask_.empty(); }
+  bool is_all() const { return all_; }
   std::int64_t count() const { return count_; }
   const std::vector<NodeSpan>& spans() const { return spans_; }
   // Values per array in this layout.
@@ -52,7 +53,12 @@ class ActiveNodes {
   // Every stored node (active or halo) as spans in the same layout.
   std::vector<NodeSpan> stored_spans() const;
   // Is the node (dense grid index) active?
-  bool contains(std::int64_t node) const { return mask_.empty() || mask_[node] != 0; }
+  bool contains(std::int64_t node) const {
+    if (is_all()) return true;
+    const std::int64_t nx = dims_.x(), row = node / nx;
+    return active_.contains(static_cast<int>(node % nx), static_cast<int>(row % dims_.y()),
+                            static_cast<int>(row / dims_.y()));
+  }
   // A base b such that node i' of row (j, k) is stored at b + i' for every i'
   // of the stored run holding node (i, j, k); kNotStored if that node is not
   // stored (or outside the grid). For an active span's node i and rows within
@@ -78,7 +84,8 @@ class ActiveNodes {
     std::int64_t base;
   };
   Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();
-  std::vector<std::uint8_t> mask_;  // empty: every node
+  bool all_ = false;
+  RowRuns active_;  // banded: the active nodes
   std::vector<NodeSpan> spans_;
   std::vector<StoredRun> stored_;       // banded: stored runs, row after row
   std::vector<std::int64_t> row_runs_;  // banded: per row j + ny k, its first stored run
