@@ -78,6 +78,36 @@ void ActiveNodes::gather(const T* dense, T* stored) const {
 }
 
 template <typename T>
+void ActiveNodes::gather_from(const ActiveNodes& source, const T* values, T* stored) const {
+  if (source.is_all()) {
+    gather(values, stored);
+    return;
+  }
+  const std::vector<NodeSpan> spans = stored_spans();
+#pragma omp parallel for schedule(static)
+  for (std::int64_t s = 0; s < static_cast<std::int64_t>(spans.size()); ++s) {
+    const NodeSpan& sp = spans[s];
+    source.gather_row(values, sp.j, sp.k, sp.begin, sp.end, stored + sp.first);
+  }
+}
+
+RowRuns ActiveNodes::stored_set() const {
+  RowRuns set;
+  set.dims = dims_;
+  if (is_all()) {
+    const std::int64_t rows = set.rows();
+    set.row_begin.resize(rows + 1);
+    for (std::int64_t row = 0; row <= rows; ++row) set.row_begin[row] = row;
+    set.runs.assign(rows, NodeRun{0, dims_.x()});
+    return set;
+  }
+  set.row_begin = row_runs_;
+  set.runs.reserve(stored_.size());
+  for (const StoredRun& run : stored_) set.runs.push_back({run.lo, run.hi});
+  return set;
+}
+
+template <typename T>
 void ActiveNodes::scatter_active(const T* stored, T* dense) const {
   for_each_active_span(*this, [&](const NodeSpan& span) {
     const std::int64_t row = std::int64_t{span.k} * dims_.y() + span.j;
@@ -87,6 +117,8 @@ void ActiveNodes::scatter_active(const T* stored, T* dense) const {
 
 template void ActiveNodes::gather<double>(const double*, double*) const;
 template void ActiveNodes::gather<float>(const float*, float*) const;
+template void ActiveNodes::gather_from<double>(const ActiveNodes&, const double*, double*) const;
+template void ActiveNodes::gather_from<float>(const ActiveNodes&, const float*, float*) const;
 template void ActiveNodes::scatter_active<double>(const double*, double*) const;
 template void ActiveNodes::scatter_active<float>(const float*, float*) const;
 

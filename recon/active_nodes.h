@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "recon/grid.h"
@@ -70,6 +71,25 @@ class ActiveNodes {
   // stored = the dense grid array's values at every stored node.
   template <typename T>
   void gather(const T* dense, T* stored) const;
+  // stored = the values of another layout of the same grid at every stored
+  // node (zero where that layout stores none).
+  template <typename T>
+  void gather_from(const ActiveNodes& source, const T* values, T* stored) const;
+  // The active nodes as a set (banded layouts only).
+  const RowRuns& active_set() const { return active_; }
+  // The stored nodes (active and halo) as a set.
+  RowRuns stored_set() const;
+  // Calls fn(lo, hi, base) for the stored runs of grid row j + ny k: nodes
+  // lo <= i < hi, node i at base + i.
+  template <typename Fn>
+  void for_each_stored_run(std::int64_t row, Fn&& fn) const {
+    if (is_all()) {
+      fn(0, dims_.x(), row * dims_.x());
+      return;
+    }
+    for (std::int64_t r = row_runs_[row]; r < row_runs_[row + 1]; ++r)
+      fn(stored_[r].lo, stored_[r].hi, stored_[r].base);
+  }
   // dense = the stored values at the active nodes (other nodes unchanged).
   template <typename T>
   void scatter_active(const T* stored, T* dense) const;
@@ -91,6 +111,12 @@ class ActiveNodes {
   std::vector<std::int64_t> row_runs_;  // banded: per row j + ny k, its first stored run
   std::int64_t count_ = 0;
   std::int64_t storage_size_ = 0;
+};
+
+// Values on the stored nodes of a layout.
+struct StoredField {
+  std::shared_ptr<const ActiveNodes> nodes;
+  std::vector<double> values;
 };
 
 // The nodes within `voxels` nodes (per axis) of the corners of every cell that

@@ -112,11 +112,11 @@ void prolongate_add(const GridGeometry& coarse,
 }
 
 void prolongate_add_to_stored(const GridGeometry& coarse,
-                              const std::vector<double>& ec,
+                              const ActiveNodes& coarse_nodes,
+                              const double* ec,
                               const ActiveNodes& fine_nodes,
                               double* x) {
-  prolongate_add_spans(coarse, ActiveNodes::all(coarse), ec.data(), fine_nodes.stored_spans(),
-                       fine_nodes.storage_size(), x);
+  prolongate_add_spans(coarse, coarse_nodes, ec, fine_nodes.stored_spans(), fine_nodes.storage_size(), x);
 }
 
 template void restrict_to_coarse<float>(

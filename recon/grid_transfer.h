@@ -36,10 +36,12 @@ void prolongate_add(const GridGeometry& coarse,
                     const GridGeometry& fine,
                     const ActiveNodes& fine_active,
                     T* x);
-// The same from a whole coarse grid to every node a fine layout stores (its
+// The same from a coarse layout to every node a fine layout stores (its
 // active nodes and halo): starts a banded solve without a grid-sized array.
+// The coarse layout must store every coarse node the fine nodes read.
 void prolongate_add_to_stored(const GridGeometry& coarse,
-                              const std::vector<double>& ec,
+                              const ActiveNodes& coarse_nodes,
+                              const double* ec,
                               const ActiveNodes& fine_nodes,
                               double* x);
 

@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "recon/trim.h"
+
 namespace hos::recon {
 namespace {
 
@@ -519,12 +521,26 @@ class CellMesher {
 
 constexpr int kSlabsPerChunk = 4;
 
+// The values a sweep reads: on every node (band null), or on the stored
+// nodes of a band (values in its layout).
+struct NodeSource {
+  const std::vector<double>& values;
+  const ActiveNodes* band;
+};
+
 class SlabSweep {
  public:
-  SlabSweep(const ScalarGrid& f, double iso) : f_(f), iso_(iso), d_(f.geometry.dims) {
+  // f: the grid's values (source.values on every node), or those of a band
+  // (source.band): then only edges and cells whose nodes are all active are
+  // used, and the ghost ring is never active.
+  SlabSweep(const GridGeometry& g, const NodeSource& source, double iso)
+      : g_(g), source_(source), iso_(iso), d_(g.dims) {
     px_ = d_.x() + 4;
     py_ = d_.y() + 4;
-    for (auto& p : planes_) p.values.assign(std::size_t(px_) * py_, 0.0);
+    for (auto& p : planes_) {
+      p.values.assign(std::size_t(px_) * py_, 0.0);
+      p.active.assign(std::size_t(px_) * py_, source_.band ? 0 : 1);
+    }
     for (auto& s : slabs_) s.index.assign(std::size_t(3) * (d_.x() + 2) * (d_.y() + 2), -1);
   }
 
@@ -539,14 +555,18 @@ class SlabSweep {
     std::size_t at = 0;
     const double* p0 = plane(z);
     const double* p1 = plane(z + 1);
+    const std::uint8_t* a0 = active_plane(z);
+    const std::uint8_t* a1 = active_plane(z + 1);
     for (int y = -1; y <= d_.y(); ++y) {
       const double* row = p0 + std::size_t(y + 2) * px_ + 2;
       const double* above = p1 + std::size_t(y + 2) * px_ + 2;
+      const std::uint8_t* act = a0 + std::size_t(y + 2) * px_ + 2;
+      const std::uint8_t* act_above = a1 + std::size_t(y + 2) * px_ + 2;
       for (int x = -1; x <= d_.x(); ++x) {
         const bool in = row[x] - iso_ < 0.0;
-        const bool cross[3] = {x < d_.x() && (row[x + 1] - iso_ < 0.0) != in,
-                               y < d_.y() && (row[x + px_] - iso_ < 0.0) != in,
-                               z < d_.z() && (above[x] - iso_ < 0.0) != in};
+        const bool cross[3] = {x < d_.x() && act[x] && act[x + 1] && (row[x + 1] - iso_ < 0.0) != in,
+                               y < d_.y() && act[x] && act[x + px_] && (row[x + px_] - iso_ < 0.0) != in,
+                               z < d_.z() && act[x] && act_above[x] && (above[x] - iso_ < 0.0) != in};
         for (int a = 0; a < 3; ++a, ++at) s.index[at] = cross[a] ? n++ : -1;
       }
     }
@@ -561,7 +581,7 @@ class SlabSweep {
   // Writes the positions and gradient normals of node slab z's crossings
   // (numbered by index_slab just before).
   void write_slab(int z, TriangleMesh& mesh) {
-    const GridGeometry& g = f_.geometry;
+    const GridGeometry& g = g_;
     for (int y = -1; y <= d_.y(); ++y) {
       for (int x = -1; x <= d_.x(); ++x) {
         for (int a = 0; a < 3; ++a) {
@@ -587,10 +607,20 @@ class SlabSweep {
     std::array<double, 8> g;
     std::array<int, 12> vertex{};
     const std::array<const double*, 2> planes = {plane(k), plane(k + 1)};
+    const std::array<const std::uint8_t*, 2> actives = {active_plane(k), active_plane(k + 1)};
     for (int y = -1; y < d_.y(); ++y) {
       std::array<const double*, 4> rows;  // corners' rows by (y bit, z bit)
-      for (int c = 0; c < 4; ++c) rows[c] = planes[c >> 1] + std::size_t(y + 2 + (c & 1)) * px_ + 2;
+      std::array<const std::uint8_t*, 4> active_rows;
+      for (int c = 0; c < 4; ++c) {
+        rows[c] = planes[c >> 1] + std::size_t(y + 2 + (c & 1)) * px_ + 2;
+        active_rows[c] = actives[c >> 1] + std::size_t(y + 2 + (c & 1)) * px_ + 2;
+      }
       for (int x = -1; x < d_.x(); ++x) {
+        if (source_.band) {
+          bool all = true;
+          for (int c = 0; c < 4 && all; ++c) all = active_rows[c][x] && active_rows[c][x + 1];
+          if (!all) continue;
+        }
         int config = 0;
         for (int c = 0; c < 8; ++c) {
           g[c] = rows[c >> 1][x + (c & 1)] - iso_;
@@ -601,7 +631,7 @@ class SlabSweep {
           const int c0 = edge_lower_corner(e);
           vertex[e] = this->vertex(x + bit(c0, 0), y + bit(c0, 1), k + bit(c0, 2), e / 4);
         }
-        CellMesher(t, g, config, vertex, f_.geometry.position(x, y, k), f_.geometry.spacing, out).run();
+        CellMesher(t, g, config, vertex, g_.position(x, y, k), g_.spacing, out).run();
       }
     }
   }
@@ -609,37 +639,55 @@ class SlabSweep {
  private:
   struct Plane {
     int z = std::numeric_limits<int>::min();
-    std::vector<double> values;  // nodes -2 .. dims, x fastest
+    std::vector<double> values;        // nodes -2 .. dims, x fastest
+    std::vector<std::uint8_t> active;  // the same nodes: may the node be used?
   };
   struct Slab {
     int z = std::numeric_limits<int>::min();
     std::vector<int> index;  // vertex per (node, axis), -1 without a crossing
   };
 
-  const double* plane(int z) {
+  Plane& load(int z) {
     Plane& p = planes_[(z + 4) % 4];  // z >= -2: four consecutive slabs never collide
-    if (p.z != z) {
-      p.z = z;
-      std::fill(p.values.begin(), p.values.end(), 0.0);
-      if (z >= 0 && z < d_.z()) {
-        for (int y = 0; y < d_.y(); ++y) {
-          const double* row = &f_.values[f_.geometry.index(0, y, z)];
-          std::copy(row, row + d_.x(), &p.values[std::size_t(y + 2) * px_ + 2]);
-        }
+    if (p.z == z) return p;
+    p.z = z;
+    std::fill(p.values.begin(), p.values.end(), 0.0);
+    if (source_.band) std::fill(p.active.begin(), p.active.end(), 0);
+    if (z < 0 || z >= d_.z()) return p;
+    if (!source_.band) {
+      for (int y = 0; y < d_.y(); ++y) {
+        const double* row = &source_.values[g_.index(0, y, z)];
+        std::copy(row, row + d_.x(), &p.values[std::size_t(y + 2) * px_ + 2]);
+      }
+      return p;
+    }
+    const ActiveNodes& band = *source_.band;
+    for (int y = 0; y < d_.y(); ++y) {
+      band.gather_row(source_.values.data(), y, z, 0, d_.x(), &p.values[std::size_t(y + 2) * px_ + 2]);
+    }
+    const RowRuns& set = band.active_set();
+    for (int y = 0; y < d_.y(); ++y) {
+      const std::int64_t row = std::int64_t{z} * d_.y() + y;
+      for (std::int64_t r = set.row_begin[row]; r < set.row_begin[row + 1]; ++r) {
+        std::fill(&p.active[std::size_t(y + 2) * px_ + 2 + set.runs[r].begin],
+                  &p.active[std::size_t(y + 2) * px_ + 2 + set.runs[r].end], 1);
       }
     }
-    return p.values.data();
+    return p;
   }
+  const double* plane(int z) { return load(z).values.data(); }
+  const std::uint8_t* active_plane(int z) { return load(z).active.data(); }
 
   // Central differences (one-sided nowhere: f is zero beyond the ghost ring).
   Eigen::Vector3d gradient(const Eigen::Vector3i& n) {
     const int x = n.x(), y = n.y(), z = n.z();
     return Eigen::Vector3d(value(x + 1, y, z) - value(x - 1, y, z), value(x, y + 1, z) - value(x, y - 1, z),
                            value(x, y, z + 1) - value(x, y, z - 1)) /
-           (2.0 * f_.geometry.spacing);
+           (2.0 * g_.spacing);
   }
 
-  const ScalarGrid& f_;
+  const GridGeometry& g_;
+  const NodeSource& source_;
   double iso_;
   Eigen::Vector3i d_;
   int px_ = 0, py_ = 0;
@@ -649,8 +697,10 @@ class SlabSweep {
 
 }  // namespace
 
-TriangleMesh extract_isosurface(const ScalarGrid& f, double isovalue) {
-  const Eigen::Vector3i d = f.geometry.dims;
+namespace {
+
+TriangleMesh extract(const GridGeometry& geometry, const NodeSource& source, double isovalue) {
+  const Eigen::Vector3i d = geometry.dims;
   TriangleMesh mesh;
   if ((d.array() <= 0).any()) return mesh;
   cube_tables();  // built once, before the threads need it
@@ -659,13 +709,13 @@ TriangleMesh extract_isosurface(const ScalarGrid& f, double isovalue) {
   const int chunks = (cell_slabs + kSlabsPerChunk - 1) / kSlabsPerChunk;
   const auto chunk_begin = [&](int c) { return -1 + c * kSlabsPerChunk; };
   const auto chunk_end = [&](int c) { return std::min(d.z(), chunk_begin(c) + kSlabsPerChunk); };
-  const bool threads = worth_threads(f.geometry.num_nodes());
+  const bool threads = worth_threads(geometry.num_nodes());
 
   // Pass 1: crossings per node slab, then each slab's first vertex index.
   std::vector<int> first(std::size_t(d.z()) + 3, 0);  // [z + 1], one past the top
 #pragma omp parallel if (threads)
   {
-    SlabSweep sweep(f, isovalue);
+    SlabSweep sweep(geometry, source, isovalue);
 #pragma omp for schedule(dynamic, 1)
     for (int c = 0; c < chunks; ++c) {
       for (int z = chunk_begin(c); z < chunk_end(c); ++z) first[z + 2] = sweep.index_slab(z, 0);
@@ -680,7 +730,7 @@ TriangleMesh extract_isosurface(const ScalarGrid& f, double isovalue) {
   std::vector<ChunkOutput> out(chunks);
 #pragma omp parallel if (threads)
   {
-    SlabSweep sweep(f, isovalue);
+    SlabSweep sweep(geometry, source, isovalue);
 #pragma omp for schedule(dynamic, 1)
     for (int c = 0; c < chunks; ++c) {
       sweep.index_slab(chunk_begin(c), first[chunk_begin(c) + 1]);
@@ -705,6 +755,19 @@ TriangleMesh extract_isosurface(const ScalarGrid& f, double isovalue) {
     mesh.vertices.insert(mesh.vertices.end(), part.interior.begin(), part.interior.end());
     mesh.normals.insert(mesh.normals.end(), part.interior_normals.begin(), part.interior_normals.end());
   }
+  return mesh;
+}
+
+}  // namespace
+
+TriangleMesh extract_isosurface(const ScalarGrid& f, double isovalue) {
+  return extract(f.geometry, NodeSource{f.values, nullptr}, isovalue);
+}
+
+TriangleMesh extract_isosurface(const GridGeometry& g, const StoredField& f, double isovalue) {
+  if (f.nodes->is_all()) return extract(g, NodeSource{f.values, nullptr}, isovalue);
+  TriangleMesh mesh = extract(g, NodeSource{f.values, f.nodes.get()}, isovalue);
+  remove_unreferenced_vertices(mesh);
   return mesh;
 }
 

@@ -19,6 +19,7 @@
 #pragma once
 
 #include "core/types.h"
+#include "recon/active_nodes.h"
 #include "recon/grid.h"
 
 namespace hos::recon {
@@ -30,5 +31,11 @@ namespace hos::recon {
 // (central differences at the nodes, interpolated along the edge), pointing
 // outward.
 TriangleMesh extract_isosurface(const ScalarGrid& f, double isovalue);
+
+// The isosurface of a function stored on a band: only the cells whose eight
+// corners are active are meshed (their faces are those of the whole grid's
+// isosurface there), the rest left open; vertices no face uses are dropped.
+// On a layout of every node, the same as above.
+TriangleMesh extract_isosurface(const GridGeometry& g, const StoredField& f, double isovalue);
 
 }  // namespace hos::recon

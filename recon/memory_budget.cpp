@@ -32,6 +32,13 @@ constexpr double kBytesPerNodeTotalVariation = 100.0;
 // multigrid levels. The phases are added, not maxed: an upper bound.
 constexpr double kBytesPerNodeBanded = 24.0;
 constexpr double kBytesPerBandNode = 48.0;
+// Band only (keeps_only_band): per stored band node bound, the fine band's
+// right-hand side, unknowns, solver vectors and multigrid levels, the coarser
+// bands (about a quarter more), and the field near the samples before them;
+// fitted to the bunny's scans at grids 512 and 1024 (docs/recon.md,
+// "Memory"), with the whole-grid level the solve starts on added (per node
+// as a whole-grid run).
+constexpr double kBytesPerBoundNodeBandOnly = 96.0;
 // Per sample: the copies of the points, the trimming's search tree and, with
 // screening, the per-level screening samples.
 constexpr double kBytesPerSample = 128.0;
@@ -121,6 +128,12 @@ std::size_t estimate_peak_bytes(const GridGeometry& grid,
   const double whole = common + per_node * nodes;
   if (!band_possible(grid, options)) return saturated_bytes(whole);
   const double stored = static_cast<double>(band_stored_nodes_bound(grid, points, options.solver.band_voxels));
+  if (keeps_only_band(grid, options)) {
+    GridGeometry start = grid;
+    for (int l = band_only_start_level(grid); l > 0; --l) start = start.coarsened();
+    const double start_bytes = kBytesPerNodeScreened * static_cast<double>(start.num_nodes());
+    return saturated_bytes(common + start_bytes + kBytesPerBoundNodeBandOnly * stored);
+  }
   const double banded = common + kBytesPerNodeBanded * nodes + kBytesPerBandNode * stored;
   // The solve uses the band when its active nodes are at most half of the
   // grid (worthwhile_band): surely when their bound is (the stored nodes'

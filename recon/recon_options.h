@@ -38,6 +38,11 @@ struct SolverOptions {
   // band is solved at full resolution (see active_nodes.h). 0 = solve every node.
   // Wider bands cost nodes without changing the surface.
   int band_voxels = 6;
+  // Grids of more nodes than this (in millions) keep no grid-sized array: the
+  // right-hand side lives near the samples, each level's solution on its band
+  // only, and the isosurface is extracted inside the band (see
+  // reconstruct.cpp); 0 = always where the options allow it.
+  int band_storage_above_mnodes = 64;
 };
 
 struct TrimOptions {

@@ -67,104 +67,147 @@ void prolongate_levels(const GridGeometry& g, int levels, std::vector<double>& x
   }
 }
 
+// r restricted to the grid g coarsened once: on every coarse node, or, when r
+// lives near the samples, on the coarse nodes its stored nodes reach.
+StoredField restricted(const GridGeometry& g, const StoredField& r) {
+  const GridGeometry coarse = g.coarsened();
+  StoredField rc;
+  rc.nodes = std::make_shared<const ActiveNodes>(
+      r.nodes->is_all()
+          ? ActiveNodes::all(coarse)
+          : ActiveNodes::from_runs(coarse, coarse_nodes_on(dilated(r.nodes->stored_set(), 1), coarse.dims)));
+  assign_large(rc.values, static_cast<std::size_t>(rc.nodes->storage_size()));
+  restrict_to_coarse(g, *r.nodes, r.values.data(), coarse, *rc.nodes, rc.values.data());
+  return rc;
+}
+
+// The values of f on every node of g (zero where f stores none); f's values
+// are taken when it stores every node.
+std::vector<double> dense_values(const GridGeometry& g, StoredField&& f) {
+  if (f.nodes->is_all()) return std::move(f.values);
+  std::vector<double> dense;
+  assign_large(dense, g.num_nodes());
+  for (const NodeSpan& sp : f.nodes->stored_spans()) {
+    std::copy(f.values.begin() + sp.first, f.values.begin() + sp.first + (sp.end - sp.begin),
+              dense.begin() + g.index(sp.begin, sp.j, sp.k));
+  }
+  return dense;
+}
+
 // The isovalue (eq. 12) of the unscreened solution, estimated on the grid
-// coarsened up to twice. guess receives that coarse solution prolongated to
-// the grid coarsened guess_level times (a starting point for the solve
-// there); guess_level is lowered when the grid coarsens fewer times.
+// coarsened `level` times (fewer when it does not coarsen as often; level is
+// lowered to match); guess receives that coarse solution (a starting point
+// for the solve there).
 double coarse_isovalue(const EnergyOperator& fine,
-                       const std::vector<double>& rhs,
+                       const StoredField& rhs,
                        const std::vector<Eigen::Vector3f>& points,
                        const SolverOptions& solver,
                        Reporter& reporter,
-                       int& guess_level,
+                       int& level,
                        std::vector<double>& guess) {
-  std::vector<EnergyOperator> ops{fine};
-  std::vector<double> coarse_rhs;
-  while (ops.size() < 3 && ops.back().geometry().can_coarsen(3)) {
-    ops.push_back(ops.back().coarsened());
-    std::vector<double> rc;
-    restrict_to_coarse(ops[ops.size() - 2].geometry(), ops.size() == 2 ? rhs : coarse_rhs, ops.back().geometry(), rc);
-    coarse_rhs = std::move(rc);
+  EnergyOperator op = fine;
+  const StoredField* current = &rhs;
+  StoredField r;
+  int coarsened = 0;
+  for (; coarsened < level && op.geometry().can_coarsen(3); ++coarsened) {
+    r = restricted(op.geometry(), *current);
+    current = &r;
+    op = op.coarsened();
   }
-  if (ops.size() == 1) coarse_rhs = rhs;
+  const std::vector<double> coarse_rhs =
+      current == &r ? dense_values(op.geometry(), std::move(r)) : dense_values(op.geometry(), StoredField(rhs));
   std::vector<double> x;
   SolverOptions so = solver;
   so.tolerance = std::max(solver.tolerance, 1e-4);
-  const SolveReport report = solve_linear_system(ops.back(), coarse_rhs, x, so, reporter);
+  const SolveReport report = solve_linear_system(op, coarse_rhs, x, so, reporter);
   reporter.debug(format_message("recon: coarse unscreened solve, ", report.iterations, " CG iterations, ",
                                 report.seconds_setup + report.seconds_iterations, " s"));
-  ScalarGrid coarse(ops.back().geometry());
+  ScalarGrid coarse(op.geometry());
   coarse.values = x;
-  const double iso = mean_at_samples(coarse, points);
-  const int coarsest = static_cast<int>(ops.size()) - 1;
-  guess_level = std::min(guess_level, coarsest);
-  prolongate_levels(ops[guess_level].geometry(), coarsest - guess_level, x);
+  level = coarsened;
   guess = std::move(x);
-  return iso;
+  return mean_at_samples(coarse, points);
 }
 
 // The band around the samples on grid g, or null when it would not leave out
-// most of the grid (or g cannot hold the coarser levels a band needs).
-std::shared_ptr<const ActiveNodes> worthwhile_band(const GridGeometry& g,
-                                                   const std::vector<Eigen::Vector3f>& points,
-                                                   int voxels) {
+// most of the grid (or g cannot hold the coarser levels a band needs). With
+// band_only, any band the grid can hold.
+std::shared_ptr<const ActiveNodes> band_for(const GridGeometry& g,
+                                            const std::vector<Eigen::Vector3f>& points,
+                                            int voxels,
+                                            bool band_only) {
   if (voxels <= 0 || !g.can_coarsen(3)) return nullptr;
   auto band = std::make_shared<const ActiveNodes>(band_around_samples(g, points, voxels));
-  if (2 * band->count() > g.num_nodes()) return nullptr;
+  if (!band_only && 2 * band->count() > g.num_nodes()) return nullptr;
   return band;
 }
 
-// Solves op x = rhs, with x given on the grid coarsened x_level times. Where
-// the band around the samples is much smaller than the grid, the grid twice
-// as coarse is solved first (the same way, recursively, down to the level x
-// is given on), then only the band, with the nodes outside it held at the
-// coarse solution's prolongation. Otherwise x is prolongated and the whole
-// grid solved. solve(op, b, x) runs one linear solve. Returns the number of
-// nodes of this level's band (0: none).
+// A level's solution and the active nodes of its band (0: none).
+struct LevelSolution {
+  StoredField x;
+  std::int64_t band_nodes = 0;
+};
+
+// Solves op x = rhs, with x given on the grid coarsened x_level times (on
+// every node). Where the band around the samples is much smaller than the
+// grid (or band_only), the grid twice as coarse is solved first (the same
+// way, recursively, down to the level x is given on), then only the band,
+// with the nodes outside it held at the coarse solution's prolongation.
+// Otherwise x is prolongated and the whole grid solved. The solution is
+// returned on every node, or with band_only on the band's stored nodes only
+// (active: solved; halo: the coarse solution). solve(op, b, x) runs one
+// linear solve.
 template <typename SolveFn>
-std::int64_t solve_with_bands(EnergyOperator& op,
-                              std::vector<double> rhs,
-                              const std::vector<Eigen::Vector3f>& points,
-                              int band_voxels,
-                              int x_level,
-                              std::vector<double>& x,
-                              Reporter& reporter,
-                              SolveFn&& solve) {
+LevelSolution solve_with_bands(EnergyOperator& op,
+                               StoredField rhs,
+                               const std::vector<Eigen::Vector3f>& points,
+                               int band_voxels,
+                               bool band_only,
+                               int x_level,
+                               std::vector<double> x,
+                               Reporter& reporter,
+                               SolveFn&& solve) {
   const GridGeometry& g = op.geometry();
   const auto t_band = Clock::now();
-  const std::shared_ptr<const ActiveNodes> band = x_level > 0 ? worthwhile_band(g, points, band_voxels) : nullptr;
+  const std::shared_ptr<const ActiveNodes> band = x_level > 0 ? band_for(g, points, band_voxels, band_only) : nullptr;
   reporter.debug(format_message("recon: band construction ", seconds_since(t_band), " s"));
   if (!band) {
     prolongate_levels(g, x_level, x);
-    solve(op, rhs, x);
-    return 0;
+    const std::vector<double> b = dense_values(g, std::move(rhs));
+    solve(op, b, x);
+    return {StoredField{std::make_shared<const ActiveNodes>(ActiveNodes::all(g)), std::move(x)}, 0};
   }
   reporter.info(format_message("recon: band of ", band->count(), " nodes (", 100.0 * band->count() / g.num_nodes(),
                                "% of the ", g.dims.x(), "x", g.dims.y(), "x", g.dims.z(), " grid)"));
-  // The band's right-hand side in its compact layout, then the grid-sized one
-  // is freed before any solver array exists (the peak memory).
+  // The band's right-hand side in its compact layout, then the finer one is
+  // freed before any solver array exists (the peak memory).
   std::vector<double> band_rhs(band->storage_size()), band_x(band->storage_size());
-  band->gather(rhs.data(), band_rhs.data());
+  band->gather_from(*rhs.nodes, rhs.values.data(), band_rhs.data());
+  LevelSolution coarse_solution;
   {
     EnergyOperator coarse = op.coarsened();
-    std::vector<double> coarse_rhs;
-    restrict_to_coarse(g, rhs, coarse.geometry(), coarse_rhs);
-    rhs = std::vector<double>{};
-    solve_with_bands(coarse, std::move(coarse_rhs), points, band_voxels, x_level - 1, x, reporter, solve);
+    StoredField coarse_rhs = restricted(g, rhs);
+    rhs = StoredField{};
+    coarse_solution = solve_with_bands(coarse, std::move(coarse_rhs), points, band_voxels, band_only, x_level - 1,
+                                       std::move(x), reporter, solve);
   }
-  // The band's unknowns; its halo holds the coarse solution, fixed. The
+  // The band's unknowns; its halo holds the coarse solution, fixed (the
+  // coarse band's stored nodes reach every coarse node this reads). The
   // grid-sized solution is made after the band's solver arrays are freed.
   auto t_transfer = Clock::now();
-  prolongate_add_to_stored(g.coarsened(), x, *band, band_x.data());
+  const StoredField& xc = coarse_solution.x;
+  prolongate_add_to_stored(g.coarsened(), *xc.nodes, xc.values.data(), *band, band_x.data());
   op.set_active(band);
   reporter.debug(format_message("recon: band start ", seconds_since(t_transfer), " s"));
   solve(op, band_rhs, band_x);
   band_rhs = std::vector<double>{};
+  if (band_only) return {StoredField{band, std::move(band_x)}, band->count()};
   t_transfer = Clock::now();
-  prolongate_levels(g, 1, x);
-  band->scatter_active(band_x.data(), x.data());
+  std::vector<double> dense = dense_values(g.coarsened(), std::move(coarse_solution.x));
+  prolongate_levels(g, 1, dense);
+  band->scatter_active(band_x.data(), dense.data());
   reporter.debug(format_message("recon: band result to the grid ", seconds_since(t_transfer), " s"));
-  return band->count();
+  return {StoredField{std::make_shared<const ActiveNodes>(ActiveNodes::all(g)), std::move(dense)}, band->count()};
 }
 
 // Unit orientations (weighted by confidence) in the unit frame, so that every
@@ -188,18 +231,36 @@ OrientedSamples usable_samples(const PointCloud& input,
   return samples;
 }
 
-// The right-hand side of A f = -div F for the orientation field F (sec. 4.1).
-ScalarGrid orientation_rhs(const GridGeometry& grid, const OrientedSamples& samples, const ReconOptions& options) {
-  if (options.uniform_flux) {
-    return density_scaled_rhs(grid, samples.points, samples.normals, samples.weights, options.filter_passes,
-                              options.direction_filter_passes, options.filter_passes);
+// The right-hand side of A f = -div F for the orientation field F (sec. 4.1),
+// on every node or, with band_only, near the samples.
+StoredField orientation_rhs(const GridGeometry& grid,
+                            const OrientedSamples& samples,
+                            const ReconOptions& options,
+                            bool band_only) {
+  if (band_only) {
+    return density_scaled_rhs_near_samples(grid, samples.points, samples.normals, samples.weights,
+                                           options.filter_passes, options.direction_filter_passes,
+                                           options.filter_passes);
   }
-  VectorGrid field = splat_normals(grid, samples.points, samples.normals, samples.weights);
-  box_filter(field, options.filter_passes);
-  normalize_field(field, samples.points, options.filter_passes);
-  ScalarGrid rhs = divergence(field);
-  for (double& v : rhs.values) v = -v;
-  return rhs;
+  ScalarGrid rhs;
+  if (options.uniform_flux) {
+    rhs = density_scaled_rhs(grid, samples.points, samples.normals, samples.weights, options.filter_passes,
+                             options.direction_filter_passes, options.filter_passes);
+  } else {
+    VectorGrid field = splat_normals(grid, samples.points, samples.normals, samples.weights);
+    box_filter(field, options.filter_passes);
+    normalize_field(field, samples.points, options.filter_passes);
+    rhs = divergence(field);
+    for (double& v : rhs.values) v = -v;
+  }
+  return StoredField{std::make_shared<const ActiveNodes>(ActiveNodes::all(grid)), std::move(rhs.values)};
+}
+
+// The level the banded solve starts on (the grid coarsened that many times,
+// solved whole).
+int start_level(const GridGeometry& grid, const ReconOptions& options, bool band_only) {
+  if (options.solver.band_voxels <= 0) return 0;
+  return band_only ? band_only_start_level(grid) : 2;
 }
 
 // One linear solve, its figures added to stats and reported.
@@ -252,7 +313,7 @@ void solve_total_variation(const GridGeometry& grid,
 // grid coarsened up to x_level times, whose prolongation (in x) also starts
 // the solve.
 void add_screening(EnergyOperator& op,
-                   std::vector<double>& rhs,
+                   StoredField& rhs,
                    const std::vector<Eigen::Vector3f>& points,
                    const ReconOptions& options,
                    int& x_level,
@@ -266,51 +327,73 @@ void add_screening(EnergyOperator& op,
   // times the Laplacian's scale 1 / h^2, at any resolution and density.
   op.scale_screening(options.screening /
                      (grid.spacing * grid.spacing * std::max(op.screening().mean_row_sum(), 1e-12)));
-  op.screening().add_target(target, rhs);
+  op.screening().add_target(target, *rhs.nodes, rhs.values.data());
   reporter.debug(format_message("recon: screening term ", seconds_since(t_screening), " s"));
 }
 
 // Energies (1), (3), (4): one solve (screened when options.screening > 0),
-// restricted to a band around the samples where that pays.
-void solve_quadratic(const GridGeometry& grid,
-                     std::vector<double> rhs,
-                     const std::vector<Eigen::Vector3f>& points,
-                     const ReconOptions& options,
-                     ScalarGrid& f,
-                     ReconStats& stats,
-                     Reporter& reporter) {
+// restricted to a band around the samples where that pays. Returns f on every
+// node, or with band_only on the fine band's stored nodes.
+StoredField solve_quadratic(const GridGeometry& grid,
+                            StoredField rhs,
+                            const std::vector<Eigen::Vector3f>& points,
+                            const ReconOptions& options,
+                            bool band_only,
+                            ReconStats& stats,
+                            Reporter& reporter) {
   const SolverOptions& solver = options.solver;
   const double ell = reference_length(grid);
   const double weight = options.energy == SmoothnessEnergy::kMembrane ? options.lambda : options.lambda * ell * ell;
   EnergyOperator op(grid, options.energy, weight);
-  // The solve starts on the grid coarsened twice (see solve_with_bands).
-  int x_level = solver.band_voxels > 0 ? 2 : 0;
+  // The solve starts on a coarsened grid (see solve_with_bands).
+  int x_level = start_level(grid, options, band_only);
+  std::vector<double> x;
   if (options.screening > 0.0) {
-    add_screening(op, rhs, points, options, x_level, f.values, reporter);
+    add_screening(op, rhs, points, options, x_level, x, reporter);
   } else {
     // From zero, on the coarsest grid the solve may start on.
     GridGeometry start = grid;
     int levels = 0;
     for (; levels < x_level && start.can_coarsen(3); ++levels) start = start.coarsened();
     x_level = levels;
-    f.values.assign(start.num_nodes(), 0.0);
+    x.assign(start.num_nodes(), 0.0);
   }
-  stats.band_nodes =
-      solve_with_bands(op, std::move(rhs), points, solver.band_voxels, x_level, f.values, reporter,
-                       [&](const EnergyOperator& o, const std::vector<double>& b, std::vector<double>& x) {
-                         solve_and_report(o, b, x, solver, stats, reporter);
+  LevelSolution f =
+      solve_with_bands(op, std::move(rhs), points, solver.band_voxels, band_only, x_level, std::move(x), reporter,
+                       [&](const EnergyOperator& o, const std::vector<double>& b, std::vector<double>& xs) {
+                         solve_and_report(o, b, xs, solver, stats, reporter);
                        });
+  stats.band_nodes = f.band_nodes;
+  return std::move(f.x);
+}
+
+// Eq. 12 on a function stored on a band (the samples' cells are active).
+double mean_at_samples(const GridGeometry& g, const StoredField& f, const std::vector<Eigen::Vector3f>& points) {
+  double sum = 0.0;
+  for (const auto& p : points) {
+    for_each_trilinear_corner(g, p.cast<double>(), [&](int i, int j, int k, double w) {
+      const std::int64_t base = f.nodes->row_base(j, k, i);
+      if (base != ActiveNodes::kNotStored) sum += w * f.values[base + i];
+    });
+  }
+  return sum / static_cast<double>(points.size());
 }
 
 // Isovalue: mean of f at the samples (eq. 12), then the isosurface (sec. 4.4),
-// trimmed away from the samples.
+// trimmed away from the samples; f on every node (f.values) or on a band.
 void extract_surface(const ScalarGrid& f,
+                     const StoredField& band_f,
                      const std::vector<Eigen::Vector3f>& points,
                      const ReconOptions& options,
                      ReconResult& result) {
   ReconStats& stats = result.stats;
-  stats.isovalue = mean_at_samples(f, points);
-  result.mesh = extract_isosurface(f, stats.isovalue);
+  if (band_f.nodes) {
+    stats.isovalue = mean_at_samples(f.geometry, band_f, points);
+    result.mesh = extract_isosurface(f.geometry, band_f, stats.isovalue);
+  } else {
+    stats.isovalue = mean_at_samples(f, points);
+    result.mesh = extract_isosurface(f, stats.isovalue);
+  }
   stats.faces_before_trim = result.mesh.faces.size();
   if (options.trim.enabled) {
     const TrimReport trim = trim_far_from_samples(
@@ -361,6 +444,24 @@ GridGeometry make_domain(const BoundingBox& box, const ReconOptions& options, in
   return g;
 }
 
+int band_only_start_level(const GridGeometry& grid) {
+  constexpr std::int64_t kWholeGridNodes = std::int64_t{1} << 22;
+  int level = 2;
+  GridGeometry g = grid.coarsened().coarsened();
+  while (g.num_nodes() > kWholeGridNodes && g.can_coarsen(3)) {
+    g = g.coarsened();
+    ++level;
+  }
+  return level;
+}
+
+bool keeps_only_band(const GridGeometry& grid, const ReconOptions& o) {
+  const std::int64_t above = std::int64_t{o.solver.band_storage_above_mnodes} * 1000000;
+  return o.energy != SmoothnessEnergy::kTotalVariation && o.solver.band_voxels > 0 && o.uniform_flux &&
+         o.direction_filter_passes % 4 == 0 && grid.can_coarsen(3) && o.trim.enabled &&
+         o.trim.distance_voxels + 2.0 <= o.solver.band_voxels && grid.num_nodes() > above;
+}
+
 ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& options, Reporter& reporter) {
   options.validate();
   check_reconstructable(input, "input points");
@@ -383,7 +484,8 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   stats.voxel_size = grid.spacing * samples.frame.scale;
   reporter.info(format_message("recon: grid ", grid.dims.x(), "x", grid.dims.y(), "x", grid.dims.z(), ", voxel ",
                                grid.spacing, ", ", points.size(), " samples"));
-  ScalarGrid rhs = orientation_rhs(grid, samples, options);
+  const bool band_only = keeps_only_band(grid, unit_options);
+  StoredField rhs = orientation_rhs(grid, samples, options, band_only);
   reporter.end();
   stats.seconds_field = seconds_since(t_field);
 
@@ -391,13 +493,19 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   const auto t_solve = Clock::now();
   reporter.begin("solve", 0);
   ScalarGrid& f = result.function;
-  f.geometry = grid;  // values: the solves below size them (no grid-sized fill here)
+  f.geometry = grid;   // values: the solves below size them (no grid-sized fill here)
+  StoredField band_f;  // with band_only: f on the fine band (f.values stays empty)
   if (options.energy == SmoothnessEnergy::kTotalVariation) {
     solve_total_variation(grid, rhs.values, options, f, stats, reporter);
   } else {
-    solve_quadratic(grid, std::move(rhs.values), points, options, f, stats, reporter);
+    StoredField solution = solve_quadratic(grid, std::move(rhs), points, options, band_only, stats, reporter);
+    if (solution.nodes->is_all()) {
+      f.values = std::move(solution.values);
+    } else {
+      band_f = std::move(solution);
+    }
   }
-  for (double v : f.values) {
+  for (double v : band_f.nodes ? band_f.values : f.values) {
     if (!std::isfinite(v)) throw NumericalError("recon", "the implicit function is not finite");
   }
   reporter.end();
@@ -405,7 +513,7 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
 
   const auto t_mesh = Clock::now();
   reporter.begin("isosurface", 0);
-  extract_surface(f, points, options, result);
+  extract_surface(f, band_f, points, options, result);
   reporter.end();
   stats.seconds_mesh = seconds_since(t_mesh);
   if (result.mesh.faces.empty()) {

@@ -33,7 +33,9 @@ struct ReconStats {
 
 struct ReconResult {
   TriangleMesh mesh;
-  ScalarGrid function;  // the solved implicit function f
+  // The solved implicit function f on every node; its values stay empty when
+  // the run kept only the band's (keeps_only_band).
+  ScalarGrid function;
   ReconStats stats;
 };
 
@@ -53,5 +55,17 @@ inline constexpr int kMaxDomainNodes = 1 << 20;
 // The grid for the points' bounding box: margin, cubic cells, dims that
 // coarsen at least levels - 1 times (at most about kMaxDomainNodes).
 GridGeometry make_domain(const BoundingBox& box, const ReconOptions& options, int levels = 5);
+
+// Does a run on this grid keep no grid-sized array (recon.solver.
+// band_storage_above_mnodes)? That needs a banded solve of a quadratic
+// energy, the field near the samples, and trimming that removes every face
+// outside the band's cells (a face within trim.distance_voxels of a sample
+// lies in cells within distance_voxels + 2 nodes of its cell's corners).
+bool keeps_only_band(const GridGeometry& grid, const ReconOptions& options);
+
+// With keeps_only_band, the banded solve starts on the grid coarsened this
+// many times, solved whole: twice, and more while that grid has over 2^22
+// nodes.
+int band_only_start_level(const GridGeometry& grid);
 
 }  // namespace hos::recon

@@ -195,11 +195,12 @@ double ScreeningTerm::mean_row_sum() const {
   return num_nodes_ == 0 ? 0.0 : sum / static_cast<double>(num_nodes_);
 }
 
-void ScreeningTerm::add_target(double target, std::vector<double>& rhs) const {
-  const std::int64_t nx = geometry_.dims.x();
+void ScreeningTerm::add_target(double target, const ActiveNodes& nodes, double* rhs) const {
   const std::int64_t rows = static_cast<std::int64_t>(row_begin_.size()) - 1;
   for (std::int64_t row = 0; row < rows; ++row) {
-    add_row_sums(row, 0, static_cast<int>(nx), target, rhs.data() + row * nx);
+    if (row_begin_[row] == row_begin_[row + 1]) continue;
+    nodes.for_each_stored_run(
+        row, [&](int lo, int hi, std::int64_t base) { add_row_sums(row, lo, hi, target, rhs + base); });
   }
 }
 

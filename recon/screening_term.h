@@ -9,6 +9,7 @@
 #include <memory>
 #include <vector>
 
+#include "recon/active_nodes.h"
 #include "recon/grid.h"
 
 namespace hos::recon {
@@ -26,8 +27,9 @@ class ScreeningTerm {
   ScreeningTerm(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points, double weight);
   bool empty() const { return runs_.empty(); }
   double weight() const { return weight_; }
-  // Adds weight * target * S^T 1 (the target's share of the right-hand side).
-  void add_target(double target, std::vector<double>& rhs) const;
+  // Adds weight * target * S^T 1 (the target's share of the right-hand side)
+  // to rhs, in the layout of nodes (which must store every touched node).
+  void add_target(double target, const ActiveNodes& nodes, double* rhs) const;
   // Multiplies the weight by factor.
   void scale(double factor);
   // The term rediscretised on the coarsened grid from the same samples, with

@@ -95,10 +95,12 @@ void divergence_plane(const Eigen::Vector3i& d,
 }
 
 // The smoothed directions on the grid coarsened once, and the coarse density
-// that tells where opposite orientations cancel (density_scaled_field).
+// that tells where opposite orientations cancel (density_scaled_field), on
+// the stored nodes of `nodes` (every node, or those near the samples).
 struct CoarseDirections {
   GridGeometry coarse;
-  VectorGrid directions;
+  ActiveNodes nodes;
+  std::array<std::vector<double>, 3> directions;
   std::vector<double> density;
 
   // F at a fine node at x whose smoothed fine density is fine_density.
@@ -109,8 +111,10 @@ struct CoarseDirections {
     Eigen::Vector3d v = Eigen::Vector3d::Zero();
     double mass = 0.0;
     for_each_trilinear_corner(coarse, x, [&](int i, int j, int k, double w) {
-      const std::int64_t n = coarse.index(i, j, k);
-      for (int a = 0; a < 3; ++a) v[a] += w * directions.components[a][n];
+      const std::int64_t base = nodes.row_base(j, k, i);
+      if (base == ActiveNodes::kNotStored) return;  // zero: far from every sample
+      const std::int64_t n = base + i;
+      for (int a = 0; a < 3; ++a) v[a] += w * directions[a][n];
       mass += w * density[n];
     });
     const double len = v.norm();
@@ -120,6 +124,85 @@ struct CoarseDirections {
     return scale * v;
   }
 };
+
+// Splats value(p) * weight(p) trilinearly onto the stored nodes of `nodes`
+// (a sample's corners outside them add nothing).
+template <typename T, typename ValueFn>
+std::vector<T> splat_stored(const GridGeometry& geometry,
+                            const ActiveNodes& nodes,
+                            const std::vector<Eigen::Vector3f>& points,
+                            const std::vector<float>& weights,
+                            ValueFn&& value) {
+  std::vector<T> out;
+  assign_large(out, static_cast<std::size_t>(nodes.storage_size()));
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    const double w = (weights.empty() ? 1.0 : weights[p]) * value(p);
+    for_each_trilinear_corner(geometry, points[p].cast<double>(), [&](int i, int j, int k, double c) {
+      const std::int64_t base = nodes.row_base(j, k, i);
+      if (base != ActiveNodes::kNotStored) out[base + i] += static_cast<T>(w * c);
+    });
+  }
+  return out;
+}
+
+// box_filter on the stored nodes of `nodes`, nodes not stored counting as
+// zero: the same values as on the whole grid wherever the stored nodes reach
+// `passes` nodes beyond every nonzero value along each axis.
+template <typename T>
+void box_filter_stored(const GridGeometry& geometry, const ActiveNodes& nodes, std::vector<T>& values, int passes) {
+  if (passes <= 0) return;
+  if (nodes.is_all()) {
+    box_filter(geometry, values, passes);
+    return;
+  }
+  const std::vector<NodeSpan> spans = nodes.stored_spans();
+  const std::int64_t n = static_cast<std::int64_t>(spans.size());
+  const int nx = geometry.dims.x();
+  // Along x: every stored run is a line of its own.
+#pragma omp parallel
+  {
+    std::vector<T> a(nx), b(nx);
+#pragma omp for schedule(static)
+    for (std::int64_t s = 0; s < n; ++s) {
+      const NodeSpan& sp = spans[s];
+      const int len = sp.end - sp.begin;
+      std::copy(values.data() + sp.first, values.data() + sp.first + len, a.data());
+      for (int p = 0; p < passes; ++p) {
+        box_pass(a.data(), b.data(), len, 1);
+        a.swap(b);
+      }
+      std::copy(a.data(), a.data() + len, values.data() + sp.first);
+    }
+  }
+  // Along y, then z: one pass at a time over every stored node.
+  constexpr T third = T(1) / T(3);
+  for (int axis = 1; axis < 3; ++axis) {
+    for (int p = 0; p < passes; ++p) {
+      const std::vector<T> in(values);
+#pragma omp parallel
+      {
+        std::vector<T> lo(nx), hi(nx);
+#pragma omp for schedule(static)
+        for (std::int64_t s = 0; s < n; ++s) {
+          const NodeSpan& sp = spans[s];
+          const int dj = axis == 1, dk = axis == 2;
+          nodes.gather_row(in.data(), sp.j - dj, sp.k - dk, sp.begin, sp.end, lo.data());
+          nodes.gather_row(in.data(), sp.j + dj, sp.k + dk, sp.begin, sp.end, hi.data());
+          const T* c = in.data() + sp.first;
+          T* o = values.data() + sp.first;
+          for (int t = 0; t < sp.end - sp.begin; ++t) o[t] = (c[t] + lo[t] + hi[t]) * third;
+        }
+      }
+    }
+  }
+}
+
+// The value stored for node (i, j, k), zero if it is not stored.
+template <typename T>
+T stored_value(const ActiveNodes& nodes, const std::vector<T>& values, int i, int j, int k) {
+  const std::int64_t base = nodes.row_base(j, k, i);
+  return base == ActiveNodes::kNotStored ? T(0) : values[base + i];
+}
 
 }  // namespace
 
@@ -171,16 +254,24 @@ void use_density_magnitude(VectorGrid& field, const std::vector<double>& density
 
 namespace {
 
+// The directions on the grid coarsened once: on every node, or (near) on the
+// nodes within reach of the filter around the samples.
 CoarseDirections coarse_directions(const GridGeometry& geometry,
                                    const std::vector<Eigen::Vector3f>& points,
                                    const std::vector<Eigen::Vector3f>& normals,
                                    const std::vector<float>& weights,
-                                   int direction_passes) {
-  CoarseDirections c{geometry.coarsened(), {}, {}};
-  c.directions = splat_normals(c.coarse, points, normals, weights);
-  box_filter(c.directions, direction_passes / 4);
-  c.density = splat_density(c.coarse, points, weights);
-  box_filter(c.coarse, c.density, direction_passes / 4);
+                                   int direction_passes,
+                                   bool near) {
+  const GridGeometry coarse = geometry.coarsened();
+  const int passes = direction_passes / 4;
+  CoarseDirections c{coarse, near ? band_around_samples(coarse, points, passes) : ActiveNodes::all(coarse), {}, {}};
+  for (int a = 0; a < 3; ++a) {
+    c.directions[a] = splat_stored<double>(coarse, c.nodes, points, weights,
+                                           [&](std::size_t p) { return static_cast<double>(normals[p][a]); });
+    box_filter_stored(coarse, c.nodes, c.directions[a], passes);
+  }
+  c.density = splat_stored<double>(coarse, c.nodes, points, weights, [](std::size_t) { return 1.0; });
+  box_filter_stored(coarse, c.nodes, c.density, passes);
   return c;
 }
 
@@ -229,7 +320,7 @@ VectorGrid density_scaled_field(const GridGeometry& geometry,
     use_density_magnitude(field, density);
     return field;
   }
-  const CoarseDirections dirs = coarse_directions(geometry, points, normals, weights, direction_passes);
+  const CoarseDirections dirs = coarse_directions(geometry, points, normals, weights, direction_passes, false);
   VectorGrid field{geometry, {}};
   for (auto& c : field.components) assign_large(c, geometry.num_nodes());
   const Eigen::Vector3i d = geometry.dims;
@@ -299,7 +390,7 @@ ScalarGrid density_scaled_rhs(const GridGeometry& geometry,
   // grid-sized arrays that set hos-recon's peak memory.
   std::vector<float> density = splat_weights<float>(geometry, points, weights);
   box_filter(geometry, density, density_passes);
-  const CoarseDirections dirs = coarse_directions(geometry, points, normals, weights, direction_passes);
+  const CoarseDirections dirs = coarse_directions(geometry, points, normals, weights, direction_passes, false);
   const auto node_field = [&](int i, int j, int k) {
     return dirs.field_at(geometry.position(i, j, k), density[geometry.index(i, j, k)]);
   };
@@ -346,6 +437,64 @@ ScalarGrid density_scaled_rhs(const GridGeometry& geometry,
         if (k + 1 < d.z()) fill(k + 1);
         divergence_plane(d, factor, slot(k)[0].data(), slot(k)[1].data(), k > 0 ? slot(k - 1)[2].data() : nullptr,
                          k + 1 < d.z() ? slot(k + 1)[2].data() : nullptr, rhs.values.data() + k * plane);
+      }
+    }
+  }
+  return rhs;
+}
+
+StoredField density_scaled_rhs_near_samples(const GridGeometry& geometry,
+                                            const std::vector<Eigen::Vector3f>& points,
+                                            const std::vector<Eigen::Vector3f>& normals,
+                                            const std::vector<float>& weights,
+                                            int density_passes,
+                                            int direction_passes,
+                                            int filter_passes) {
+  // The filtered density reaches density_passes nodes beyond the samples'
+  // cell corners, F as far, -div F one node more.
+  StoredField rhs;
+  rhs.nodes = std::make_shared<const ActiveNodes>(band_around_samples(geometry, points, density_passes + 1));
+  const ActiveNodes& nodes = *rhs.nodes;
+  std::vector<float> density = splat_stored<float>(geometry, nodes, points, weights, [](std::size_t) { return 1.0; });
+  box_filter_stored(geometry, nodes, density, density_passes);
+  const CoarseDirections dirs = coarse_directions(geometry, points, normals, weights, direction_passes, true);
+  const auto node_field = [&](int i, int j, int k) {
+    return dirs.field_at(geometry.position(i, j, k), stored_value(nodes, density, i, j, k));
+  };
+  const double scale = normalization_scale(geometry, mean_norm_at_samples(geometry, points, node_field), filter_passes);
+
+  // -div of the scaled F as in density_scaled_rhs, on every stored node.
+  const double factor = -scale / (2.0 * geometry.spacing);
+  const Eigen::Vector3i d = geometry.dims;
+  assign_large(rhs.values, static_cast<std::size_t>(nodes.storage_size()));
+  const std::vector<NodeSpan> spans = nodes.stored_spans();
+#pragma omp parallel
+  {
+    std::vector<float> dens(d.x() + 2);
+    // F along row (j + dj, k + dk) for nodes lo <= i < hi, at f[i - lo].
+    std::array<std::vector<Eigen::Vector3d>, 5> f;
+    for (auto& row : f) row.resize(d.x() + 2);
+    const auto fill = [&](std::vector<Eigen::Vector3d>& out, int j, int k, int lo, int hi) {
+      nodes.gather_row(density.data(), j, k, lo, hi, dens.data());
+      for (int i = lo; i < hi; ++i) out[i - lo] = dirs.field_at(geometry.position(i, j, k), dens[i - lo]);
+    };
+#pragma omp for schedule(dynamic, 64)
+    for (std::int64_t s = 0; s < static_cast<std::int64_t>(spans.size()); ++s) {
+      const NodeSpan& sp = spans[s];
+      const int lo = std::max(0, sp.begin - 1), hi = std::min(d.x(), sp.end + 1);
+      fill(f[0], sp.j, sp.k, lo, hi);
+      const bool below_y = sp.j > 0, above_y = sp.j<d.y() - 1, below_z = sp.k> 0, above_z = sp.k < d.z() - 1;
+      if (below_y) fill(f[1], sp.j - 1, sp.k, sp.begin, sp.end);
+      if (above_y) fill(f[2], sp.j + 1, sp.k, sp.begin, sp.end);
+      if (below_z) fill(f[3], sp.j, sp.k - 1, sp.begin, sp.end);
+      if (above_z) fill(f[4], sp.j, sp.k + 1, sp.begin, sp.end);
+      for (int i = sp.begin; i < sp.end; ++i) {
+        const int t = i - sp.begin;
+        double v = 0.0;  // the sums and their order of divergence_plane
+        v += ((i < d.x() - 1 ? f[0][i + 1 - lo].x() : 0.0) - (i > 0 ? f[0][i - 1 - lo].x() : 0.0)) * factor;
+        v += ((above_y ? f[2][t].y() : 0.0) - (below_y ? f[1][t].y() : 0.0)) * factor;
+        v += ((above_z ? f[4][t].z() : 0.0) - (below_z ? f[3][t].z() : 0.0)) * factor;
+        rhs.values[sp.first + t] = v;
       }
     }
   }

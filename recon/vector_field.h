@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/types.h"
+#include "recon/active_nodes.h"
 #include "recon/grid.h"
 
 namespace hos::recon {
@@ -74,5 +75,17 @@ ScalarGrid density_scaled_rhs(const GridGeometry& geometry,
                               int density_passes,
                               int direction_passes,
                               int filter_passes);
+
+// density_scaled_rhs on the stored nodes of a band around the samples that
+// holds every nonzero value (nodes within density_passes + 1 of a sample's
+// cell), with the same values, and no grid-sized array: for grids too large
+// for one. Needs direction_passes % 4 == 0 and a grid that coarsens.
+StoredField density_scaled_rhs_near_samples(const GridGeometry& geometry,
+                                            const std::vector<Eigen::Vector3f>& points,
+                                            const std::vector<Eigen::Vector3f>& normals,
+                                            const std::vector<float>& weights,
+                                            int density_passes,
+                                            int direction_passes,
+                                            int filter_passes);
 
 }  // namespace hos::recon

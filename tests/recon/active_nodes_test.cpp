@@ -211,7 +211,7 @@ TEST(ActiveNodes, BandedTransfersMatchTheDenseOnesAndStayAdjoint) {
   std::vector<double> dense(fine.num_nodes(), 0.0), expected(band.storage_size()), stored(band.storage_size(), 0.0);
   prolongate_add(coarse, e_all, fine, dense);
   band.gather(dense.data(), expected.data());
-  prolongate_add_to_stored(coarse, e_all, band, stored.data());
+  prolongate_add_to_stored(coarse, ActiveNodes::all(coarse), e_all.data(), band, stored.data());
   for (std::int64_t i = 0; i < band.storage_size(); ++i) ASSERT_NEAR(stored[i], expected[i], 1e-12) << i;
 }
 

@@ -121,6 +121,31 @@ TEST(ReconstructSurface, BandedSolveMatchesTheFullSolveNearTheSamples) {
   expect_closed_surface(b.mesh, 2);
 }
 
+TEST(ReconstructSurface, BandOnlyStorageGivesTheWholeGridsSurface) {
+  const PointCloud points = synth::sample_sphere(60000, 1.0, 0.002, 8);
+  // Below the default threshold: grid-sized arrays. At this grid both runs
+  // solve the same bands (each under half of its level).
+  const ReconOptions whole = options_at(192);
+  ReconOptions band_only = whole;
+  band_only.solver.band_storage_above_mnodes = 0;
+  const ReconResult a = reconstruct_surface(points, whole, null_reporter());
+  const ReconResult b = reconstruct_surface(points, band_only, null_reporter());
+  ASSERT_FALSE(keeps_only_band(a.function.geometry, whole));
+  ASSERT_TRUE(keeps_only_band(b.function.geometry, band_only));
+  EXPECT_EQ(a.function.values.size(), static_cast<std::size_t>(a.function.geometry.num_nodes()));
+  EXPECT_TRUE(b.function.values.empty()) << "no grid-sized array is kept";
+  // The same field, solves and cells: the same mesh up to rounding.
+  ASSERT_EQ(a.mesh.num_vertices(), b.mesh.num_vertices());
+  ASSERT_EQ(a.mesh.num_faces(), b.mesh.num_faces());
+  EXPECT_NEAR(a.stats.isovalue, b.stats.isovalue, 1e-9);
+  double worst = 0.0;
+  for (std::size_t v = 0; v < a.mesh.vertices.size(); ++v) {
+    worst = std::max(worst, static_cast<double>((a.mesh.vertices[v] - b.mesh.vertices[v]).norm()));
+  }
+  EXPECT_LT(worst, 0.01 * a.stats.voxel_size);
+  for (std::size_t f = 0; f < a.mesh.faces.size(); ++f) ASSERT_EQ(a.mesh.faces[f], b.mesh.faces[f]) << f;
+}
+
 TEST(ReconstructSurface, TorusHasGenusOne) {
   const PointCloud points = synth::sample_torus(40000, 1.0, 0.35, 0.002, 3);
   const ReconResult r = reconstruct_surface(points, options_at(64), null_reporter());

@@ -109,5 +109,44 @@ TEST(VectorField, RhsEqualsMaterialisedFieldForSphereScannedFromSixDirections) {
   EXPECT_GT(at(centre + Eigen::Vector3d(2.2 + 0.25, 0, 0)), 0.0);
 }
 
+TEST(VectorField, RhsNearTheSamplesEqualsTheWholeGridsAndHoldsEveryNonzeroValue) {
+  // test_grid's extent at a third of its spacing: the band leaves out most nodes.
+  GridGeometry g;
+  g.dims = Eigen::Vector3i(159, 151, 183);
+  g.spacing = 0.1 / 3.0;
+  g.origin = Eigen::Vector3d(-2.7, -2.5, -3.1);
+  PointCloud sphere = synth::sample_sphere(20000, 2.2, 0.01, 3);
+  synth::coarsen_to_axis_directions(sphere);
+  for (auto& p : sphere.positions) p += Eigen::Vector3f(-0.1f, 0.15f, -0.05f);
+  std::vector<float> weights(sphere.size());
+  for (std::size_t p = 0; p < weights.size(); ++p) weights[p] = 0.5f + 0.5f * static_cast<float>(p % 7) / 7.0f;
+  const ScalarGrid dense =
+      density_scaled_rhs(g, sphere.positions, sphere.normals, weights, kDensityPasses, 12, kFilterPasses);
+  const StoredField near =
+      density_scaled_rhs_near_samples(g, sphere.positions, sphere.normals, weights, kDensityPasses, 12, kFilterPasses);
+  ASSERT_FALSE(near.nodes->is_all());
+  ASSERT_LT(near.nodes->storage_size(), g.num_nodes() / 2);
+  // Every node: the stored value, or zero where the layout stores none.
+  std::int64_t nonzero = 0, stored = 0;
+  double max_abs = 0.0, max_diff = 0.0;
+  for (int k = 0; k < g.dims.z(); ++k) {
+    for (int j = 0; j < g.dims.y(); ++j) {
+      for (int i = 0; i < g.dims.x(); ++i) {
+        const double want = dense.values[g.index(i, j, k)];
+        const std::int64_t base = near.nodes->row_base(j, k, i);
+        const double got = base == ActiveNodes::kNotStored ? 0.0 : near.values[base + i];
+        stored += base != ActiveNodes::kNotStored;
+        nonzero += want != 0.0;
+        max_abs = std::max(max_abs, std::abs(want));
+        max_diff = std::max(max_diff, std::abs(got - want));
+      }
+    }
+  }
+  EXPECT_EQ(stored, near.nodes->storage_size());
+  EXPECT_GT(nonzero, 1000);
+  // The same arithmetic in the same order: equal to the last bit.
+  EXPECT_EQ(max_diff, 0.0) << "largest |rhs| " << max_abs;
+}
+
 }  // namespace
 }  // namespace hos::recon
