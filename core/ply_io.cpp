@@ -132,6 +132,9 @@ PlyHeader parse_header(const std::string& file, std::string_view data) {
       PlyElement element;
       long long count = -1;
       if (!(s >> element.name >> count) || count < 0) throw bad("malformed element line");
+      for (const PlyElement& other : header.elements) {
+        if (other.name == element.name) throw bad("element '" + element.name + "' appears twice");
+      }
       element.count = static_cast<std::size_t>(count);
       header.elements.push_back(std::move(element));
     } else if (keyword == "property") {
@@ -148,6 +151,13 @@ PlyHeader parse_header(const std::string& file, std::string_view data) {
       } else {
         property.type = parse_type(type);
         if (!(s >> property.name)) throw bad("property without a name");
+      }
+      // A repeated name would fill one attribute twice (and leave its
+      // length inconsistent): the file cannot be read unambiguously.
+      for (const PlyProperty& other : header.elements.back().properties) {
+        if (other.name == property.name) {
+          throw bad("property '" + property.name + "' appears twice in element '" + header.elements.back().name + "'");
+        }
       }
       header.elements.back().properties.push_back(property);
     } else if (keyword == "end_header") {

@@ -102,6 +102,16 @@ TEST(PlyIo, BadInputsAreInputErrorsNamingTheFile) {
       << "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000000\nproperty float x\n"
          "property float y\nproperty float z\nend_header\n0123456789ab";
   EXPECT_NE(error_of(dir / "huge.ply").find("truncated"), std::string::npos);
+
+  // A property named twice (a fuzzed header had nx twice and no ny) would fill
+  // one attribute twice; an element named twice is as ambiguous.
+  std::ofstream(dir / "twice.ply") << "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                                      "property float z\nproperty float nx\nproperty float nx\nproperty float nz\n"
+                                      "end_header\n1 2 3 0 0 1\n";
+  EXPECT_NE(error_of(dir / "twice.ply").find("'nx' appears twice"), std::string::npos);
+  std::ofstream(dir / "two_elements.ply") << "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"
+                                             "element vertex 1\nproperty float y\nend_header\n1\n2\n";
+  EXPECT_NE(error_of(dir / "two_elements.ply").find("'vertex' appears twice"), std::string::npos);
 }
 
 TEST(PlyIo, NonFiniteCoordinatesAreSkippedAndCounted) {
