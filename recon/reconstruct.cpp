@@ -181,7 +181,7 @@ LevelSolution solve_with_bands(EnergyOperator& op,
                                "% of the ", g.dims.x(), "x", g.dims.y(), "x", g.dims.z(), " grid)"));
   // The band's right-hand side in its compact layout, then the finer one is
   // freed before any solver array exists (the peak memory).
-  std::vector<double> band_rhs(band->storage_size()), band_x(band->storage_size());
+  std::vector<double> band_rhs(band->storage_size());
   band->gather_from(*rhs.nodes, rhs.values.data(), band_rhs.data());
   LevelSolution coarse_solution;
   {
@@ -195,8 +195,11 @@ LevelSolution solve_with_bands(EnergyOperator& op,
   // coarse band's stored nodes reach every coarse node this reads). The
   // grid-sized solution is made after the band's solver arrays are freed.
   auto t_transfer = Clock::now();
+  std::vector<double> band_x(band->storage_size());
   const StoredField& xc = coarse_solution.x;
   prolongate_add_to_stored(g.coarsened(), *xc.nodes, xc.values.data(), *band, band_x.data());
+  // Keeping only bands, the coarse solution is not needed any more.
+  if (band_only) coarse_solution = LevelSolution{};
   op.set_active(band);
   reporter.debug(format_message("recon: band start ", seconds_since(t_transfer), " s"));
   solve(op, band_rhs, band_x);
@@ -431,6 +434,13 @@ GridGeometry make_domain(const BoundingBox& box, const ReconOptions& options, in
   const Eigen::Vector3d side = extent.array() + 2.0 * options.margin * longest;
   GridGeometry g;
   g.spacing = options.voxel_size > 0.0 ? options.voxel_size : side.maxCoeff() / options.resolution;
+  if (levels <= 0) {
+    levels = 5;
+    for (double longest_nodes = side.maxCoeff() / g.spacing; longest_nodes > 600.0 && levels < 12;
+         longest_nodes /= 2.0) {
+      ++levels;
+    }
+  }
   for (int a = 0; a < 3; ++a) {
     // At least a few nodes across every axis, also for flat point sets; at
     // most kMaxDomainNodes, counted in double so that a tiny voxel size

@@ -53,8 +53,11 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
 inline constexpr int kMaxDomainNodes = 1 << 20;
 
 // The grid for the points' bounding box: margin, cubic cells, dims that
-// coarsen at least levels - 1 times (at most about kMaxDomainNodes).
-GridGeometry make_domain(const BoundingBox& box, const ReconOptions& options, int levels = 5);
+// coarsen at least levels - 1 times (at most about kMaxDomainNodes). levels 0:
+// 5, and one more per doubling of the longest axis beyond 600 nodes, so that
+// the whole grid a banded solve starts on (band_only_start_level) still has
+// its multigrid levels.
+GridGeometry make_domain(const BoundingBox& box, const ReconOptions& options, int levels = 0);
 
 // Does a run on this grid keep no grid-sized array (recon.solver.
 // band_storage_above_mnodes)? That needs a banded solve of a quadratic

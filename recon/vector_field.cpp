@@ -463,37 +463,46 @@ StoredField density_scaled_rhs_near_samples(const GridGeometry& geometry,
   };
   const double scale = normalization_scale(geometry, mean_norm_at_samples(geometry, points, node_field), filter_passes);
 
-  // -div of the scaled F as in density_scaled_rhs, on every stored node.
-  const double factor = -scale / (2.0 * geometry.spacing);
+  // F at every stored node (zero at the others: the density is), then -div
+  // of the scaled F as in density_scaled_rhs.
   const Eigen::Vector3i d = geometry.dims;
-  assign_large(rhs.values, static_cast<std::size_t>(nodes.storage_size()));
   const std::vector<NodeSpan> spans = nodes.stored_spans();
+  const auto num_spans = static_cast<std::int64_t>(spans.size());
+  std::array<std::vector<double>, 3> f;
+  for (auto& c : f) assign_large(c, static_cast<std::size_t>(nodes.storage_size()));
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::int64_t s = 0; s < num_spans; ++s) {
+    const NodeSpan& sp = spans[s];
+    for (int i = sp.begin; i < sp.end; ++i) {
+      const std::int64_t n = sp.first + (i - sp.begin);
+      const Eigen::Vector3d v = dirs.field_at(geometry.position(i, sp.j, sp.k), density[n]);
+      for (int a = 0; a < 3; ++a) f[a][n] = v[a];
+    }
+  }
+  density = std::vector<float>{};
+  const double factor = -scale / (2.0 * geometry.spacing);
+  assign_large(rhs.values, static_cast<std::size_t>(nodes.storage_size()));
 #pragma omp parallel
   {
-    std::vector<float> dens(d.x() + 2);
-    // F along row (j + dj, k + dk) for nodes lo <= i < hi, at f[i - lo].
-    std::array<std::vector<Eigen::Vector3d>, 5> f;
-    for (auto& row : f) row.resize(d.x() + 2);
-    const auto fill = [&](std::vector<Eigen::Vector3d>& out, int j, int k, int lo, int hi) {
-      nodes.gather_row(density.data(), j, k, lo, hi, dens.data());
-      for (int i = lo; i < hi; ++i) out[i - lo] = dirs.field_at(geometry.position(i, j, k), dens[i - lo]);
-    };
+    // Rows of F_y below and above, of F_z below and above.
+    std::array<std::vector<double>, 4> rows;
+    for (auto& row : rows) row.resize(d.x());
 #pragma omp for schedule(dynamic, 64)
-    for (std::int64_t s = 0; s < static_cast<std::int64_t>(spans.size()); ++s) {
+    for (std::int64_t s = 0; s < num_spans; ++s) {
       const NodeSpan& sp = spans[s];
-      const int lo = std::max(0, sp.begin - 1), hi = std::min(d.x(), sp.end + 1);
-      fill(f[0], sp.j, sp.k, lo, hi);
-      const bool below_y = sp.j > 0, above_y = sp.j<d.y() - 1, below_z = sp.k> 0, above_z = sp.k < d.z() - 1;
-      if (below_y) fill(f[1], sp.j - 1, sp.k, sp.begin, sp.end);
-      if (above_y) fill(f[2], sp.j + 1, sp.k, sp.begin, sp.end);
-      if (below_z) fill(f[3], sp.j, sp.k - 1, sp.begin, sp.end);
-      if (above_z) fill(f[4], sp.j, sp.k + 1, sp.begin, sp.end);
-      for (int i = sp.begin; i < sp.end; ++i) {
-        const int t = i - sp.begin;
-        double v = 0.0;  // the sums and their order of divergence_plane
-        v += ((i < d.x() - 1 ? f[0][i + 1 - lo].x() : 0.0) - (i > 0 ? f[0][i - 1 - lo].x() : 0.0)) * factor;
-        v += ((above_y ? f[2][t].y() : 0.0) - (below_y ? f[1][t].y() : 0.0)) * factor;
-        v += ((above_z ? f[4][t].z() : 0.0) - (below_z ? f[3][t].z() : 0.0)) * factor;
+      const int len = sp.end - sp.begin;
+      nodes.gather_row(f[1].data(), sp.j - 1, sp.k, sp.begin, sp.end, rows[0].data());
+      nodes.gather_row(f[1].data(), sp.j + 1, sp.k, sp.begin, sp.end, rows[1].data());
+      nodes.gather_row(f[2].data(), sp.j, sp.k - 1, sp.begin, sp.end, rows[2].data());
+      nodes.gather_row(f[2].data(), sp.j, sp.k + 1, sp.begin, sp.end, rows[3].data());
+      const double* fx = f[0].data() + sp.first;
+      for (int t = 0; t < len; ++t) {
+        // The sums and their order of divergence_plane; a stored run ends
+        // where F is zero, so the x neighbours beyond it add zero.
+        double v = 0.0;
+        v += ((t + 1 < len ? fx[t + 1] : 0.0) - (t > 0 ? fx[t - 1] : 0.0)) * factor;
+        v += (rows[1][t] - rows[0][t]) * factor;
+        v += (rows[3][t] - rows[2][t]) * factor;
         rhs.values[sp.first + t] = v;
       }
     }
