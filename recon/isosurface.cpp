@@ -540,6 +540,7 @@ class SlabSweep {
     for (auto& p : planes_) {
       p.values.assign(std::size_t(px_) * py_, 0.0);
       p.active.assign(std::size_t(px_) * py_, source_.band ? 0 : 1);
+      p.row_active.assign(py_, source_.band ? 0 : 1);
     }
     for (auto& s : slabs_) s.index.assign(std::size_t(3) * (d_.x() + 2) * (d_.y() + 2), -1);
   }
@@ -557,7 +558,13 @@ class SlabSweep {
     const double* p1 = plane(z + 1);
     const std::uint8_t* a0 = active_plane(z);
     const std::uint8_t* a1 = active_plane(z + 1);
+    const std::uint8_t* rows_in_use = load(z).row_active.data();
     for (int y = -1; y <= d_.y(); ++y) {
+      if (!rows_in_use[y + 2]) {  // no active node: no crossing starts in this row
+        std::fill(s.index.begin() + at, s.index.begin() + at + std::size_t(3) * (d_.x() + 2), -1);
+        at += std::size_t(3) * (d_.x() + 2);
+        continue;
+      }
       const double* row = p0 + std::size_t(y + 2) * px_ + 2;
       const double* above = p1 + std::size_t(y + 2) * px_ + 2;
       const std::uint8_t* act = a0 + std::size_t(y + 2) * px_ + 2;
@@ -582,7 +589,9 @@ class SlabSweep {
   // (numbered by index_slab just before).
   void write_slab(int z, TriangleMesh& mesh) {
     const GridGeometry& g = g_;
+    const std::uint8_t* rows_in_use = load(z).row_active.data();
     for (int y = -1; y <= d_.y(); ++y) {
+      if (!rows_in_use[y + 2]) continue;
       for (int x = -1; x <= d_.x(); ++x) {
         for (int a = 0; a < 3; ++a) {
           const int v = vertex(x, y, z, a);
@@ -608,7 +617,9 @@ class SlabSweep {
     std::array<int, 12> vertex{};
     const std::array<const double*, 2> planes = {plane(k), plane(k + 1)};
     const std::array<const std::uint8_t*, 2> actives = {active_plane(k), active_plane(k + 1)};
+    const std::array<const std::uint8_t*, 2> rows_in_use = {load(k).row_active.data(), load(k + 1).row_active.data()};
     for (int y = -1; y < d_.y(); ++y) {
+      if (!(rows_in_use[0][y + 2] && rows_in_use[0][y + 3] && rows_in_use[1][y + 2] && rows_in_use[1][y + 3])) continue;
       std::array<const double*, 4> rows;  // corners' rows by (y bit, z bit)
       std::array<const std::uint8_t*, 4> active_rows;
       for (int c = 0; c < 4; ++c) {
@@ -639,8 +650,9 @@ class SlabSweep {
  private:
   struct Plane {
     int z = std::numeric_limits<int>::min();
-    std::vector<double> values;        // nodes -2 .. dims, x fastest
-    std::vector<std::uint8_t> active;  // the same nodes: may the node be used?
+    std::vector<double> values;            // nodes -2 .. dims, x fastest
+    std::vector<std::uint8_t> active;      // the same nodes: may the node be used?
+    std::vector<std::uint8_t> row_active;  // per row y + 2: has it an active node?
   };
   struct Slab {
     int z = std::numeric_limits<int>::min();
@@ -652,7 +664,10 @@ class SlabSweep {
     if (p.z == z) return p;
     p.z = z;
     std::fill(p.values.begin(), p.values.end(), 0.0);
-    if (source_.band) std::fill(p.active.begin(), p.active.end(), 0);
+    if (source_.band) {
+      std::fill(p.active.begin(), p.active.end(), 0);
+      std::fill(p.row_active.begin(), p.row_active.end(), 0);
+    }
     if (z < 0 || z >= d_.z()) return p;
     if (!source_.band) {
       for (int y = 0; y < d_.y(); ++y) {
@@ -668,6 +683,7 @@ class SlabSweep {
     const RowRuns& set = band.active_set();
     for (int y = 0; y < d_.y(); ++y) {
       const std::int64_t row = std::int64_t{z} * d_.y() + y;
+      p.row_active[y + 2] = set.row_begin[row] < set.row_begin[row + 1];
       for (std::int64_t r = set.row_begin[row]; r < set.row_begin[row + 1]; ++r) {
         std::fill(&p.active[std::size_t(y + 2) * px_ + 2 + set.runs[r].begin],
                   &p.active[std::size_t(y + 2) * px_ + 2 + set.runs[r].end], 1);

@@ -178,7 +178,8 @@ LevelSolution solve_with_bands(EnergyOperator& op,
     return {StoredField{std::make_shared<const ActiveNodes>(ActiveNodes::all(g)), std::move(x)}, 0};
   }
   reporter.info(format_message("recon: band of ", band->count(), " nodes (", 100.0 * band->count() / g.num_nodes(),
-                               "% of the ", g.dims.x(), "x", g.dims.y(), "x", g.dims.z(), " grid)"));
+                               "% of the ", g.dims.x(), "x", g.dims.y(), "x", g.dims.z(), " grid), ",
+                               band->storage_size(), " stored"));
   // The band's right-hand side in its compact layout, then the finer one is
   // freed before any solver array exists (the peak memory).
   std::vector<double> band_rhs(band->storage_size());
