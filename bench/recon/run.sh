@@ -9,7 +9,9 @@
 # the ratio of the medians per input.
 # COLMAP runs with PoissonMeshing.trim 0: its default density trim (10)
 # removed every face of these inputs; hos-recon trims by distance instead.
-#   bench/recon/run.sh [--large] [--data DIR] [--repeat N]
+#   bench/recon/run.sh [--large | --huge] [--data DIR] [--repeat N]
+# --large adds grid 512 against depth 9; --huge also grid 1024 against depth 10.
+# --inputs "sphere6 bunny" keeps only those inputs (default: all).
 # DIR holds stanford_bunny/ (scored against its reference surface) and,
 # optionally, stanford_dragon_stand/ (no reference: time and memory only).
 set -euo pipefail
@@ -18,12 +20,15 @@ bin="${HOS_BUILD_DIR:-$root/build}/bin"
 data=""
 pairs=("256 8")
 repeat=3
+only=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --large) pairs=("256 8" "512 9"); shift ;;
+    --huge) pairs=("256 8" "512 9" "1024 10"); shift ;;
     --data) data="$2"; shift 2 ;;
     --repeat) repeat="$2"; shift 2 ;;
-    *) echo "usage: $0 [--large] [--data DIR] [--repeat N]" >&2; exit 2 ;;
+    --inputs) only="$2"; shift 2 ;;
+    *) echo "usage: $0 [--large | --huge] [--data DIR] [--repeat N] [--inputs NAMES]" >&2; exit 2 ;;
   esac
 done
 work="$(mktemp -d)"
@@ -76,6 +81,7 @@ echo "| input | method | resolution | time (s), median (runs) | CPU (s), median 
 echo "|---|---|---|---|---|---|---|---|---|"
 ratios=()
 for name in "${inputs[@]}"; do
+  if [ -n "$only" ] && [[ " $only " != *" $name "* ]]; then continue; fi
   for pair in "${pairs[@]}"; do
     set -- $pair
     res=$1 depth=$2
