@@ -14,14 +14,15 @@ namespace {
 
 // a . b over the active nodes of op (the vectors are zero elsewhere, or, for
 // the solution, fixed there).
-double dot(const EnergyOperator& op, const double* a, const double* b) {
+template <typename A, typename B>
+double dot(const EnergyOperator& op, const A* a, const B* b) {
   const std::vector<NodeSpan>& spans = op.active().spans();
   const std::int64_t n = static_cast<std::int64_t>(spans.size());
   double s = 0.0;
 #pragma omp parallel for reduction(+ : s) schedule(static) if (worth_threads(op.active().count()))
   for (std::int64_t q = 0; q < n; ++q) {
     const std::int64_t first = spans[q].first, last = first + (spans[q].end - spans[q].begin);
-    for (std::int64_t i = first; i < last; ++i) s += a[i] * b[i];
+    for (std::int64_t i = first; i < last; ++i) s += static_cast<double>(a[i]) * static_cast<double>(b[i]);
   }
   return s;
 }
@@ -127,19 +128,22 @@ void MultigridPreconditioner::v_cycle(int level) const {
   smooth(l, smoothing_steps_, false);
 }
 
-void MultigridPreconditioner::apply(const double* r, double* z) const {
+const float* MultigridPreconditioner::apply(const double* r) const {
   const Level& l = levels_.front();
   for_each_active_range(l.op.active(), [&](std::int64_t first, std::int64_t last) {
     for (std::int64_t i = first; i < last; ++i) l.b[i] = static_cast<float>(r[i]);
   });
   v_cycle(0);
-  for_each_active_range(l.op.active(), [&](std::int64_t first, std::int64_t last) {
-    for (std::int64_t i = first; i < last; ++i) z[i] = l.x[i];
-  });
+  return l.x.data();
 }
 
-SolveReport solve_linear_system(const EnergyOperator& op,
+namespace {
+
+// solve_linear_system; owned_b, if not null, is b and is freed after the
+// first residual.
+SolveReport conjugate_gradients(const EnergyOperator& op,
                                 const std::vector<double>& b,
+                                std::vector<double>* owned_b,
                                 std::vector<double>& x,
                                 const SolverOptions& options,
                                 Reporter& reporter) {
@@ -157,23 +161,31 @@ SolveReport solve_linear_system(const EnergyOperator& op,
   x.resize(n, 0.0);
   const MultigridPreconditioner multigrid(op, options.multigrid ? options.max_levels : 1, options.smoothing_steps);
   report.levels = multigrid.num_levels();
-  ZeroedArray<double> inv_l1;
+  ZeroedArray<double> inv_l1, z_jacobi;
   if (!options.multigrid) {
     inv_l1 = ZeroedArray<double>(n);
+    z_jacobi = ZeroedArray<double>(n);
     op.l1_diagonals(inv_l1.data());
     for_each_active_range(op.active(), [&](std::int64_t first, std::int64_t last) {
       for (std::int64_t i = first; i < last; ++i) inv_l1[i] = 1.0 / inv_l1[i];
     });
   }
   const auto for_active = [&](auto&& fn) { for_each_active_range(op.active(), fn); };
-  const auto precondition = [&](const double* r, double* z) {
+  // z = M^-1 r: the V-cycle's own single-precision result, or l1-Jacobi's in
+  // double; both are read only through z_at.
+  const float* z_multigrid = nullptr;
+  const auto precondition = [&](const double* r) {
     if (options.multigrid) {
-      multigrid.apply(r, z);
+      z_multigrid = multigrid.apply(r);
     } else {
       for_active([&](std::int64_t first, std::int64_t last) {
-        for (std::int64_t i = first; i < last; ++i) z[i] = r[i] * inv_l1[i];
+        for (std::int64_t i = first; i < last; ++i) z_jacobi[i] = r[i] * inv_l1[i];
       });
     }
+  };
+  const auto z_at = [&](std::int64_t i) { return options.multigrid ? double{z_multigrid[i]} : z_jacobi[i]; };
+  const auto dot_rz = [&](const double* r) {
+    return options.multigrid ? dot(op, r, z_multigrid) : dot(op, r, z_jacobi.data());
   };
 
   // The residual is relative to |b| over the rows being solved.
@@ -187,14 +199,14 @@ SolveReport solve_linear_system(const EnergyOperator& op,
   }
   // Only the active nodes of these are written (and p, zero elsewhere, read
   // around them).
-  const ZeroedArray<double> r_values(n), z_values(n), p_values(n), ap_values(n);
+  const ZeroedArray<double> r_values(n), p_values(n), ap_values(n);
   double* const r = r_values.data();
-  double* const z = z_values.data();
   double* const p = p_values.data();
   double* const ap = ap_values.data();
   report.seconds_setup = seconds_since(t_setup);
   const auto t_iterations = Clock::now();
   op.residual(b.data(), x.data(), r);
+  if (owned_b) *owned_b = std::vector<double>{};
   if (b_norm == 0.0) {
     // A band whose rows have no data of their own: only the values held
     // outside drive it, so the first residual sets the scale.
@@ -205,9 +217,11 @@ SolveReport solve_linear_system(const EnergyOperator& op,
       return report;
     }
   }
-  precondition(r, z);
-  for_active([&](std::int64_t first, std::int64_t last) { std::copy(z + first, z + last, p + first); });
-  double rz = dot(op, r, z);
+  precondition(r);
+  for_active([&](std::int64_t first, std::int64_t last) {
+    for (std::int64_t i = first; i < last; ++i) p[i] = z_at(i);
+  });
+  double rz = dot_rz(r);
   report.relative_residual = std::sqrt(dot(op, r, r)) / b_norm;
   for (int it = 0; it < options.max_iterations && report.relative_residual > options.tolerance; ++it) {
     reporter.throw_if_cancelled();
@@ -230,18 +244,36 @@ SolveReport solve_linear_system(const EnergyOperator& op,
     if (report.relative_residual <= options.tolerance) break;
     // Flexible (Polak-Ribiere) beta = r' (z_new - z_old) / r_old' z_old: it
     // keeps CG convergent with the slightly nonlinear single-precision V-cycle.
-    const double r_z_old = dot(op, r, z);
-    precondition(r, z);
-    const double rz_new = dot(op, r, z);
+    const double r_z_old = dot_rz(r);
+    precondition(r);
+    const double rz_new = dot_rz(r);
     const double beta = (rz_new - r_z_old) / rz;
     rz = rz_new;
     for_active([&](std::int64_t first, std::int64_t last) {
-      for (std::int64_t i = first; i < last; ++i) p[i] = z[i] + beta * p[i];
+      for (std::int64_t i = first; i < last; ++i) p[i] = z_at(i) + beta * p[i];
     });
   }
   report.converged = report.relative_residual <= options.tolerance;
   report.seconds_iterations = seconds_since(t_iterations);
   return report;
+}
+
+}  // namespace
+
+SolveReport solve_linear_system(const EnergyOperator& op,
+                                const std::vector<double>& b,
+                                std::vector<double>& x,
+                                const SolverOptions& options,
+                                Reporter& reporter) {
+  return conjugate_gradients(op, b, nullptr, x, options, reporter);
+}
+
+SolveReport solve_linear_system(const EnergyOperator& op,
+                                std::vector<double>&& b,
+                                std::vector<double>& x,
+                                const SolverOptions& options,
+                                Reporter& reporter) {
+  return conjugate_gradients(op, b, &b, x, options, reporter);
 }
 
 }  // namespace hos::recon

@@ -45,9 +45,10 @@ class MultigridPreconditioner {
   MultigridPreconditioner(const EnergyOperator& fine, int max_levels, int smoothing_steps);
   int num_levels() const { return static_cast<int>(levels_.size()); }
   // z = M^-1 r by one V-cycle from a zero initial guess, on the active nodes
-  // of the operator (arrays in the layout of its active nodes; z is not
-  // written elsewhere).
-  void apply(const double* r, double* z) const;
+  // of the operator (arrays in the layout of its active nodes). z is the
+  // finest level's own array, valid until the next apply: the V-cycle's
+  // result is single precision, so a copy in double would only add memory.
+  const float* apply(const double* r) const;
 
  private:
   struct Level {
@@ -71,6 +72,13 @@ class MultigridPreconditioner {
 // NaN or Inf appears. Logs the residual every few iterations at debug level.
 SolveReport solve_linear_system(const EnergyOperator& op,
                                 const std::vector<double>& b,
+                                std::vector<double>& x,
+                                const SolverOptions& options,
+                                Reporter& reporter);
+// The same, freeing b once the first residual is computed (CG does not read
+// it again): on a large band one array fewer at the peak.
+SolveReport solve_linear_system(const EnergyOperator& op,
+                                std::vector<double>&& b,
                                 std::vector<double>& x,
                                 const SolverOptions& options,
                                 Reporter& reporter);

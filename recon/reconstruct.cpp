@@ -114,12 +114,12 @@ double coarse_isovalue(const EnergyOperator& fine,
     current = &r;
     op = op.coarsened();
   }
-  const std::vector<double> coarse_rhs =
+  std::vector<double> coarse_rhs =
       current == &r ? dense_values(op.geometry(), std::move(r)) : dense_values(op.geometry(), StoredField(rhs));
   std::vector<double> x;
   SolverOptions so = solver;
   so.tolerance = std::max(solver.tolerance, 1e-4);
-  const SolveReport report = solve_linear_system(op, coarse_rhs, x, so, reporter);
+  const SolveReport report = solve_linear_system(op, std::move(coarse_rhs), x, so, reporter);
   reporter.debug(format_message("recon: coarse unscreened solve, ", report.iterations, " CG iterations, ",
                                 report.seconds_setup + report.seconds_iterations, " s"));
   ScalarGrid coarse(op.geometry());
@@ -156,7 +156,7 @@ struct LevelSolution {
 // Otherwise x is prolongated and the whole grid solved. The solution is
 // returned on every node, or with band_only on the band's stored nodes only
 // (active: solved; halo: the coarse solution). solve(op, b, x) runs one
-// linear solve.
+// linear solve and may free b (moved in).
 template <typename SolveFn>
 LevelSolution solve_with_bands(EnergyOperator& op,
                                StoredField rhs,
@@ -173,8 +173,7 @@ LevelSolution solve_with_bands(EnergyOperator& op,
   reporter.debug(format_message("recon: band construction ", seconds_since(t_band), " s"));
   if (!band) {
     prolongate_levels(g, x_level, x);
-    const std::vector<double> b = dense_values(g, std::move(rhs));
-    solve(op, b, x);
+    solve(op, dense_values(g, std::move(rhs)), x);
     return {StoredField{std::make_shared<const ActiveNodes>(ActiveNodes::all(g)), std::move(x)}, 0};
   }
   reporter.info(format_message("recon: band of ", band->count(), " nodes (", 100.0 * band->count() / g.num_nodes(),
@@ -203,8 +202,7 @@ LevelSolution solve_with_bands(EnergyOperator& op,
   if (band_only) coarse_solution = LevelSolution{};
   op.set_active(band);
   reporter.debug(format_message("recon: band start ", seconds_since(t_transfer), " s"));
-  solve(op, band_rhs, band_x);
-  band_rhs = std::vector<double>{};
+  solve(op, std::move(band_rhs), band_x);
   if (band_only) return {StoredField{band, std::move(band_x)}, band->count()};
   t_transfer = Clock::now();
   std::vector<double> dense = dense_values(g.coarsened(), std::move(coarse_solution.x));
@@ -267,14 +265,16 @@ int start_level(const GridGeometry& grid, const ReconOptions& options, bool band
   return band_only ? band_only_start_level(grid) : 2;
 }
 
-// One linear solve, its figures added to stats and reported.
+// One linear solve (b const, or moved in to be freed early), its figures
+// added to stats and reported.
+template <typename B>
 void solve_and_report(const EnergyOperator& op,
-                      const std::vector<double>& b,
+                      B&& b,
                       std::vector<double>& x,
                       const SolverOptions& so,
                       ReconStats& stats,
                       Reporter& reporter) {
-  const SolveReport report = solve_linear_system(op, b, x, so, reporter);
+  const SolveReport report = solve_linear_system(op, std::forward<B>(b), x, so, reporter);
   stats.solver_iterations += report.iterations;
   stats.multigrid_levels = report.levels;
   stats.relative_residual = report.relative_residual;
@@ -364,8 +364,8 @@ StoredField solve_quadratic(const GridGeometry& grid,
   }
   LevelSolution f =
       solve_with_bands(op, std::move(rhs), points, solver.band_voxels, band_only, x_level, std::move(x), reporter,
-                       [&](const EnergyOperator& o, const std::vector<double>& b, std::vector<double>& xs) {
-                         solve_and_report(o, b, xs, solver, stats, reporter);
+                       [&](const EnergyOperator& o, std::vector<double>&& b, std::vector<double>& xs) {
+                         solve_and_report(o, std::move(b), xs, solver, stats, reporter);
                        });
   stats.band_nodes = f.band_nodes;
   return std::move(f.x);
