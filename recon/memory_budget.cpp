@@ -127,13 +127,14 @@ std::size_t estimate_peak_bytes(const GridGeometry& grid,
   if (options.energy == SmoothnessEnergy::kTotalVariation) per_node = kBytesPerNodeTotalVariation;
   const double whole = common + per_node * nodes;
   if (!band_possible(grid, options)) return saturated_bytes(whole);
-  const double stored = static_cast<double>(band_stored_nodes_bound(grid, points, options.solver.band_voxels));
   if (keeps_only_band(grid, options)) {
+    const double stored = static_cast<double>(band_stored_nodes_bound(grid, points, options.solver.band_only_voxels));
     GridGeometry start = grid;
     for (int l = band_only_start_level(grid); l > 0; --l) start = start.coarsened();
     const double start_bytes = kBytesPerNodeScreened * static_cast<double>(start.num_nodes());
     return saturated_bytes(common + start_bytes + kBytesPerBoundNodeBandOnly * stored);
   }
+  const double stored = static_cast<double>(band_stored_nodes_bound(grid, points, options.solver.band_voxels));
   const double banded = common + kBytesPerNodeBanded * nodes + kBytesPerBandNode * stored;
   // The solve uses the band when its active nodes are at most half of the
   // grid (worthwhile_band): surely when their bound is (the stored nodes'

@@ -37,6 +37,9 @@ void register_options(OptionSet& set, ReconOptions& o) {
           "solve the fine grid only this many voxels around the samples (0 = everywhere)", 0, 1 << 20);
   set.add("solver.band_storage_above_mnodes", o.solver.band_storage_above_mnodes,
           "grids above this many million nodes keep values only near the samples (0 = always)", 0, 1 << 20);
+  set.add("solver.band_only_voxels", o.solver.band_only_voxels,
+          "band width (voxels) when keeping values only near the samples; at least trim.distance_voxels + 2", 1,
+          1 << 20);
   set.add("trim.enabled", o.trim.enabled, "remove surface far from every sample");
   set.add("trim.distance_voxels", o.trim.distance_voxels, "trim distance in voxels", 0.1, 1000.0);
   set.add("trim.min_component_fraction", o.trim.min_component_fraction,

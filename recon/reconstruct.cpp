@@ -362,11 +362,11 @@ StoredField solve_quadratic(const GridGeometry& grid,
     x_level = levels;
     x.assign(start.num_nodes(), 0.0);
   }
-  LevelSolution f =
-      solve_with_bands(op, std::move(rhs), points, solver.band_voxels, band_only, x_level, std::move(x), reporter,
-                       [&](const EnergyOperator& o, std::vector<double>&& b, std::vector<double>& xs) {
-                         solve_and_report(o, std::move(b), xs, solver, stats, reporter);
-                       });
+  LevelSolution f = solve_with_bands(
+      op, std::move(rhs), points, band_only ? solver.band_only_voxels : solver.band_voxels, band_only, x_level,
+      std::move(x), reporter, [&](const EnergyOperator& o, std::vector<double>&& b, std::vector<double>& xs) {
+        solve_and_report(o, std::move(b), xs, solver, stats, reporter);
+      });
   stats.band_nodes = f.band_nodes;
   return std::move(f.x);
 }
@@ -470,7 +470,7 @@ bool keeps_only_band(const GridGeometry& grid, const ReconOptions& o) {
   const std::int64_t above = std::int64_t{o.solver.band_storage_above_mnodes} * 1000000;
   return o.energy != SmoothnessEnergy::kTotalVariation && o.solver.band_voxels > 0 && o.uniform_flux &&
          o.direction_filter_passes % 4 == 0 && grid.can_coarsen(3) && o.trim.enabled &&
-         o.trim.distance_voxels + 2.0 <= o.solver.band_voxels && grid.num_nodes() > above;
+         o.trim.distance_voxels + 2.0 <= o.solver.band_only_voxels && grid.num_nodes() > above;
 }
 
 ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& options, Reporter& reporter) {

@@ -63,7 +63,8 @@ GridGeometry make_domain(const BoundingBox& box, const ReconOptions& options, in
 // band_storage_above_mnodes)? That needs a banded solve of a quadratic
 // energy, the field near the samples, and trimming that removes every face
 // outside the band's cells (a face within trim.distance_voxels of a sample
-// lies in cells within distance_voxels + 2 nodes of its cell's corners).
+// lies in cells within distance_voxels + 2 nodes of its cell's corners, so
+// recon.solver.band_only_voxels must reach that far).
 bool keeps_only_band(const GridGeometry& grid, const ReconOptions& options);
 
 // With keeps_only_band, the banded solve starts on the grid coarsened this

@@ -128,6 +128,7 @@ TEST(ReconstructSurface, BandOnlyStorageGivesTheWholeGridsSurface) {
   const ReconOptions whole = options_at(192);
   ReconOptions band_only = whole;
   band_only.solver.band_storage_above_mnodes = 0;
+  band_only.solver.band_only_voxels = whole.solver.band_voxels;  // the same bands, other storage
   const ReconResult a = reconstruct_surface(points, whole, null_reporter());
   const ReconResult b = reconstruct_surface(points, band_only, null_reporter());
   ASSERT_FALSE(keeps_only_band(a.function.geometry, whole));
