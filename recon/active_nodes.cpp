@@ -122,11 +122,10 @@ template void ActiveNodes::gather_from<float>(const ActiveNodes&, const float*, 
 template void ActiveNodes::scatter_active<double>(const double*, double*) const;
 template void ActiveNodes::scatter_active<float>(const float*, float*) const;
 
-ActiveNodes ActiveNodes::coarsened(const GridGeometry& fine, const GridGeometry& coarse) const {
+ActiveNodes ActiveNodes::coarsened(const GridGeometry& /*fine*/, const GridGeometry& coarse) const {
   if (is_all()) return all(coarse);
   // Coarse node I sits on fine node 2I + 1: it is active if every fine node
   // within one node of it along every axis is active.
-  (void)fine;
   return from_runs(coarse, coarse_nodes_on(eroded_once(active_), coarse.dims));
 }
 

@@ -195,10 +195,17 @@ RowRuns coarse_nodes_on(const RowRuns& fine_set, const Eigen::Vector3i& coarse_d
     const int jc = static_cast<int>(row % coarse_dims.y()), kc = static_cast<int>(row / coarse_dims.y());
     const std::int64_t fine_row = row_index(fine_set.dims, 2 * jc + 1, 2 * kc + 1);
     if (fine_row < 0) return;
+    const std::size_t first = out.size();
     for (RowView v = row_of(fine_set, fine_row); v.first != v.last; ++v.first) {
       // Coarse i with begin <= 2i + 1 < end.
       const NodeRun r{v.first->begin / 2, std::min(coarse_dims.x(), v.first->end / 2)};
-      if (r.begin < r.end) out.push_back(r);
+      if (r.begin >= r.end) continue;
+      // Fine runs apart by one even node map to touching coarse runs: merged.
+      if (out.size() > first && out.back().end == r.begin) {
+        out.back().end = r.end;
+      } else {
+        out.push_back(r);
+      }
     }
   });
 }
