@@ -56,20 +56,33 @@ void box_filter_axis(const GridGeometry& g, std::vector<T>& v, int axis, int pas
   }
 }
 
-// Splats the weights (1 per point if empty) trilinearly onto a grid-sized array.
-template <typename T>
-std::vector<T> splat_weights(const GridGeometry& geometry,
-                             const std::vector<Eigen::Vector3f>& points,
-                             const std::vector<float>& weights) {
-  std::vector<T> density;
-  assign_large(density, geometry.num_nodes());
+// Splats value(p) * weight(p) trilinearly onto the stored nodes of `nodes`
+// (a sample's corners outside them add nothing).
+template <typename T, typename ValueFn>
+std::vector<T> splat_stored(const GridGeometry& geometry,
+                            const ActiveNodes& nodes,
+                            const std::vector<Eigen::Vector3f>& points,
+                            const std::vector<float>& weights,
+                            ValueFn&& value) {
+  std::vector<T> out;
+  assign_large(out, static_cast<std::size_t>(nodes.storage_size()));
   for (std::size_t p = 0; p < points.size(); ++p) {
-    const double w = weights.empty() ? 1.0 : weights[p];
+    const double w = (weights.empty() ? 1.0 : weights[p]) * value(p);
     for_each_trilinear_corner(geometry, points[p].cast<double>(), [&](int i, int j, int k, double c) {
-      density[geometry.index(i, j, k)] += static_cast<T>(w * c);
+      const std::int64_t base = nodes.row_base(j, k, i);
+      if (base != ActiveNodes::kNotStored) out[base + i] += static_cast<T>(w * c);
     });
   }
-  return density;
+  return out;
+}
+
+// The splat of the weights (1 per point if empty).
+template <typename T>
+std::vector<T> splat_weights(const GridGeometry& geometry,
+                             const ActiveNodes& nodes,
+                             const std::vector<Eigen::Vector3f>& points,
+                             const std::vector<float>& weights) {
+  return splat_stored<T>(geometry, nodes, points, weights, [](std::size_t) { return 1.0; });
 }
 
 // Central differences in one plane of nodes (zero beyond the grid) times
@@ -124,26 +137,6 @@ struct CoarseDirections {
     return scale * v;
   }
 };
-
-// Splats value(p) * weight(p) trilinearly onto the stored nodes of `nodes`
-// (a sample's corners outside them add nothing).
-template <typename T, typename ValueFn>
-std::vector<T> splat_stored(const GridGeometry& geometry,
-                            const ActiveNodes& nodes,
-                            const std::vector<Eigen::Vector3f>& points,
-                            const std::vector<float>& weights,
-                            ValueFn&& value) {
-  std::vector<T> out;
-  assign_large(out, static_cast<std::size_t>(nodes.storage_size()));
-  for (std::size_t p = 0; p < points.size(); ++p) {
-    const double w = (weights.empty() ? 1.0 : weights[p]) * value(p);
-    for_each_trilinear_corner(geometry, points[p].cast<double>(), [&](int i, int j, int k, double c) {
-      const std::int64_t base = nodes.row_base(j, k, i);
-      if (base != ActiveNodes::kNotStored) out[base + i] += static_cast<T>(w * c);
-    });
-  }
-  return out;
-}
 
 // box_filter on the stored nodes of `nodes`, nodes not stored counting as
 // zero: the same values as on the whole grid wherever the stored nodes reach
@@ -211,13 +204,10 @@ VectorGrid splat_normals(const GridGeometry& geometry,
                          const std::vector<Eigen::Vector3f>& normals,
                          const std::vector<float>& weights) {
   VectorGrid field{geometry, {}};
-  for (auto& c : field.components) assign_large(c, geometry.num_nodes());
-  for (std::size_t p = 0; p < points.size(); ++p) {
-    const Eigen::Vector3d n = normals[p].cast<double>() * (weights.empty() ? 1.0 : weights[p]);
-    for_each_trilinear_corner(geometry, points[p].cast<double>(), [&](int i, int j, int k, double w) {
-      const std::int64_t idx = geometry.index(i, j, k);
-      for (int a = 0; a < 3; ++a) field.components[a][idx] += w * n[a];
-    });
+  const ActiveNodes every_node = ActiveNodes::all(geometry);
+  for (int a = 0; a < 3; ++a) {
+    field.components[a] = splat_stored<double>(geometry, every_node, points, weights,
+                                               [&](std::size_t p) { return static_cast<double>(normals[p][a]); });
   }
   return field;
 }
@@ -237,7 +227,7 @@ void box_filter(VectorGrid& field, int passes) {
 std::vector<double> splat_density(const GridGeometry& geometry,
                                   const std::vector<Eigen::Vector3f>& points,
                                   const std::vector<float>& weights) {
-  return splat_weights<double>(geometry, points, weights);
+  return splat_weights<double>(geometry, ActiveNodes::all(geometry), points, weights);
 }
 
 void use_density_magnitude(VectorGrid& field, const std::vector<double>& density) {
@@ -270,7 +260,7 @@ CoarseDirections coarse_directions(const GridGeometry& geometry,
                                            [&](std::size_t p) { return static_cast<double>(normals[p][a]); });
     box_filter_stored(coarse, c.nodes, c.directions[a], passes);
   }
-  c.density = splat_stored<double>(coarse, c.nodes, points, weights, [](std::size_t) { return 1.0; });
+  c.density = splat_weights<double>(coarse, c.nodes, points, weights);
   box_filter_stored(coarse, c.nodes, c.density, passes);
   return c;
 }
@@ -388,7 +378,7 @@ ScalarGrid density_scaled_rhs(const GridGeometry& geometry,
   ScalarGrid rhs(geometry);
   // Single precision: the density only scales F, and it is one of the two
   // grid-sized arrays that set hos-recon's peak memory.
-  std::vector<float> density = splat_weights<float>(geometry, points, weights);
+  std::vector<float> density = splat_weights<float>(geometry, ActiveNodes::all(geometry), points, weights);
   box_filter(geometry, density, density_passes);
   const CoarseDirections dirs = coarse_directions(geometry, points, normals, weights, direction_passes, false);
   const auto node_field = [&](int i, int j, int k) {
@@ -455,7 +445,7 @@ StoredField density_scaled_rhs_near_samples(const GridGeometry& geometry,
   StoredField rhs;
   rhs.nodes = std::make_shared<const ActiveNodes>(band_around_samples(geometry, points, density_passes + 1));
   const ActiveNodes& nodes = *rhs.nodes;
-  std::vector<float> density = splat_stored<float>(geometry, nodes, points, weights, [](std::size_t) { return 1.0; });
+  std::vector<float> density = splat_weights<float>(geometry, nodes, points, weights);
   box_filter_stored(geometry, nodes, density, density_passes);
   const CoarseDirections dirs = coarse_directions(geometry, points, normals, weights, direction_passes, true);
   const auto node_field = [&](int i, int j, int k) {
