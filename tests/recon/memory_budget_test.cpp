@@ -116,6 +116,15 @@ TEST(MemoryBudget, ReconstructRefusesBeforeAllocating) {
   EXPECT_THROW(reconstruct_surface(points, options, reporter), ConfigError);
 }
 
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define HOS_HAS_ADDRESS_SANITIZER 1
+#endif
+#endif
+#ifndef HOS_HAS_ADDRESS_SANITIZER
+#define HOS_HAS_ADDRESS_SANITIZER 0
+#endif
+
 long peak_rss_kb() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
@@ -126,6 +135,11 @@ long peak_rss_kb() {
 // test in its own process, so the peak resident size grows from this run.
 // band_voxels = 0 solves the whole grid; otherwise the band is used.
 void expect_estimate_covers_a_run(int resolution, int band_voxels, bool band_only = false) {
+#if defined(__SANITIZE_ADDRESS__) || HOS_HAS_ADDRESS_SANITIZER
+  // AddressSanitizer's shadow memory and quarantine add to the resident size
+  // (2-4x here): the estimate models the uninstrumented build.
+  GTEST_SKIP() << "peak memory is not comparable under AddressSanitizer";
+#endif
   ReconOptions options;
   options.resolution = resolution;
   options.solver.band_voxels = band_voxels;
