@@ -36,6 +36,7 @@ std::size_t estimate_at(int resolution, const ReconOptions& base, const std::vec
 TEST(MemoryBudget, BandBoundCoversTheStoredBand) {
   const std::vector<Eigen::Vector3f> sphere = sphere_points();
   std::vector<Eigen::Vector3f> scattered;  // a few far-apart samples: a band of isolated boxes
+  scattered.reserve(40);
   for (int i = 0; i < 40; ++i) {
     scattered.emplace_back(std::sin(1.7f * i), std::cos(2.3f * i), std::sin(0.9f * i + 0.5f));
   }
