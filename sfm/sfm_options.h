@@ -21,11 +21,13 @@ struct SfmOptions {
   // when most photos carry GPS EXIF, else a vocabulary tree built from the
   // photos' own features. "sequential" suits ordered video frames.
   std::string matcher = "auto";
-  int exhaustive_max_images = 60;
+  // Exhaustive matching costs n(n-1)/2 pairs, the tree about n * neighbours
+  // plus its build: above 30 photos the tree matches less than half the pairs.
+  int exhaustive_max_images = 30;
   int sequential_overlap = 10;  // neighbours matched per frame by the sequential matcher
   // Vocabulary tree matching: photos retrieved (and matched) per photo, and
   // the tree's visual words (0 = auto: about 100 features per word).
-  int vocab_tree_neighbors = 20;
+  int vocab_tree_neighbors = 12;
   int vocab_tree_words = 0;
   int spatial_neighbors = 20;  // nearest photos by GPS position matched per photo
   // Photos larger than this (longest side, pixels) are downscaled into the

@@ -61,6 +61,8 @@ TEST(ColmapSteps, VocabularyTreeIsBuiltFromThePhotosFirst) {
   EXPECT_EQ(arg(steps[0], "database_path"), "ws/sfm/database.db");
   EXPECT_EQ(arg(steps[0], "vocab_tree_path"), "ws/sfm/vocab_tree.bin");
   EXPECT_EQ(arg(steps[0], "num_visual_words"), std::to_string(plan.vocab_tree_words));
+  // Fewer clusters per level than COLMAP's 256: the build is most of the cost.
+  EXPECT_LT(std::stoi(arg(steps[0], "branching")), 256);
   EXPECT_EQ(steps[1].command, "vocab_tree_matcher");
   EXPECT_EQ(arg(steps[1], "VocabTreeMatching.vocab_tree_path"), "ws/sfm/vocab_tree.bin");
   // The photo itself is the first retrieved: neighbours + 1.

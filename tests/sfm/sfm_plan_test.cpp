@@ -14,16 +14,16 @@ PhotoSetFacts photos(int count, int with_gps = 0, int longest_side_px = 3072) {
 }
 
 TEST(SfmPlan, AutoMatcherFollowsPhotoCountAndGps) {
-  const SfmOptions options;  // exhaustive_max_images 60
+  const SfmOptions options;  // exhaustive_max_images 30
   EXPECT_EQ(plan_sfm(photos(11), options).matcher, "exhaustive");
-  EXPECT_EQ(plan_sfm(photos(60), options).matcher, "exhaustive");
+  EXPECT_EQ(plan_sfm(photos(30), options).matcher, "exhaustive");
   // Over the limit: a tree from the photos, or positions when every photo has one.
-  EXPECT_EQ(plan_sfm(photos(61), options).matcher, "vocab_tree");
+  EXPECT_EQ(plan_sfm(photos(31), options).matcher, "vocab_tree");
   EXPECT_EQ(plan_sfm(photos(100, 100), options).matcher, "spatial");
   EXPECT_EQ(plan_sfm(photos(100, 99), options).matcher, "vocab_tree");
   // Few photos are matched exhaustively even when they carry GPS.
   EXPECT_EQ(plan_sfm(photos(20, 20), options).matcher, "exhaustive");
-  EXPECT_THAT(plan_sfm(photos(100), options).matcher_reason, HasSubstr("100 photos > sfm.exhaustive_max_images (60)"));
+  EXPECT_THAT(plan_sfm(photos(100), options).matcher_reason, HasSubstr("100 photos > sfm.exhaustive_max_images (30)"));
 }
 
 TEST(SfmPlan, ExplicitMatcherAndLimitWin) {

@@ -46,7 +46,7 @@ TEST(SfmReport, SummaryNamesTheMatcherAndStepTimes) {
   const auto lines = sfm_summary_lines(result_with_plan());
   std::string text;
   for (const auto& line : lines) text += line + "\n";
-  EXPECT_THAT(text, HasSubstr("exhaustive matching (11 photos <= sfm.exhaustive_max_images (60))"));
+  EXPECT_THAT(text, HasSubstr("exhaustive matching (11 photos <= sfm.exhaustive_max_images (30))"));
   EXPECT_THAT(text, HasSubstr("4096 SIFT features per photo at most 2400 px"));
   EXPECT_THAT(text, HasSubstr("times: total 28.9 s; prepare_images 0.4 s; feature_extractor 12.2 s;"));
 }
