@@ -43,7 +43,9 @@ void register_options(OptionSet& set, SfmOptions& o) {
   set.add("vocab_tree_neighbors", o.vocab_tree_neighbors, "photos retrieved and matched per photo (vocab_tree)", 2,
           10000);
   set.add("vocab_tree_words", o.vocab_tree_words,
-          "visual words of the tree built from the photos; 0 = auto (about 100 features a word)", 0, 1000000);
+          "visual words of the tree built from the photos; 0 = auto (about 100 features a word, at most 768 "
+          "up to 300 photos)",
+          0, 1000000);
   set.add("spatial_neighbors", o.spatial_neighbors, "nearest photos by GPS matched per photo (spatial)", 2, 10000);
   set.add("max_image_size", o.max_image_size,
           "downscale photos (and the undistorted images) whose longest side exceeds this (pixels); "

@@ -14,7 +14,9 @@ constexpr int kFewestFeatures = 2048;  // still registers 800x600 views robustly
 constexpr int kFullFeatureCount = 20;  // photos up to which kMostFeatures apply
 constexpr int kFeatureStep = 256;
 constexpr long long kFeaturesPerWord = 100;
-constexpr int kFewestWords = 256;  // one level of COLMAP's default branching
+constexpr int kFewestWords = 256;
+constexpr int kWordsBelowIndexTuning = 768;  // see vocab_tree_words_for
+constexpr int kSmallTreePhotos = 300;
 
 std::string choose_matcher(const PhotoSetFacts& facts, const SfmOptions& options, std::string& reason) {
   if (options.matcher != "auto") {
@@ -45,8 +47,9 @@ int features_for_photo_count(int photos) {
   return std::max(kFewestFeatures, stepped);
 }
 
-int vocab_tree_words_for(long long features) {
-  return static_cast<int>(std::max<long long>(kFewestWords, features / kFeaturesPerWord));
+int vocab_tree_words_for(int photos, long long features) {
+  const long long words = std::max<long long>(kFewestWords, features / kFeaturesPerWord);
+  return static_cast<int>(photos <= kSmallTreePhotos ? std::min<long long>(words, kWordsBelowIndexTuning) : words);
 }
 
 SfmPlan plan_sfm(const PhotoSetFacts& facts, const SfmOptions& options) {
@@ -61,9 +64,10 @@ SfmPlan plan_sfm(const PhotoSetFacts& facts, const SfmOptions& options) {
   const int sift_side = std::min(plan.sift_max_image_size, facts.longest_side_px);
   plan.sift_upsample = options.sift_upsample_below > 0 && sift_side < options.sift_upsample_below;
   if (plan.matcher == "vocab_tree") {
-    plan.vocab_tree_words = options.vocab_tree_words > 0
-                                ? options.vocab_tree_words
-                                : vocab_tree_words_for(static_cast<long long>(facts.photos) * plan.max_num_features);
+    plan.vocab_tree_words =
+        options.vocab_tree_words > 0
+            ? options.vocab_tree_words
+            : vocab_tree_words_for(facts.photos, static_cast<long long>(facts.photos) * plan.max_num_features);
   }
   return plan;
 }

@@ -9,7 +9,7 @@
 # true centres' bounding box; rotation error median and maximum in degrees).
 #
 #   bench/sfm/run.sh --old OLD_BIN --data DATA --out OUT [--new NEW_BIN] [--sets "..."] [--repeat N]
-#                    [--timeout S] [--sides "old new"]
+#                    [--timeout S] [--sides "old new"] [--new-set KEY=VALUE]...
 #   bench/sfm/run.sh --summary OUT
 #
 # OLD_BIN / NEW_BIN: folders holding hos-sfm (NEW_BIN defaults to build/bin,
@@ -22,12 +22,15 @@
 # a run after S seconds (SIGINT: hos-sfm stops COLMAP cleanly); its row keeps
 # the time and CPU spent so far with exit code 124, a lower bound. --sides
 # runs only one side (e.g. two processes, one per side, at the same time).
+# --new-set passes --set KEY=VALUE to the new side's hos-sfm (an option's
+# effect against the old side).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 new_bin="${HOS_BUILD_DIR:-$root/build}/bin"
 old_bin="" data="" out="" summary="" repeat=1 timeout=0 only_sides=""
+new_sets=()
 sets="fountain herz synth36 synth100"
-usage() { echo "usage: $0 --old OLD_BIN --data DATA --out OUT [--new NEW_BIN] [--sets \"fountain herz synth36 synth100\"] [--repeat N] [--timeout S] [--sides \"old new\"] | --summary OUT" >&2; exit 2; }
+usage() { echo "usage: $0 --old OLD_BIN --data DATA --out OUT [--new NEW_BIN] [--sets \"fountain herz synth36 synth100\"] [--repeat N] [--timeout S] [--sides \"old new\"] [--new-set KEY=VALUE]... | --summary OUT" >&2; exit 2; }
 while [ $# -gt 0 ]; do
   case "$1" in
     --old) old_bin="$2"; shift 2 ;;
@@ -38,6 +41,7 @@ while [ $# -gt 0 ]; do
     --repeat) repeat="$2"; shift 2 ;;
     --timeout) timeout="$2"; shift 2 ;;
     --sides) only_sides="$2"; shift 2 ;;
+    --new-set) new_sets+=(--set "$2"); shift 2 ;;
     --summary) summary="$2"; shift 2 ;;
     *) usage ;;
   esac
@@ -120,10 +124,11 @@ run_side() {
   local load
   load=$(cut -d' ' -f1 /proc/loadavg)
   local code=0
-  local limit=()
+  local limit=() sets=()
   [ "$timeout" != 0 ] && limit=(timeout -s INT "$timeout")
+  [ "$side" = new ] && sets=("${new_sets[@]}")
   /usr/bin/time -f "%e %U %S %M" -o "$ws.time" "${limit[@]}" "$bin/hos-sfm" --images "$photos" --workspace "$ws" \
-    --progress none > "$ws.out" 2>&1 || code=$?
+    --progress none "${sets[@]}" > "$ws.out" 2>&1 || code=$?
   # GNU time notes a non-zero exit on a line of its own before the figures.
   tail -1 "$ws.time" > "$ws.time1" && mv "$ws.time1" "$ws.time"
   read -r wall user sys kb < "$ws.time"

@@ -78,8 +78,12 @@ TEST(SfmPlan, VocabularyTreeWordsFitTheFeatures) {
   SfmOptions options;
   const SfmPlan plan = plan_sfm(photos(100), options);
   ASSERT_EQ(plan.matcher, "vocab_tree");
-  EXPECT_EQ(plan.vocab_tree_words, 100 * 2048 / 100);
-  EXPECT_EQ(vocab_tree_words_for(1000), 256);
+  // 100 x 2048 features would make 2048 words; a set this small stays below
+  // the word count at which COLMAP tunes its word index.
+  EXPECT_EQ(plan.vocab_tree_words, 768);
+  EXPECT_EQ(vocab_tree_words_for(40, 40 * 1000), 400);
+  EXPECT_EQ(vocab_tree_words_for(10, 1000), 256);
+  EXPECT_EQ(vocab_tree_words_for(1000, 1000LL * 2048), 20480);   // large sets: 100 features a word
   EXPECT_EQ(plan_sfm(photos(11), options).vocab_tree_words, 0);  // no tree for exhaustive matching
   options.vocab_tree_words = 5000;
   EXPECT_EQ(plan_sfm(photos(100), options).vocab_tree_words, 5000);
