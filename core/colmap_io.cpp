@@ -318,7 +318,7 @@ void check_references(const fs::path& folder, const SparseModel& model) {
 }
 
 fs::path require_file(const fs::path& folder, const std::string& name) {
-  const fs::path path = folder / name;
+  fs::path path = folder / name;
   if (!fs::is_regular_file(path)) throw InputError(path.string(), "file is missing");
   return path;
 }

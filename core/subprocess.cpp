@@ -18,8 +18,6 @@
 #include "core/error.h"
 #include "core/reporter.h"
 
-extern char** environ;
-
 namespace hos {
 namespace {
 
@@ -38,12 +36,14 @@ std::vector<std::string> child_environment(const std::vector<std::pair<std::stri
   }
   for (const auto& [key, value] : overrides) vars[key] = value;
   std::vector<std::string> out;
-  for (const auto& [key, value] : vars) out.push_back(key + "=" + value);
+  out.reserve(vars.size());
+  for (const auto& [key, value] : vars) out.emplace_back(key).append("=").append(value);
   return out;
 }
 
 std::vector<char*> c_strings(std::vector<std::string>& strings) {
   std::vector<char*> out;
+  out.reserve(strings.size() + 1);
   for (auto& s : strings) out.push_back(s.data());
   out.push_back(nullptr);
   return out;
@@ -84,7 +84,7 @@ std::string find_executable(const std::string& program) {
   while (start <= dirs.size()) {
     const std::size_t end = std::min(dirs.find(':', start), dirs.size());
     const std::string dir = dirs.substr(start, end - start);
-    const std::string candidate = (dir.empty() ? std::string(".") : dir) + "/" + program;
+    std::string candidate = (dir.empty() ? std::string(".") : dir) + "/" + program;
     if (is_executable_file(candidate)) return candidate;
     start = end + 1;
   }

@@ -352,7 +352,8 @@ class PatchMatcher {
     // The homography's z is linear over the window: positive at the corners
     // means positive everywhere, and the image of the window is then the
     // convex hull of its corners' images, so checking the corners suffices.
-    const float reach = float(2 * r / step * step - r);  // offset of the last sample
+    const int last_sample = 2 * r / step * step - r;  // whole steps from -r
+    const float reach = float(last_sample);
     for (const float cy : {float(-r), reach}) {
       for (const float cx : {float(-r), reach}) {
         const Eigen::Vector3f m = centre + cx * H.col(0) + cy * H.col(1);

@@ -251,7 +251,8 @@ class CellMesher {
     }
     // Diagonal k, l with the other two on the other side: the saddle joins
     // columns 0 and 3 where D(t) = g0 g3 - g1 g2 > 0, columns 1 and 2 where D < 0.
-    for (const auto& [k, l, m, n, sign] : {std::tuple{0, 3, 1, 2, 1.0}, std::tuple{1, 2, 0, 3, -1.0}}) {
+    for (const auto& [k, l, m, n, side] : {std::tuple{0, 3, 1, 2, 1.0}, std::tuple{1, 2, 0, 3, -1.0}}) {
+      const double sign = side;  // a lambda may not capture a structured binding before C++20
       const auto span = overlap(overlap(holds[k], holds[l]), overlap(other[m], other[n]));
       if (span.first > span.second) continue;
       const auto slope = [&](int c) { return g_[c + 4] - g_[c]; };
