@@ -30,7 +30,7 @@ class InputError : public Error {
 // what() reads "<key> = <value>: <reason>" (plus the file and line if known).
 class ConfigError : public Error {
  public:
-  ConfigError(std::string key, std::string reason);
+  ConfigError(std::string key, const std::string& reason);
   const std::string& key() const { return key_; }
 
  private:
@@ -40,20 +40,20 @@ class ConfigError : public Error {
 // A computation produced NaN/Inf or failed to converge where that is fatal.
 class NumericalError : public Error {
  public:
-  NumericalError(std::string stage, std::string what);
+  NumericalError(const std::string& stage, const std::string& what);
 };
 
 // An output could not be written.
 class OutputError : public Error {
  public:
-  OutputError(std::string path, std::string reason);
+  OutputError(const std::string& path, const std::string& reason);
 };
 
 // A stage failed for a reason that is not bad input (e.g. COLMAP registered
 // too few images, an external tool crashed).
 class StageError : public Error {
  public:
-  StageError(std::string stage, std::string reason);
+  StageError(const std::string& stage, const std::string& reason);
 };
 
 // The user asked to stop (SIGINT/SIGTERM) and the work stopped cleanly.

@@ -399,7 +399,7 @@ class SlurmRun {
     }
     argv.push_back(script.string());
     const CommandOutput out = run_command(argv);
-    const std::string id = trimmed(out.text.substr(0, out.text.find_first_of(";\n")));
+    std::string id = trimmed(out.text.substr(0, out.text.find_first_of(";\n")));
     if (out.exit_code != 0 || id.empty() || id.find_first_not_of("0123456789") != std::string::npos) {
       throw StageError(pipeline_stages()[job.stage].name, "sbatch failed for " + job.name + ": " + trimmed(out.text));
     }

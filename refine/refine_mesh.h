@@ -30,9 +30,9 @@ struct RefineResult {
   RefineStats stats;
 };
 
-// Refines mesh against views (each with options.levels pyramid levels).
+// Refines input against views (each with options.levels pyramid levels).
 // Throws Cancelled, NumericalError.
-RefineResult refine_mesh(const TriangleMesh& mesh,
+RefineResult refine_mesh(const TriangleMesh& input,
                          std::vector<RefineView> views,
                          const RefineOptions& options,
                          Reporter& reporter);

@@ -297,7 +297,7 @@ fs::path map_photos(const ColmapInfo& colmap,
                                                : std::string()));
   }
   require_ok(mapped, "mapper");
-  const fs::path best_dir = select_largest_model(models, inputs, reporter, result);
+  fs::path best_dir = select_largest_model(models, inputs, reporter, result);
   if (result.images_registered < options.min_registered_images) {
     throw StageError("sfm", format_message("only ", result.images_registered, " of ", context.num_images,
                                            " photos registered (need ", options.min_registered_images,

@@ -165,7 +165,7 @@ cv::Mat encode_normal_map(const cv::Mat& normals) {
   cv::Mat out(normals.size(), CV_16UC3, cv::Scalar::all(0));
   for (int y = 0; y < normals.rows; ++y)
     for (int x = 0; x < normals.cols; ++x) {
-      const cv::Vec3f n = normals.at<cv::Vec3f>(y, x);
+      const cv::Vec3f& n = normals.at<cv::Vec3f>(y, x);
       if (n == cv::Vec3f(0, 0, 0)) continue;
       auto q = [](float v) {
         return static_cast<std::uint16_t>(std::lround((std::clamp(v, -1.0f, 1.0f) + 1.0f) * 0.5f * 65535.0f));
@@ -180,7 +180,7 @@ cv::Mat decode_normal_map(const cv::Mat& encoded) {
   cv::Mat out(encoded.size(), CV_32FC3, cv::Scalar::all(0));
   for (int y = 0; y < encoded.rows; ++y)
     for (int x = 0; x < encoded.cols; ++x) {
-      const cv::Vec3w v = encoded.at<cv::Vec3w>(y, x);
+      const cv::Vec3w& v = encoded.at<cv::Vec3w>(y, x);
       if (v == cv::Vec3w(0, 0, 0)) continue;
       auto d = [](std::uint16_t q) { return q / 65535.0f * 2.0f - 1.0f; };
       out.at<cv::Vec3f>(y, x) = cv::Vec3f(d(v[2]), d(v[1]), d(v[0]));

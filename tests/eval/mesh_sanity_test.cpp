@@ -81,7 +81,7 @@ TEST(MeshSanity, TwoComponentsAndTorusGenus) {
   const TriangleMesh other = testing::cube(1.0f, Eigen::Vector3f(5, 0, 0));
   const int offset = static_cast<int>(mesh.vertices.size());
   mesh.vertices.insert(mesh.vertices.end(), other.vertices.begin(), other.vertices.end());
-  for (Eigen::Vector3i f : other.faces) mesh.faces.push_back(f + Eigen::Vector3i::Constant(offset));
+  for (const Eigen::Vector3i& f : other.faces) mesh.faces.push_back(f + Eigen::Vector3i::Constant(offset));
   const MeshSanity s = check_mesh_sanity(mesh);
   EXPECT_EQ(s.components, 2u);
   EXPECT_EQ(s.euler_characteristic, 4);

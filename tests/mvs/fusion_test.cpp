@@ -30,6 +30,7 @@ FusionView plane_view(int j) {
 
 std::vector<FusionView> plane_views() {
   std::vector<FusionView> views;
+  views.reserve(kViews);
   for (int j = 0; j < kViews; ++j) views.push_back(plane_view(j));
   return views;
 }

@@ -1,5 +1,6 @@
 #include "tests/sfm/jpeg_fixtures.h"
 
+#include <cmath>
 #include <opencv2/imgcodecs.hpp>
 
 namespace hos::sfm::testing {
@@ -91,7 +92,7 @@ std::vector<std::uint8_t> jpeg_with_exif(const cv::Mat& image, int orientation, 
   }
   t.u32(0);
   if (focal_mm > 0) {
-    t.u32(static_cast<std::uint32_t>(focal_mm * 1000 + 0.5));
+    t.u32(static_cast<std::uint32_t>(std::lround(focal_mm * 1000)));
     t.u32(1000);
   }
   insert_exif(t.bytes, jpeg);
