@@ -58,7 +58,9 @@ TEST(StageOptions, EveryRangeIsEnforcedAlikeFromYamlSetAndFlags) {
         });
         const std::string from_set = outcome(spec.name, [&](OptionSet& set) {
           CommonStageFlags flags;
-          flags.assignments = {spec.name + "." + key + "=" + value};
+          std::string assignment = spec.name;
+          assignment.append(".").append(key).append("=").append(value);
+          flags.assignments = {assignment};
           apply_config_and_overrides(set, flags);
         });
         // The messages name the source; compare whether and what was refused.
@@ -75,6 +77,7 @@ TEST(StageOptions, EveryRangeIsEnforcedAlikeFromYamlSetAndFlags) {
           add_common_stage_flags(app, flags, set);
           std::vector<std::string> args = {"stage", flag->flag, value};
           std::vector<char*> argv;
+          argv.reserve(args.size());
           for (auto& a : args) argv.push_back(a.data());
           app.parse(static_cast<int>(argv.size()), argv.data());
           apply_config_and_overrides(set, flags);

@@ -37,7 +37,7 @@ int red_pixels(const cv::Mat& bgr) {
   int count = 0;
   for (int y = 0; y < bgr.rows; ++y) {
     for (int x = 0; x < bgr.cols; ++x) {
-      const cv::Vec3b p = bgr.at<cv::Vec3b>(y, x);
+      const cv::Vec3b& p = bgr.at<cv::Vec3b>(y, x);
       if (p[2] > 120 && p[1] < 80 && p[0] < 80) ++count;
     }
   }

@@ -109,7 +109,7 @@ class SfmTest : public ::testing::Test {
   }
   // count textured images that show unrelated random content.
   fs::path unrelated_images(int count) {
-    const fs::path folder = dir_ / "unrelated";
+    fs::path folder = dir_ / "unrelated";
     fs::create_directories(folder);
     std::mt19937 rng(7);
     for (int i = 0; i < count; ++i) {
@@ -136,7 +136,7 @@ TEST_F(SfmTest, SyntheticSceneRegistersEveryViewAccurately) {
   // The photos plus two bad files that must be skipped with a warning each.
   const fs::path photos = dir_ / "photos";
   fs::copy(scene / "images", photos);
-  std::ofstream(photos / "zero.jpg");
+  std::ofstream(photos / "zero.jpg").close();  // an empty file
   std::vector<std::uint8_t> jpeg;
   cv::imencode(".jpg",
                cv::imread((scene / "images" / fs::directory_iterator(scene / "images")->path().filename()).string()),
