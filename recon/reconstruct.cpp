@@ -239,15 +239,11 @@ StoredField orientation_rhs(const GridGeometry& grid,
                             const OrientedSamples& samples,
                             const ReconOptions& options,
                             bool band_only) {
-  if (band_only) {
-    return density_scaled_rhs_near_samples(grid, samples.points, samples.normals, samples.weights,
-                                           options.filter_passes, options.direction_filter_passes,
-                                           options.filter_passes);
-  }
+  const FieldPasses passes{options.filter_passes, options.direction_filter_passes, options.filter_passes};
+  if (band_only) return density_scaled_rhs_near_samples(grid, samples.points, samples.normals, samples.weights, passes);
   ScalarGrid rhs;
   if (options.uniform_flux) {
-    rhs = density_scaled_rhs(grid, samples.points, samples.normals, samples.weights, options.filter_passes,
-                             options.direction_filter_passes, options.filter_passes);
+    rhs = density_scaled_rhs(grid, samples.points, samples.normals, samples.weights, passes);
   } else {
     VectorGrid field = splat_normals(grid, samples.points, samples.normals, samples.weights);
     box_filter(field, options.filter_passes);

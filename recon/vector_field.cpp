@@ -362,12 +362,10 @@ ScalarGrid density_scaled_rhs(const GridGeometry& geometry,
                               const std::vector<Eigen::Vector3f>& points,
                               const std::vector<Eigen::Vector3f>& normals,
                               const std::vector<float>& weights,
-                              int density_passes,
-                              int direction_passes,
-                              int filter_passes) {
-  if (direction_passes % 4 != 0 || !geometry.can_coarsen(3)) {
-    VectorGrid field = density_scaled_field(geometry, points, normals, weights, density_passes, direction_passes);
-    normalize_field(field, points, filter_passes);
+                              const FieldPasses& passes) {
+  if (passes.direction % 4 != 0 || !geometry.can_coarsen(3)) {
+    VectorGrid field = density_scaled_field(geometry, points, normals, weights, passes.density, passes.direction);
+    normalize_field(field, points, passes.filter);
     ScalarGrid rhs = divergence(field);
     for (double& v : rhs.values) v = -v;
     return rhs;
@@ -379,12 +377,12 @@ ScalarGrid density_scaled_rhs(const GridGeometry& geometry,
   // Single precision: the density only scales F, and it is one of the two
   // grid-sized arrays that set hos-recon's peak memory.
   std::vector<float> density = splat_weights<float>(geometry, ActiveNodes::all(geometry), points, weights);
-  box_filter(geometry, density, density_passes);
-  const CoarseDirections dirs = coarse_directions(geometry, points, normals, weights, direction_passes, false);
+  box_filter(geometry, density, passes.density);
+  const CoarseDirections dirs = coarse_directions(geometry, points, normals, weights, passes.direction, false);
   const auto node_field = [&](int i, int j, int k) {
     return dirs.field_at(geometry.position(i, j, k), density[geometry.index(i, j, k)]);
   };
-  const double scale = normalization_scale(geometry, mean_norm_at_samples(geometry, points, node_field), filter_passes);
+  const double scale = normalization_scale(geometry, mean_norm_at_samples(geometry, points, node_field), passes.filter);
 
   // -div of the scaled F, the scale and the sign folded into the difference
   // factor (divergence is linear).
@@ -437,21 +435,19 @@ StoredField density_scaled_rhs_near_samples(const GridGeometry& geometry,
                                             const std::vector<Eigen::Vector3f>& points,
                                             const std::vector<Eigen::Vector3f>& normals,
                                             const std::vector<float>& weights,
-                                            int density_passes,
-                                            int direction_passes,
-                                            int filter_passes) {
-  // The filtered density reaches density_passes nodes beyond the samples'
+                                            const FieldPasses& passes) {
+  // The filtered density reaches passes.density nodes beyond the samples'
   // cell corners, F as far, -div F one node more.
   StoredField rhs;
-  rhs.nodes = std::make_shared<const ActiveNodes>(band_around_samples(geometry, points, density_passes + 1));
+  rhs.nodes = std::make_shared<const ActiveNodes>(band_around_samples(geometry, points, passes.density + 1));
   const ActiveNodes& nodes = *rhs.nodes;
   std::vector<float> density = splat_weights<float>(geometry, nodes, points, weights);
-  box_filter_stored(geometry, nodes, density, density_passes);
-  const CoarseDirections dirs = coarse_directions(geometry, points, normals, weights, direction_passes, true);
+  box_filter_stored(geometry, nodes, density, passes.density);
+  const CoarseDirections dirs = coarse_directions(geometry, points, normals, weights, passes.direction, true);
   const auto node_field = [&](int i, int j, int k) {
     return dirs.field_at(geometry.position(i, j, k), stored_value(nodes, density, i, j, k));
   };
-  const double scale = normalization_scale(geometry, mean_norm_at_samples(geometry, points, node_field), filter_passes);
+  const double scale = normalization_scale(geometry, mean_norm_at_samples(geometry, points, node_field), passes.filter);
 
   // F at every stored node (zero at the others: the density is), then -div
   // of the scaled F as in density_scaled_rhs.

@@ -62,8 +62,17 @@ void normalize_field(VectorGrid& field, const std::vector<Eigen::Vector3f>& poin
 // Divergence by central differences (zero beyond the grid).
 ScalarGrid divergence(const VectorGrid& field);
 
+// Box-filter passes of the field of density_scaled_rhs: of the sample density
+// and of the coarse directions (density_scaled_field), and the filter width
+// normalize_field scales by.
+struct FieldPasses {
+  int density = 0;
+  int direction = 0;
+  int filter = 0;
+};
+
 // The right-hand side -div F of the energy (paper sec. 4.1) for the field of
-// density_scaled_field scaled by normalize_field (filter_passes), the same
+// density_scaled_field scaled by normalize_field (passes.filter), the same
 // values up to rounding. With coarse directions it evaluates F plane by plane
 // from the fine density and the coarse directions, so the fine density and the
 // result are its only grid-sized arrays (the materialised field is 3 more);
@@ -72,20 +81,16 @@ ScalarGrid density_scaled_rhs(const GridGeometry& geometry,
                               const std::vector<Eigen::Vector3f>& points,
                               const std::vector<Eigen::Vector3f>& normals,
                               const std::vector<float>& weights,
-                              int density_passes,
-                              int direction_passes,
-                              int filter_passes);
+                              const FieldPasses& passes);
 
 // density_scaled_rhs on the stored nodes of a band around the samples that
-// holds every nonzero value (nodes within density_passes + 1 of a sample's
+// holds every nonzero value (nodes within passes.density + 1 of a sample's
 // cell), with the same values, and no grid-sized array: for grids too large
-// for one. Needs direction_passes % 4 == 0 and a grid that coarsens.
+// for one. Needs passes.direction % 4 == 0 and a grid that coarsens.
 StoredField density_scaled_rhs_near_samples(const GridGeometry& geometry,
                                             const std::vector<Eigen::Vector3f>& points,
                                             const std::vector<Eigen::Vector3f>& normals,
                                             const std::vector<float>& weights,
-                                            int density_passes,
-                                            int direction_passes,
-                                            int filter_passes);
+                                            const FieldPasses& passes);
 
 }  // namespace hos::recon

@@ -78,14 +78,15 @@ TEST(VectorField, RhsEqualsMaterialisedFieldForRandomOrientedPoints) {
   }
   for (int direction_passes : {12, 8}) {
     const ScalarGrid rhs =
-        density_scaled_rhs(g, points, normals, weights, kDensityPasses, direction_passes, kFilterPasses);
+        density_scaled_rhs(g, points, normals, weights, {kDensityPasses, direction_passes, kFilterPasses});
     EXPECT_LT(relative_difference(rhs.values, materialised_rhs(g, points, normals, weights, direction_passes)),
               kFusedTolerance)
         << direction_passes;
   }
   // Without weights, and on the fine-grid fallback (passes not a multiple of 4).
   for (int direction_passes : {12, 3}) {
-    const ScalarGrid rhs = density_scaled_rhs(g, points, normals, {}, kDensityPasses, direction_passes, kFilterPasses);
+    const ScalarGrid rhs =
+        density_scaled_rhs(g, points, normals, {}, {kDensityPasses, direction_passes, kFilterPasses});
     EXPECT_LT(relative_difference(rhs.values, materialised_rhs(g, points, normals, {}, direction_passes)),
               direction_passes % 4 == 0 ? kFusedTolerance : 1e-9)
         << direction_passes;
@@ -98,7 +99,8 @@ TEST(VectorField, RhsEqualsMaterialisedFieldForSphereScannedFromSixDirections) {
   synth::coarsen_to_axis_directions(sphere);
   // Shift the centre off the grid's centre so no symmetry hides an axis error.
   for (auto& p : sphere.positions) p += Eigen::Vector3f(-0.1f, 0.15f, -0.05f);
-  const ScalarGrid rhs = density_scaled_rhs(g, sphere.positions, sphere.normals, {}, kDensityPasses, 12, kFilterPasses);
+  const ScalarGrid rhs =
+      density_scaled_rhs(g, sphere.positions, sphere.normals, {}, {kDensityPasses, 12, kFilterPasses});
   EXPECT_LT(relative_difference(rhs.values, materialised_rhs(g, sphere.positions, sphere.normals, {}, 12)),
             kFusedTolerance);
   // The flux points outwards: the rhs (-div F) is negative inside the shell
@@ -121,9 +123,9 @@ TEST(VectorField, RhsNearTheSamplesEqualsTheWholeGridsAndHoldsEveryNonzeroValue)
   std::vector<float> weights(sphere.size());
   for (std::size_t p = 0; p < weights.size(); ++p) weights[p] = 0.5f + 0.5f * static_cast<float>(p % 7) / 7.0f;
   const ScalarGrid dense =
-      density_scaled_rhs(g, sphere.positions, sphere.normals, weights, kDensityPasses, 12, kFilterPasses);
-  const StoredField near =
-      density_scaled_rhs_near_samples(g, sphere.positions, sphere.normals, weights, kDensityPasses, 12, kFilterPasses);
+      density_scaled_rhs(g, sphere.positions, sphere.normals, weights, {kDensityPasses, 12, kFilterPasses});
+  const StoredField near = density_scaled_rhs_near_samples(g, sphere.positions, sphere.normals, weights,
+                                                           {kDensityPasses, 12, kFilterPasses});
   ASSERT_FALSE(near.nodes->is_all());
   ASSERT_LT(near.nodes->storage_size(), g.num_nodes() / 2);
   // Every node: the stored value, or zero where the layout stores none.
