@@ -6,10 +6,9 @@ namespace hos::sfm {
 namespace {
 
 constexpr int kExhaustiveBlockSize = 50;  // COLMAP's default block size
-// k-means branching of the vocabulary tree. COLMAP's 256 clusters every
-// descriptor against 256 centres at the first level; 16 needs a level more
-// and a quarter of the distance computations for the same words (36 photos:
-// the tree in 4 s instead of 15, the same retrieved pairs' accuracy).
+// k-means branching of the vocabulary tree: with COLMAP's 256 every
+// descriptor is compared with 256 centres at the first level. On the features
+// of 36 photos, 512 words took 4 CPU s with 16 against 15 with 256.
 constexpr int kVocabTreeBranching = 16;
 // Bundle adjustment runs single-threaded below this many residuals (COLMAP's
 // default 50000 keeps every adjustment of a 10-photo set on one core).

@@ -27,7 +27,7 @@ struct SfmOptions {
   int exhaustive_max_images = 30;
   int sequential_overlap = 10;  // neighbours matched per frame by the sequential matcher
   // Vocabulary tree matching: photos retrieved (and matched) per photo, and
-  // the tree's visual words (0 = auto: about 100 features per word).
+  // the tree's visual words (0 = auto: sfm_plan.h, vocab_tree_words_for).
   int vocab_tree_neighbors = 12;
   int vocab_tree_words = 0;
   int spatial_neighbors = 20;  // nearest photos by GPS position matched per photo
