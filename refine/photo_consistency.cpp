@@ -63,7 +63,7 @@ std::optional<Patch> surface_patch(
     for (int a = -half; a <= half; ++a) {
       // Pixel centres of the level nearest to the vertex's projection.
       const Eigen::Vector2d pixel(std::floor(centre->x()) + 0.5 + a * step, std::floor(centre->y()) + 0.5 + b * step);
-      const std::optional<Eigen::Vector3d> point = surface_point(ref, level, pixel, max_depth_jump);
+      const std::optional<Eigen::Vector3d> point = surface_point(ref, pixel, max_depth_jump);
       const std::optional<float> grey = sample(ref, level, pixel);
       if (!point || !grey) return std::nullopt;
       patch.points.push_back(*point);

@@ -22,7 +22,8 @@ struct VertexTarget {
 };
 
 // One search per vertex at pyramid level `level`. views[i].depth must hold
-// the mesh's depth (render_depths); visibility_tolerance is in scene units.
+// the mesh's depth at that level (render_depths); visibility_tolerance is in
+// scene units.
 std::vector<VertexTarget> search_normal_offsets(const TriangleMesh& mesh,
                                                 const std::vector<Eigen::Vector3f>& normals,
                                                 const std::vector<RefineView>& views,

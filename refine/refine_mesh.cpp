@@ -86,7 +86,7 @@ RefineResult refine_mesh(const TriangleMesh& input,
       reporter.throw_if_cancelled();
       // Step 1: visibility and normals of the current surface.
       const std::vector<Eigen::Vector3f> normals = vertex_normals(mesh);
-      render_depths(mesh, views);
+      render_depths(mesh, views, level);
       // Step 2: photometric targets along the normals.
       const std::vector<VertexTarget> targets =
           search_normal_offsets(mesh, normals, views, level, 2.0 * edge, options, reporter);

@@ -5,12 +5,12 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
-#include "render/rasterizer.h"
+#include "render/depth_buffer.h"
 
 namespace hos::refine {
 
 std::optional<Eigen::Vector3d> RefineView::project(const Eigen::Vector3d& x_in_world, int level) const {
-  const Eigen::Vector3d x = pose.cam_from_world(x_in_world);
+  const Eigen::Vector3d x = rotation * x_in_world + pose.cam_from_world_translation;
   if (x.z() <= 0.0) return std::nullopt;
   const double scale = 1.0 / static_cast<double>(1 << level);
   const double u = (camera.focal_x() * x.x() / x.z() + camera.principal_x()) * scale;
@@ -28,6 +28,7 @@ RefineView make_view(
   RefineView view;
   view.camera = camera;
   view.pose = pose;
+  view.rotation = pose.rotation();
   view.center = pose.center();
   // Step 1: grey levels in [0, 1]; ZNCC removes each view's gain and offset.
   cv::Mat grey;
@@ -63,46 +64,49 @@ std::vector<RefineView> load_views(const UndistortedWorkspace& workspace, int le
   return views;
 }
 
-void render_depths(const TriangleMesh& mesh, std::vector<RefineView>& views) {
-  // Only the depth is used: one sample per pixel, no lighting.
-  std::vector<render::RenderObject> objects(1);
-  objects[0].mesh.vertices = mesh.vertices;
-  objects[0].mesh.faces = mesh.faces;
-  render::RenderOptions options;
-  options.supersampling = 1;
-  options.lighting.unlit = true;
-  for (RefineView& view : views) view.depth = render::render_view(objects, view.camera, view.pose, options).depth;
+void render_depths(const TriangleMesh& mesh, std::vector<RefineView>& views, int level) {
+#pragma omp parallel for schedule(dynamic)
+  for (int i = 0; i < static_cast<int>(views.size()); ++i) {
+    RefineView& view = views[i];
+    std::vector<Eigen::Vector3f> projected(mesh.vertices.size());
+    for (std::size_t v = 0; v < projected.size(); ++v) {
+      // Behind the camera: a z the rasterizer skips.
+      projected[v] =
+          view.project(mesh.vertices[v].cast<double>(), level).value_or(Eigen::Vector3d(0.0, 0.0, -1.0)).cast<float>();
+    }
+    const cv::Mat& image = view.pyramid[level];
+    view.depth = render::rasterize_depth(mesh, projected, image.cols, image.rows).depth;
+    view.depth_level = level;
+  }
 }
 
 bool sees(const RefineView& view, const Eigen::Vector3d& x_in_world, double tolerance) {
-  const std::optional<Eigen::Vector3d> p = view.project(x_in_world, 0);
+  const std::optional<Eigen::Vector3d> p = view.project(x_in_world, view.depth_level);
   if (!p) return false;
   const int cx = static_cast<int>(std::floor(p->x())), cy = static_cast<int>(std::floor(p->y()));
   if (cx < 0 || cy < 0 || cx >= view.depth.cols || cy >= view.depth.rows) return false;
   float nearest = std::numeric_limits<float>::max();
   for (int y = std::max(0, cy - 1); y <= std::min(view.depth.rows - 1, cy + 1); ++y) {
     for (int x = std::max(0, cx - 1); x <= std::min(view.depth.cols - 1, cx + 1); ++x) {
-      const float d = view.depth.at<float>(y, x);
-      if (d > 0.0f) nearest = std::min(nearest, d);
+      nearest = std::min(nearest, view.depth.at<float>(y, x));
     }
   }
   return p->z() <= nearest + tolerance;
 }
 
 std::optional<Eigen::Vector3d> surface_point(const RefineView& view,
-                                             int level,
                                              const Eigen::Vector2d& pixel,
                                              double max_depth_jump) {
-  const double scale = static_cast<double>(1 << level);
-  const double x = pixel.x() * scale - 0.5, y = pixel.y() * scale - 0.5;
+  const double x = pixel.x() - 0.5, y = pixel.y() - 0.5;
   const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
   if (x0 < 0 || y0 < 0 || x0 + 1 >= view.depth.cols || y0 + 1 >= view.depth.rows) return std::nullopt;
   const float d00 = view.depth.at<float>(y0, x0), d01 = view.depth.at<float>(y0, x0 + 1);
   const float d10 = view.depth.at<float>(y0 + 1, x0), d11 = view.depth.at<float>(y0 + 1, x0 + 1);
   const float lo = std::min({d00, d01, d10, d11}), hi = std::max({d00, d01, d10, d11});
-  if (lo <= 0.0f || hi - lo > max_depth_jump) return std::nullopt;
+  if (!std::isfinite(hi) || hi - lo > max_depth_jump) return std::nullopt;
   const double fx = x - x0, fy = y - y0;
   const double z = (1 - fy) * ((1 - fx) * d00 + fx * d01) + fy * ((1 - fx) * d10 + fx * d11);
+  const double scale = static_cast<double>(1 << view.depth_level);
   const Eigen::Vector3d ray((pixel.x() * scale - view.camera.principal_x()) / view.camera.focal_x(),
                             (pixel.y() * scale - view.camera.principal_y()) / view.camera.focal_y(), 1.0);
   return view.pose.world_from_cam(z * ray);

@@ -19,11 +19,16 @@ namespace hos::refine {
 struct RefineView {
   Camera camera;  // undistorted (PINHOLE or SIMPLE_PINHOLE)
   ImageRecord pose;
+  // pose's rotation as a matrix: projecting is the refinement's inner loop.
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
   // Grey levels in [0, 1], CV_32F; pyramid[l] is 1/2^l of the photo (box
   // filtered, so pixel centres map as x_l = x_0 / 2^l).
   std::vector<cv::Mat> pyramid;
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  // camera centre in world coordinates
-  cv::Mat depth;  // CV_32F camera z of the current mesh at full resolution, 0 where empty
+  // The current mesh's camera z at the size of pyramid level depth_level,
+  // CV_32F, +inf where empty.
+  cv::Mat depth;
+  int depth_level = 0;
 
   // World point to the pixel of pyramid level `level` (COLMAP pixel
   // convention), with the camera-frame depth; nothing behind the camera.
@@ -39,19 +44,19 @@ RefineView make_view(
 // unreadable photo.
 std::vector<RefineView> load_views(const UndistortedWorkspace& workspace, int levels, Reporter& reporter);
 
-// Renders the mesh's depth into every view (OpenMP over views).
-void render_depths(const TriangleMesh& mesh, std::vector<RefineView>& views);
+// Renders the mesh's depth into every view at the size of pyramid level
+// `level` (OpenMP over views).
+void render_depths(const TriangleMesh& mesh, std::vector<RefineView>& views, int level);
 
 // Whether view sees x: in the image, in front of the camera, and no nearer
 // than `tolerance` behind the depth buffer (over the 3x3 pixels around its
 // projection, so a vertex on a silhouette still counts).
 bool sees(const RefineView& view, const Eigen::Vector3d& x_in_world, double tolerance);
 
-// The point of the current mesh seen at a pixel of pyramid level `level`
-// (depth buffer, bilinear over four covered pixels); nothing where the
-// pixel is not covered, or lies on a depth edge wider than max_depth_jump.
+// The point of the current mesh seen at a pixel of the depth buffer's level
+// (bilinear over four covered pixels); nothing where the pixel is not
+// covered, or lies on a depth edge wider than max_depth_jump.
 std::optional<Eigen::Vector3d> surface_point(const RefineView& view,
-                                             int level,
                                              const Eigen::Vector2d& pixel,
                                              double max_depth_jump);
 

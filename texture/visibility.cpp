@@ -5,7 +5,7 @@
 #include <limits>
 #include <opencv2/imgproc.hpp>
 
-#include "render/scan_triangle.h"
+#include "render/depth_buffer.h"
 
 namespace hos::texture {
 
@@ -20,45 +20,7 @@ std::vector<Eigen::Vector3f> project_vertices(const TriangleMesh& mesh, const Te
   return p;
 }
 
-constexpr float kNearZ = 1e-6f;
-
-// The nearest face at every pixel centre of the camera's image.
-DepthBuffer rasterize(const TriangleMesh& mesh, const std::vector<Eigen::Vector3f>& projected, const Camera& camera) {
-  const int width = camera.width;
-  const int height = camera.height;
-  DepthBuffer buffer;
-  buffer.depth = cv::Mat(height, width, CV_32F, cv::Scalar(std::numeric_limits<float>::infinity()));
-  buffer.face_id = cv::Mat(height, width, CV_32S, cv::Scalar(-1));
-  for (int f = 0; f < static_cast<int>(mesh.faces.size()); ++f) {
-    const auto& face = mesh.faces[f];
-    const Eigen::Vector3f& a = projected[face[0]];
-    const Eigen::Vector3f& b = projected[face[1]];
-    const Eigen::Vector3f& c = projected[face[2]];
-    // Faces crossing the camera plane are skipped; they cannot be textured
-    // from this view and rarely hide anything the view can use.
-    if (a.z() <= kNearZ || b.z() <= kNearZ || c.z() <= kNearZ) continue;
-    const float area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
-    if (area == 0.0f || !std::isfinite(area)) continue;
-    const render::PixelRange range{
-        std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}) - 0.5f))),
-        std::min(width - 1, static_cast<int>(std::ceil(std::max({a.x(), b.x(), c.x()}) - 0.5f))),
-        std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}) - 0.5f))),
-        std::min(height - 1, static_cast<int>(std::ceil(std::max({a.y(), b.y(), c.y()}) - 0.5f)))};
-    const float iza = 1.0f / a.z(), izb = 1.0f / b.z(), izc = 1.0f / c.z();
-    render::scan_triangle(a, b, c, 1.0f / area, range, [&](int x, int y, float wa, float wb, float wc) {
-      // 1/z is affine in screen space.
-      const float z = 1.0f / (wa * iza + wb * izb + wc * izc);
-      float& depth = buffer.depth.at<float>(y, x);
-      if (z < depth) {
-        depth = z;
-        buffer.face_id.at<int>(y, x) = f;
-      }
-    });
-  }
-  return buffer;
-}
-
-bool passes_depth_test(const DepthBuffer& buffer, const Eigen::Vector3f& p, int face, float tolerance) {
+bool passes_depth_test(const render::DepthBuffer& buffer, const Eigen::Vector3f& p, int face, float tolerance) {
   const int x = static_cast<int>(std::floor(p.x()));
   const int y = static_cast<int>(std::floor(p.y()));
   if (x < 0 || y < 0 || x >= buffer.depth.cols || y >= buffer.depth.rows) return false;
@@ -68,10 +30,6 @@ bool passes_depth_test(const DepthBuffer& buffer, const Eigen::Vector3f& p, int 
 }
 
 }  // namespace
-
-DepthBuffer rasterize_depth(const TriangleMesh& mesh, const TextureView& view) {
-  return rasterize(mesh, project_vertices(mesh, view), view.camera);
-}
 
 FaceViewCandidates compute_visibility(const TriangleMesh& mesh,
                                       const MeshTopology& topology,
@@ -90,7 +48,7 @@ FaceViewCandidates compute_visibility(const TriangleMesh& mesh,
     if (reporter.cancel_requested()) continue;
     const TextureView& view = views[v];
     const std::vector<Eigen::Vector3f> projected = project_vertices(mesh, view);
-    const DepthBuffer buffer = rasterize(mesh, projected, view.camera);
+    const render::DepthBuffer buffer = render::rasterize_depth(mesh, projected, view.camera.width, view.camera.height);
 
     cv::Mat grey, gx, gy, gradient;
     cv::cvtColor(view.image, grey, cv::COLOR_BGR2GRAY);
@@ -133,8 +91,8 @@ FaceViewCandidates compute_visibility(const TriangleMesh& mesh,
       const Eigen::Vector3f& c = projected[face[2]];
       bool inside = true;
       for (const Eigen::Vector3f* p : {&a, &b, &c}) {
-        inside = inside && p->z() > kNearZ && p->x() >= 0.0f && p->y() >= 0.0f && p->x() <= view.camera.width &&
-                 p->y() <= view.camera.height;
+        inside = inside && p->z() > render::kMinDepth && p->x() >= 0.0f && p->y() >= 0.0f &&
+                 p->x() <= view.camera.width && p->y() <= view.camera.height;
       }
       if (!inside) continue;
       const Eigen::Vector3f pc = (a + b + c) / 3.0f;

@@ -44,11 +44,4 @@ FaceViewCandidates compute_visibility(const TriangleMesh& mesh,
                                       const TextureOptions& options,
                                       Reporter& reporter);
 
-// Depth and face-id buffers of one view (exposed for tests).
-struct DepthBuffer {
-  cv::Mat depth;    // CV_32F camera z, +inf where empty
-  cv::Mat face_id;  // CV_32S, -1 where empty
-};
-DepthBuffer rasterize_depth(const TriangleMesh& mesh, const TextureView& view);
-
 }  // namespace hos::texture

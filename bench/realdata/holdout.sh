@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Leave-one-out hold-out benchmark on a real photo set with true cameras
 # (Strecha et al. layout: DATA/images/*.jpg, DATA/gt_dense_cameras/<image>.camera).
-# The pipeline (hos-sfm, hos-mvs, hos-recon, hos-texture from BIN) runs on all
+# The pipeline (hos-sfm, hos-mvs, hos-recon, hos-refine, hos-texture from BIN) runs on all
 # photos but one; the textured result is rendered from the held-out photo's
 # camera and compared with the photo (PSNR, SSIM over the rendered pixels,
 # coverage = rendered pixels / photo pixels), through two cameras:
@@ -17,6 +17,7 @@
 #
 #   bench/realdata/holdout.sh DATA BIN WORK [--holdout NAME] [--photos N] [--label L]
 #                             [--set stage.key=value]... [--keep] [--sfm-only] [--shared-sfm]
+#                             [--mesh-from L]
 #
 # --holdout   photo to hold out (default: the middle one by name)
 # --photos N  use only the N photos nearest the held-out one by name (quick runs)
@@ -26,13 +27,16 @@
 # --shared-sfm  no SfM of the training photos: the run uses the SfM of all
 #             photos with the held-out one removed (its images, cameras and
 #             observations); quicker, but that photo shaped the cameras
+# --mesh-from L  start at refine with the points and mesh of run L (made
+#             with --keep; its mvs and recon times are reported): compares
+#             refine and texture settings without rerunning mvs and recon
 # Prints one markdown row per camera; figures also in WORK/runs/L/summary.json.
 set -euo pipefail
-usage() { sed -n '18,26p' "$0" | sed 's/^# *//' >&2; exit 2; }
+usage() { sed -n '18,30p' "$0" | sed 's/^# *//' >&2; exit 2; }
 [ $# -ge 3 ] || usage
 data="$(cd "$1" && pwd)" bin="$(cd "$2" && pwd)" work="$3"
 shift 3
-holdout="" photos=0 label="" keep=0 sfm_only=0 shared=0 sets=()
+holdout="" photos=0 label="" keep=0 sfm_only=0 shared=0 mesh_from="" sets=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --holdout) holdout="$2"; shift 2 ;;
@@ -40,13 +44,14 @@ while [ $# -gt 0 ]; do
     --label) label="$2"; shift 2 ;;
     --set) sets+=(--set "$2"); shift 2 ;;
     --keep) keep=1; shift ;;
+    --mesh-from) mesh_from="$2"; shift 2 ;;
     --sfm-only) sfm_only=1; shift ;;
     --shared-sfm) shared=1; shift ;;
     *) usage ;;
   esac
 done
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-for tool in hos-sfm hos-mvs hos-recon hos-texture hos-eval; do
+for tool in hos-sfm hos-mvs hos-recon hos-refine hos-texture hos-eval; do
   [ -x "$bin/$tool" ] || { echo "$bin/$tool: missing" >&2; exit 3; }
 done
 [ -d "$data/images" ] && [ -d "$data/gt_dense_cameras" ] || {
@@ -120,14 +125,27 @@ run="$work/runs/$label"
 rm -rf "$run"
 mkdir -p "$run"
 undistorted="$work/sfm-train/sfm/undistorted"
+# The --set values of one stage (each stage refuses another stage's keys).
+stage_sets() { local i; for ((i = 1; i < ${#sets[@]}; i += 2)); do
+  case "${sets[$i]}" in "$1".*) printf '%s\0' --set "${sets[$i]}" ;; esac; done; }
+for stage in mvs recon refine texture; do mapfile -d '' -t "sets_$stage" < <(stage_sets "$stage"); done
 # Wall s, CPU s (user + sys: steadier than wall on a shared machine), peak KB.
 timed() { /usr/bin/time -f "%e %U %S %M" -o "$run/$1.time" "${@:2}"; }
-timed mvs "$bin/hos-mvs" --workspace "$undistorted" --output "$run/points.ply" --progress none \
-  --log "$run/mvs.log" "${sets[@]}" >/dev/null
-timed recon "$bin/hos-recon" --input "$run/points.ply" --output "$run/mesh.ply" --progress none \
-  --log "$run/recon.log" "${sets[@]}" >/dev/null
-timed texture "$bin/hos-texture" --workspace "$undistorted" --mesh "$run/mesh.ply" --output "$run/model.glb" \
-  --progress none --log "$run/texture.log" "${sets[@]}" >/dev/null
+if [ -n "$mesh_from" ]; then
+  from="$work/runs/$mesh_from"
+  [ -f "$from/mesh.ply" ] || { echo "$from/mesh.ply: missing (make run $mesh_from with --keep)" >&2; exit 3; }
+  cp "$from/points.ply" "$from/mesh.ply" "$from/mvs.time" "$from/recon.time" "$run/"
+else
+  timed mvs "$bin/hos-mvs" --workspace "$undistorted" --output "$run/points.ply" --progress none \
+    --log "$run/mvs.log" "${sets_mvs[@]}" >/dev/null
+  timed recon "$bin/hos-recon" --input "$run/points.ply" --output "$run/mesh.ply" --progress none \
+    --log "$run/recon.log" "${sets_recon[@]}" >/dev/null
+fi
+# hos-refine passes the mesh through unchanged unless refine.enabled is set.
+timed refine "$bin/hos-refine" --workspace "$undistorted" --mesh "$run/mesh.ply" --output "$run/refined.ply" \
+  --progress none --log "$run/refine.log" "${sets_refine[@]}" >/dev/null
+timed texture "$bin/hos-texture" --workspace "$undistorted" --mesh "$run/refined.ply" --output "$run/model.glb" \
+  --progress none --log "$run/texture.log" "${sets_texture[@]}" >/dev/null
 "$bin/hos-eval" render --glb "$run/model.glb" --model "$work/models/true" --images "$data/images" \
   --align-model "$undistorted/sparse" --truth-model "$work/models/truth" --save "$run/true" \
   --json "$run/true.json" >/dev/null
@@ -136,7 +154,7 @@ timed texture "$bin/hos-texture" --workspace "$undistorted" --mesh "$run/mesh.pl
   --truth-model "$work/sfm-all/sfm/undistorted/sparse" --save "$run/registered" \
   --json "$run/registered.json" >/dev/null
 points=$(grep -a -m1 '^element vertex' "$run/points.ply" | cut -d' ' -f3)
-[ "$keep" = 1 ] || rm -f "$run/points.ply" "$run/mesh.ply"
+[ "$keep" = 1 ] || rm -f "$run/points.ply" "$run/mesh.ply" "$run/refined.ply"
 
 python3 - "$run" "$label" "$holdout" "$points" "$work/models" <<'PY'
 import json, sys
@@ -148,10 +166,10 @@ def timing(stage):
     wall, user, system, kb = open(f"{run}/{stage}.time").read().split()[-4:]
     return {"seconds": float(wall), "cpu_seconds": float(user) + float(system), "peak_mb": int(kb) / 1024}
 summary = {"label": label, "holdout": holdout, "points": int(points)}
-for stage in ("mvs", "recon", "texture"):
+for stage in ("mvs", "recon", "refine", "texture"):
     summary[stage] = timing(stage)
-print("| run | camera | PSNR dB | SSIM | coverage | mvs s | mvs CPU s | mvs peak MB | points | recon s | texture s |")
-print("|---|---|---|---|---|---|---|---|---|---|---|")
+print("| run | camera | PSNR dB | SSIM | coverage | mvs s | mvs CPU s | mvs peak MB | points | recon s | refine s | refine CPU s | texture s |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 for camera, model in (("true", "true"), ("registered", "registered")):
     d = json.load(open(f"{run}/{camera}.json"))
     views = d.get("views", [])
@@ -160,6 +178,7 @@ for camera, model in (("true", "true"), ("registered", "registered")):
     summary[camera] = {"psnr": v["psnr"], "ssim": v["ssim"], "coverage": coverage,
                        "alignment_rms": d.get("alignment", {}).get("rms_residual")}
     print(f"| {label} | {camera} | {v['psnr']:.2f} | {v['ssim']:.3f} | {coverage:.3f} | {summary['mvs']['seconds']:.1f} "
-          f"| {summary['mvs']['cpu_seconds']:.1f} | {summary['mvs']['peak_mb']:.0f} | {points} | {summary['recon']['seconds']:.1f} | {summary['texture']['seconds']:.1f} |")
+          f"| {summary['mvs']['cpu_seconds']:.1f} | {summary['mvs']['peak_mb']:.0f} | {points} | {summary['recon']['seconds']:.1f} "
+          f"| {summary['refine']['seconds']:.1f} | {summary['refine']['cpu_seconds']:.1f} | {summary['texture']['seconds']:.1f} |")
 json.dump(summary, open(f"{run}/summary.json", "w"), indent=1)
 PY
