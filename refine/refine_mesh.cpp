@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "refine/edge_split.h"
 #include "refine/mesh_geometry.h"
 #include "refine/photo_consistency.h"
 #include "refine/regularizer.h"
@@ -57,6 +58,40 @@ int move_without_folds(TriangleMesh& mesh, const std::vector<Eigen::Vector3f>& n
   return static_cast<int>(std::count(shortened.begin(), shortened.end(), 1));
 }
 
+// Splits the mesh's edges until they are at most options.edge_pixels pixels
+// of `level` long (in the view that resolves them finest), within the face
+// budget. Each pass halves the edges at most.
+void subdivide_to_footprint(TriangleMesh& mesh,
+                            const std::vector<RefineView>& views,
+                            int level,
+                            const RefineOptions& options,
+                            RefineStats& stats) {
+  constexpr int kMaxPasses = 4;
+  if (options.edge_pixels <= 0.0) return;
+  for (int pass = 0; pass < kMaxPasses; ++pass) {
+    std::vector<float> limit = pixel_footprints(mesh, vertex_normals(mesh), views, options.max_incidence_deg);
+    const float pixels = static_cast<float>(options.edge_pixels * static_cast<double>(1 << level));
+    for (float& l : limit) l *= pixels;
+    EdgeSplitResult split = split_long_edges(mesh, limit, static_cast<std::size_t>(options.max_faces));
+    stats.split_edges += split.split_edges;
+    stats.face_budget_reached = stats.face_budget_reached || split.budget_reached;
+    if (split.split_edges == 0) return;
+    mesh = std::move(split.mesh);
+  }
+}
+
+// The pyramid levels worth matching at: at most options.levels, and none
+// whose largest photo is smaller than options.min_level_size on its longest
+// side (coarser levels moved the surface away from the truth on 640x480
+// photos, docs/refine.md). Level 0 is always used.
+int usable_levels(const std::vector<RefineView>& views, const RefineOptions& options) {
+  int longest = 0;
+  for (const RefineView& view : views) longest = std::max({longest, view.camera.width, view.camera.height});
+  int levels = 1;
+  while (levels < options.levels && (longest >> levels) >= options.min_level_size) ++levels;
+  return views.empty() ? 1 : std::min<int>(levels, static_cast<int>(views[0].pyramid.size()));
+}
+
 }  // namespace
 
 RefineResult refine_mesh(const TriangleMesh& input,
@@ -71,12 +106,13 @@ RefineResult refine_mesh(const TriangleMesh& input,
   result.mesh = input;
   TriangleMesh& mesh = result.mesh;
   RefineStats& stats = result.stats;
-  const VertexRings rings = vertex_rings(mesh);
-  const double edge = mean_edge_length(mesh);
-  const int levels = std::min<int>(options.levels, views.empty() ? 1 : static_cast<int>(views[0].pyramid.size()));
+  const int levels = usable_levels(views, options);
   // Coarse to fine: the coarse level's wider steps catch larger errors, the
   // fine level's narrow ones place the surface to a fraction of a pixel.
   for (int level = levels - 1; level >= 0 && !stats.out_of_time; --level) {
+    subdivide_to_footprint(mesh, views, level, options, stats);
+    const VertexRings rings = vertex_rings(mesh);
+    const double edge = mean_edge_length(mesh);
     double previous_score = -2.0;
     for (int round = 0; round < options.iterations; ++round) {
       if (elapsed() > options.max_seconds) {
@@ -107,9 +143,10 @@ RefineResult refine_mesh(const TriangleMesh& input,
       previous_score = score;
     }
   }
+  // Splitting appends vertices, so the input's keep their indices.
   double moved = 0.0;
-  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) moved += (mesh.vertices[v] - input.vertices[v]).norm();
-  stats.mean_displacement = mesh.vertices.empty() ? 0.0 : moved / mesh.vertices.size();
+  for (std::size_t v = 0; v < input.vertices.size(); ++v) moved += (mesh.vertices[v] - input.vertices[v]).norm();
+  stats.mean_displacement = input.vertices.empty() ? 0.0 : moved / input.vertices.size();
   if (!mesh.normals.empty()) mesh.normals = vertex_normals(mesh);
   stats.seconds = elapsed();
   return result;

@@ -1,8 +1,9 @@
 // hos-refine's library: moves a mesh's vertices along their normals until
 // the photos agree on the surface, regularised by a thin-plate energy
-// (regularizer.h), coarse to fine over image scales. The topology is kept:
-// the output has the input's faces, so it stays manifold, and the face count
-// texture takes is the recon mesh's.
+// (regularizer.h), coarse to fine over image scales and mesh resolution:
+// before each level, edges longer than a few pixels of the level are split
+// (edge_split.h), within a face budget. Splitting and moving without
+// fold-overs keep the mesh manifold.
 #pragma once
 
 #include <vector>
@@ -19,8 +20,10 @@ struct RefineStats {
   int rounds = 0;                    // rounds run over all levels
   std::vector<double> round_scores;  // mean best ZNCC of the vertices with a target, per round
   double targeted_fraction = 0.0;    // vertices with a target in the last round
-  double mean_displacement = 0.0;    // mean |final - input| over the vertices, scene units
+  double mean_displacement = 0.0;    // mean |final - input| over the input's vertices, scene units
   int folds_prevented = 0;           // vertices whose step was shortened to keep faces from flipping
+  int split_edges = 0;               // edges split to reach refine.edge_pixels
+  bool face_budget_reached = false;  // refine.max_faces stopped the splitting
   bool out_of_time = false;          // stopped by max_seconds
   double seconds = 0.0;
 };

@@ -19,7 +19,12 @@ void register_options(OptionSet& set, RefineOptions& o) {
                "smoothness term: thin_plate (bi-Laplacian, keeps curved parts) or membrane (Laplacian)");
   set.add("lambda", o.lambda, "regulariser weight against the photometric targets", 0.0, 1e6);
   set.add("levels", o.levels, "image scales, coarse to fine (level l = 1/2^l of the photos)", 1, 6);
+  set.add("min_level_size", o.min_level_size, "levels smaller than this (longest side, pixels) are not used", 16,
+          100000);
   set.add("iterations", o.iterations, "refinement rounds per level", 0, 100);
+  set.add("edge_pixels", o.edge_pixels, "split edges longer than this many pixels of the level (0 = keep the faces)",
+          0.0, 1000.0);
+  set.add("max_faces", o.max_faces, "face budget of the subdivision", 1000, 100000000);
   set.add("search_steps", o.search_steps, "normal offsets tried on each side of a vertex", 1, 32);
   set.add("step_pixels", o.step_pixels, "spacing of the normal offsets, pixels of the reference view", 0.01, 100.0);
   set.add("patch_size", o.patch_size, "matching patch side in samples (odd)", 3, 15);

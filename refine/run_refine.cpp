@@ -23,7 +23,8 @@ RefineStats run_refine(const std::filesystem::path& mesh_path,
   const RefineStats& s = result.stats;
   reporter.info(format_message(
       "wrote ", output_path.string(), ": ", result.mesh.num_vertices(), " vertices, ", result.mesh.num_faces(),
-      " faces; ", s.rounds, " rounds, mean ZNCC ", s.round_scores.empty() ? 0.0 : s.round_scores.front(), " -> ",
+      " faces (", s.split_edges, " edges split", s.face_budget_reached ? ", face budget reached" : "", "); ", s.rounds,
+      " rounds, mean ZNCC ", s.round_scores.empty() ? 0.0 : s.round_scores.front(), " -> ",
       s.round_scores.empty() ? 0.0 : s.round_scores.back(), ", mean displacement ", s.mean_displacement, ", ",
       s.seconds, " s", s.out_of_time ? " (time budget reached)" : ""));
   return s;

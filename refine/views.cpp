@@ -1,6 +1,7 @@
 #include "refine/views.h"
 
 #include <cmath>
+#include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -78,6 +79,25 @@ void render_depths(const TriangleMesh& mesh, std::vector<RefineView>& views, int
     view.depth = render::rasterize_depth(mesh, projected, image.cols, image.rows).depth;
     view.depth_level = level;
   }
+}
+
+std::vector<float> pixel_footprints(const TriangleMesh& mesh,
+                                    const std::vector<Eigen::Vector3f>& normals,
+                                    const std::vector<RefineView>& views,
+                                    double max_incidence_deg) {
+  const double min_cos = std::cos(max_incidence_deg * M_PI / 180.0);
+  std::vector<float> footprint(mesh.vertices.size(), std::numeric_limits<float>::infinity());
+#pragma omp parallel for schedule(static)
+  for (int v = 0; v < static_cast<int>(mesh.vertices.size()); ++v) {
+    const Eigen::Vector3d x = mesh.vertices[v].cast<double>();
+    for (const RefineView& view : views) {
+      const std::optional<Eigen::Vector3d> p = view.project(x, 0);
+      if (!p || p->x() < 0.0 || p->y() < 0.0 || p->x() > view.camera.width || p->y() > view.camera.height) continue;
+      if (normals[v].cast<double>().dot((view.center - x).normalized()) < min_cos) continue;
+      footprint[v] = std::min(footprint[v], static_cast<float>(p->z() / view.camera.focal_x()));
+    }
+  }
+  return footprint;
 }
 
 bool sees(const RefineView& view, const Eigen::Vector3d& x_in_world, double tolerance) {

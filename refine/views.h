@@ -48,6 +48,15 @@ std::vector<RefineView> load_views(const UndistortedWorkspace& workspace, int le
 // `level` (OpenMP over views).
 void render_depths(const TriangleMesh& mesh, std::vector<RefineView>& views, int level);
 
+// Scene units per pixel of level 0 at each vertex, in the view that resolves
+// it finest among those it faces within max_incidence_deg, inside the image
+// and in front of the camera (occlusion is not checked); +inf where no view
+// does.
+std::vector<float> pixel_footprints(const TriangleMesh& mesh,
+                                    const std::vector<Eigen::Vector3f>& normals,
+                                    const std::vector<RefineView>& views,
+                                    double max_incidence_deg);
+
 // Whether view sees x: in the image, in front of the camera, and no nearer
 // than `tolerance` behind the depth buffer (over the 3x3 pixels around its
 // projection, so a vertex on a silhouette still counts).
