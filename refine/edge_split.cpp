@@ -70,6 +70,17 @@ void close_red_green(const EdgeTable& table, std::vector<char>& split) {
   }
 }
 
+// Faces after splitting: four for a face with three split edges, two for
+// one with a single split edge.
+std::size_t split_face_count(const EdgeTable& table, const std::vector<char>& split) {
+  std::size_t faces = 0;
+  for (const std::array<int, 3>& edges : table.face_edges) {
+    const int count = split[edges[0]] + split[edges[1]] + split[edges[2]];
+    faces += count == 3 ? 4 : (count == 1 ? 2 : 1);
+  }
+  return faces;
+}
+
 // Appends the midpoint of edge (a, b), with the mean of its attributes.
 int add_midpoint(TriangleMesh& out, int a, int b) {
   out.vertices.push_back(0.5f * (out.vertices[a] + out.vertices[b]));
@@ -92,9 +103,17 @@ EdgeSplitResult split_long_edges(const TriangleMesh& mesh, const std::vector<flo
   EdgeSplitResult result;
   // Step 1: the edges to split. Each split edge adds about two faces.
   const EdgeTable table = edge_table(mesh);
-  const std::size_t allowed = max_faces > mesh.faces.size() ? (max_faces - mesh.faces.size()) / 2 : 0;
-  std::vector<char> split = edges_over_limit(mesh, table, limit, allowed, &result.budget_reached);
-  close_red_green(table, split);
+  std::size_t allowed = max_faces > mesh.faces.size() ? (max_faces - mesh.faces.size()) / 2 : 0;
+  std::vector<char> split;
+  for (;;) {
+    split = edges_over_limit(mesh, table, limit, allowed, &result.budget_reached);
+    close_red_green(table, split);
+    // The closure adds edges: fewer of the long ones until the faces fit.
+    const std::size_t faces = split_face_count(table, split);
+    if (faces <= max_faces || allowed == 0) break;
+    allowed -= std::min(allowed, (faces - max_faces) / 2 + 1);
+    result.budget_reached = true;
+  }
   // Step 2: their midpoints.
   TriangleMesh& out = result.mesh;
   out = mesh;

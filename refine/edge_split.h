@@ -20,7 +20,8 @@ struct EdgeSplitResult {
 
 // Splits every edge (a, b) with |a - b| > min(limit[a], limit[b]); when that
 // would give more than max_faces faces, the edges furthest above their limit
-// (by ratio) come first. A face with two or three split edges becomes four
+// (by ratio) come first and the result has at most max_faces faces (or the
+// input's count, if larger). A face with two or three split edges becomes four
 // faces, one with a single split edge two. New vertices take the mean of
 // their edge's normals (renormalised), colours and scalars. limit has one
 // entry per vertex; +inf never splits.

@@ -141,7 +141,7 @@ else
   timed recon "$bin/hos-recon" --input "$run/points.ply" --output "$run/mesh.ply" --progress none \
     --log "$run/recon.log" "${sets_recon[@]}" >/dev/null
 fi
-# hos-refine passes the mesh through unchanged unless refine.enabled is set.
+# hos-refine passes the mesh through unchanged with --set refine.enabled=false.
 timed refine "$bin/hos-refine" --workspace "$undistorted" --mesh "$run/mesh.ply" --output "$run/refined.ply" \
   --progress none --log "$run/refine.log" "${sets_refine[@]}" >/dev/null
 timed texture "$bin/hos-texture" --workspace "$undistorted" --mesh "$run/refined.ply" --output "$run/model.glb" \

@@ -66,12 +66,12 @@ TEST(EdgeSplit, FaceBudgetSplitsTheLongestEdgesFirst) {
   TriangleMesh sphere = synth::icosphere(3);
   for (Eigen::Vector3f& p : sphere.vertices) p.x() *= 3.0f;  // long edges along x
   const std::vector<float> limit(sphere.vertices.size(), 1e-6f);
-  const std::size_t budget = sphere.faces.size() + 200;  // about 100 split edges
+  const std::size_t budget = sphere.faces.size() + 200;  // at most 100 split edges
   const EdgeSplitResult result = split_long_edges(sphere, limit, budget);
   EXPECT_TRUE(result.budget_reached);
   expect_closed_manifold(result.mesh);
-  EXPECT_GE(result.split_edges, 100);
-  EXPECT_LT(result.mesh.faces.size(), budget + 200);  // the red-green closure adds a few
+  EXPECT_GE(result.split_edges, 90);  // fewer where the red-green closure adds edges
+  EXPECT_LE(result.mesh.faces.size(), budget);
   // Which input edges were split: those whose midpoint is a new vertex.
   std::set<std::array<float, 3>> midpoints;
   for (std::size_t v = sphere.vertices.size(); v < result.mesh.vertices.size(); ++v) {
@@ -89,9 +89,9 @@ TEST(EdgeSplit, FaceBudgetSplitsTheLongestEdgesFirst) {
       lengths.push_back(edges.back().first);
     }
   }
-  // Each edge appears twice (once per face): the 100 longest are the first 200.
+  // Each edge appears twice (once per face): the 90 longest are the first 180.
   std::sort(lengths.begin(), lengths.end(), std::greater<>());
-  const float threshold = lengths[199];
+  const float threshold = lengths[179];
   for (const auto& [length, split] : edges) {
     if (length > threshold * 1.0001f) {
       EXPECT_TRUE(split) << "an edge of length " << length << " was kept";
