@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "eval/mesh_sanity.h"
+#include "eval/self_intersection.h"
 #include "eval/surface_distance.h"
 #include "refine/mesh_geometry.h"
 #include "tests/refine/rock_fixture.h"
@@ -66,6 +67,8 @@ TEST(RefineMesh, SmoothedRockComesBackTowardsTheTruth) {
   ASSERT_EQ(inward_faces(scene.truth, centre), 0) << "the rock is no longer star-shaped: the check needs another";
   EXPECT_GT(result.mesh.faces.size(), input.faces.size()) << "no edge was split";
   EXPECT_EQ(inward_faces(result.mesh, centre), 0);
+  ASSERT_EQ(eval::count_self_intersections(input), 0u);
+  EXPECT_EQ(eval::count_self_intersections(result.mesh), 0u);
   // The smoothing shrank the rock; the photos give the volume back.
   const double truth_volume = testing::enclosed_volume(scene.truth);
   const double volume_before = testing::enclosed_volume(input) / truth_volume;
