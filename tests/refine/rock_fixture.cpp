@@ -8,18 +8,18 @@ namespace hos::refine::testing {
 
 namespace {
 
-synth::Scene rock_scene() {
+synth::Scene object_scene(const std::string& name) {
   synth::SceneOptions options;
-  options.name = "rock";
+  options.name = name;
   return synth::make_scene(options);
 }
 
 }  // namespace
 
-TriangleMesh rock_truth() { return synth::merged_mesh(rock_scene(), false); }
+TriangleMesh rock_truth() { return synth::merged_mesh(object_scene("rock"), false); }
 
-RockScene make_rock_scene(int num_views, int levels) {
-  const synth::Scene scene = rock_scene();
+RockScene make_object_scene(const std::string& name, int num_views, int levels) {
+  const synth::Scene scene = object_scene(name);
   synth::DatasetOptions options;
   options.num_views = num_views;
   options.width = 400;
@@ -34,6 +34,8 @@ RockScene make_rock_scene(int num_views, int levels) {
   }
   return rock;
 }
+
+RockScene make_rock_scene(int num_views, int levels) { return make_object_scene("rock", num_views, levels); }
 
 TriangleMesh smoothed(const TriangleMesh& mesh, int rounds) {
   TriangleMesh out = mesh;

@@ -2,6 +2,7 @@
 // views, its true mesh, and meshes of it degraded in known ways.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "core/types.h"
@@ -17,7 +18,9 @@ struct RockScene {
 // hos-synth's rock (seed 1), the true surface.
 TriangleMesh rock_truth();
 
-// The rock in `num_views` photos of 400x300 pixels.
+// One object of hos-synth's scenes ("rock", "box", ...) in `num_views`
+// photos of 400x300 pixels.
+RockScene make_object_scene(const std::string& name, int num_views, int levels);
 RockScene make_rock_scene(int num_views, int levels);
 
 // Umbrella-operator smoothing (x <- x + 0.5 L x, `rounds` times): the rock
