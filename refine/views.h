@@ -21,8 +21,8 @@ struct RefineView {
   ImageRecord pose;
   // pose's rotation as a matrix: projecting is the refinement's inner loop.
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
-  // Grey levels in [0, 1], CV_32F; pyramid[l] is 1/2^l of the photo (box
-  // filtered, so pixel centres map as x_l = x_0 / 2^l).
+  // Grey levels, CV_16U (65535 = white); pyramid[l] is 1/2^l of the photo
+  // (box filtered, so pixel centres map as x_l = x_0 / 2^l).
   std::vector<cv::Mat> pyramid;
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  // camera centre in world coordinates
   // The current mesh's camera z at the size of pyramid level depth_level,
@@ -69,7 +69,7 @@ std::optional<Eigen::Vector3d> surface_point(const RefineView& view,
                                              const Eigen::Vector2d& pixel,
                                              double max_depth_jump);
 
-// Bilinear grey level of pyramid level `level` at a pixel (COLMAP
+// Bilinear grey level in [0, 1] of pyramid level `level` at a pixel (COLMAP
 // convention); nothing outside the image.
 std::optional<float> sample(const RefineView& view, int level, const Eigen::Vector2d& pixel);
 
