@@ -1,8 +1,6 @@
 #include "texture/visibility.h"
 
-#include <algorithm>
 #include <cmath>
-#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "render/depth_buffer.h"
