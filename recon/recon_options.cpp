@@ -1,11 +1,20 @@
 #include "recon/recon_options.h"
 
+#include <string>
+
 #include "core/error.h"
 #include "core/option_set.h"
 
 namespace hos::recon {
 
-void ReconOptions::validate() const { check_option_table("recon", *this); }
+void ReconOptions::validate() const {
+  check_option_table("recon", *this);
+  if (resolution != 0 && resolution < kMinResolution) {
+    throw ConfigError("recon.resolution",
+                      "is " + std::to_string(resolution) + "; it must be 0 (from the samples' density) or in [" +
+                          std::to_string(kMinResolution) + ", " + std::to_string(kMaxResolution) + "]");
+  }
+}
 
 void register_options(OptionSet& set, ReconOptions& o) {
   set.add_enum("energy", o.energy,
@@ -16,8 +25,16 @@ void register_options(OptionSet& set, ReconOptions& o) {
                "smoothness energy of Pan & Skala: 1 membrane, 2 total variation, 3 pure second "
                "derivatives, 4 full Hessian");
   set.add("lambda", o.lambda, "smoothness weight (resolution independent; paper range 0.1-0.3)", 0.0, 1e6);
-  set.add("resolution", o.resolution, "grid cells along the longest side of the domain", kMinResolution,
-          kMaxResolution);
+  set.add("resolution", o.resolution,
+          "grid cells along the longest side of the domain (0 = from the samples' density: see samples_per_cell "
+          "and density_refinement)",
+          0, kMaxResolution);
+  set.add("samples_per_cell", o.samples_per_cell,
+          "with resolution 0: the density's grid is the finest whose cells that hold samples hold this many on average",
+          1.0, 1000.0);
+  set.add("density_refinement", o.density_refinement,
+          "with resolution 0: the grid is this many times finer than the density's (trim distances keep their length)",
+          0.25, 8.0);
   set.add("voxel_size", o.voxel_size, "grid spacing in scene units; 0 = use resolution", 0.0, 1e12);
   set.add("margin", o.margin, "domain margin around the points, fraction of their extent", 0.0, 2.0);
   set.add("filter_passes", o.filter_passes, "box filter passes smoothing the orientation field", 0, 10);
@@ -41,7 +58,8 @@ void register_options(OptionSet& set, ReconOptions& o) {
           "band width (voxels) when keeping values only near the samples; at least trim.distance_voxels + 2", 1,
           1 << 20);
   set.add("trim.enabled", o.trim.enabled, "remove surface far from every sample");
-  set.add("trim.distance_voxels", o.trim.distance_voxels, "trim distance in voxels", 0.1, 1000.0);
+  set.add("trim.distance_voxels", o.trim.distance_voxels,
+          "trim distance in voxels (with resolution 0: voxels of the density's grid)", 0.1, 1000.0);
   set.add("trim.min_component_fraction", o.trim.min_component_fraction,
           "drop pieces smaller than this fraction of the largest", 0.0, 1.0);
   set.add("threads", o.threads, "OpenMP threads (0 = all cores)", 0, 1024);

@@ -41,8 +41,10 @@ struct SolverOptions {
   // Grids of more nodes than this (in millions) keep no grid-sized array: the
   // right-hand side lives near the samples, each level's solution on its band
   // only, and the isosurface is extracted inside the band (see
-  // reconstruct.cpp); 0 = always where the options allow it.
-  int band_storage_above_mnodes = 64;
+  // reconstruct.cpp); 0 = always where the options allow it. Above grid
+  // 256 (17 M nodes): on fountain-P11's points at grid 480 (51 M nodes) the
+  // peak fell from 958 to 213 MB and the time by 25%.
+  int band_storage_above_mnodes = 20;
   // The band's width (voxels) on such grids: narrower than band_voxels, since
   // the memory is the band's (bunny at 512: 17% less, the same distance to
   // the reference surface); at least trim.distance_voxels + 2.
@@ -64,9 +66,15 @@ struct ReconOptions {
   // lambda * (D / 50)^2 (TV by lambda * D / 50) with D the domain's longest side,
   // so lambda = 0.2 damps features below about 1% of the domain at any grid size.
   double lambda = 0.2;
-  // Cells along the longest side of the domain: fine enough for thin parts
-  // and texture detail on real photos, still cheap beside mvs.
-  int resolution = 256;        // in [kMinResolution, kMaxResolution]
+  // Cells along the longest side of the domain, in [kMinResolution,
+  // kMaxResolution], or 0: the grid whose cells that hold samples hold
+  // samples_per_cell of them on average (see sample_density.h), made
+  // density_refinement times finer, within the memory budget.
+  int resolution = 0;
+  double samples_per_cell = 6.0;
+  // Finer than the samples' density: a real photo resolves more than the
+  // dense points sample (mvs matches at a fraction of the photo's size).
+  double density_refinement = 1.5;
   double voxel_size = 0.0;     // if > 0, overrides resolution
   double margin = 0.1;         // domain margin as a fraction of the points' longest extent
   int filter_passes = 3;       // box filter passes approximating a Gaussian (sec. 4.1)

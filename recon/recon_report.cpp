@@ -11,6 +11,8 @@ nlohmann::ordered_json recon_report_json(const ReconResult& result) {
   j["faces"] = result.mesh.num_faces();
   j["grid"] = {s.grid_dims.x(), s.grid_dims.y(), s.grid_dims.z()};
   j["voxel_size"] = s.voxel_size;
+  j["resolution"] = s.resolution;
+  if (s.samples_per_occupied_cell > 0.0) j["samples_per_occupied_cell"] = s.samples_per_occupied_cell;
   j["samples"] = s.num_samples;
   j["samples_dropped"] = s.num_samples_dropped;
   j["multigrid_levels"] = s.multigrid_levels;

@@ -12,6 +12,7 @@
 #include "recon/isosurface.h"
 #include "recon/memory_budget.h"
 #include "recon/multigrid.h"
+#include "recon/sample_density.h"
 #include "recon/sample_frame.h"
 #include "recon/trim.h"
 #include "recon/vector_field.h"
@@ -402,6 +403,37 @@ void extract_surface(const ScalarGrid& f,
   }
 }
 
+// recon.resolution 0: the grid the samples' density supports
+// (sample_density.h), refined by recon.density_refinement, no finer than the
+// memory budget allows. The trim distance keeps its length: it is in voxels
+// of the density's grid, the gaps between samples it must bridge being a
+// matter of their spacing.
+void choose_resolution_from_density(const BoundingBox& box,
+                                    const std::vector<Eigen::Vector3f>& points,
+                                    ReconOptions& options,
+                                    ReconStats& stats,
+                                    Reporter& reporter) {
+  const int density_grid = resolution_from_density(box, points, options);
+  const int refined = std::clamp(static_cast<int>(std::lround(options.density_refinement * density_grid / 8.0)) * 8,
+                                 kMinDensityResolution, kMaxDensityResolution);
+  const double trim_voxels = options.trim.distance_voxels;
+  const auto scale_trim = [&](int resolution) {
+    options.trim.distance_voxels = trim_voxels * resolution / density_grid;
+    options.solver.band_only_voxels =
+        std::max(options.solver.band_only_voxels, static_cast<int>(std::ceil(options.trim.distance_voxels + 2.0)));
+  };
+  scale_trim(refined);
+  const int fitting = largest_resolution_within(box, points, options, memory_budget_bytes(options));
+  // (When none fits, check_memory_budget refuses the run.)
+  options.resolution = fitting > 0 ? std::min(refined, fitting) : refined;
+  scale_trim(options.resolution);
+  stats.samples_per_occupied_cell = mean_samples_per_occupied_cell(box, points, options, options.resolution);
+  reporter.info(format_message("recon: resolution ", options.resolution, " (", stats.samples_per_occupied_cell,
+                               " samples per occupied cell; ", density_grid, " from the samples' density",
+                               options.resolution < refined ? ", the memory budget allows no finer" : "",
+                               "), trim distance ", options.trim.distance_voxels, " voxels"));
+}
+
 }  // namespace
 
 void check_reconstructable(const PointCloud& points, const std::string& source) {
@@ -479,20 +511,24 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   ReconStats& stats = result.stats;
   const OrientedSamples samples = usable_samples(input, options, stats, reporter);
   const std::vector<Eigen::Vector3f>& points = samples.points;
-  ReconOptions unit_options = options;
+  ReconOptions unit_options = options;  // in the unit frame, with the grid chosen below
   unit_options.voxel_size = options.voxel_size / samples.frame.scale;
 
   const auto t_field = Clock::now();
   reporter.begin("orientation field", 0);
   const BoundingBox box = bounding_box(points);
+  if (unit_options.voxel_size <= 0.0 && unit_options.resolution == 0) {
+    choose_resolution_from_density(box, points, unit_options, stats, reporter);
+  }
   check_memory_budget(box, points, unit_options);  // before anything grid-sized exists
   const GridGeometry grid = make_domain(box, unit_options);
   stats.grid_dims = grid.dims;
+  stats.resolution = unit_options.voxel_size > 0.0 ? 0 : unit_options.resolution;
   stats.voxel_size = grid.spacing * samples.frame.scale;
   reporter.info(format_message("recon: grid ", grid.dims.x(), "x", grid.dims.y(), "x", grid.dims.z(), ", voxel ",
                                grid.spacing, ", ", points.size(), " samples"));
   const bool band_only = keeps_only_band(grid, unit_options);
-  StoredField rhs = orientation_rhs(grid, samples, options, band_only);
+  StoredField rhs = orientation_rhs(grid, samples, unit_options, band_only);
   reporter.end();
   stats.seconds_field = seconds_since(t_field);
 
@@ -503,9 +539,9 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   f.geometry = grid;   // values: the solves below size them (no grid-sized fill here)
   StoredField band_f;  // with band_only: f on the fine band (f.values stays empty)
   if (options.energy == SmoothnessEnergy::kTotalVariation) {
-    solve_total_variation(grid, rhs.values, options, f, stats, reporter);
+    solve_total_variation(grid, rhs.values, unit_options, f, stats, reporter);
   } else {
-    StoredField solution = solve_quadratic(grid, std::move(rhs), points, options, band_only, stats, reporter);
+    StoredField solution = solve_quadratic(grid, std::move(rhs), points, unit_options, band_only, stats, reporter);
     if (solution.nodes->is_all()) {
       f.values = std::move(solution.values);
     } else {
@@ -520,7 +556,7 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
 
   const auto t_mesh = Clock::now();
   reporter.begin("isosurface", 0);
-  extract_surface(f, band_f, points, options, result);
+  extract_surface(f, band_f, points, unit_options, result);
   reporter.end();
   stats.seconds_mesh = seconds_since(t_mesh);
   if (result.mesh.faces.empty()) {

@@ -16,6 +16,10 @@ namespace hos::recon {
 struct ReconStats {
   Eigen::Vector3i grid_dims = Eigen::Vector3i::Zero();
   double voxel_size = 0.0;
+  int resolution = 0;  // cells along the domain's longest side (chosen, with recon.resolution 0)
+  // Samples per cell that holds any, on the chosen grid, when it was chosen
+  // from the density (0 otherwise).
+  double samples_per_occupied_cell = 0.0;
   std::size_t num_samples = 0;
   std::size_t num_samples_dropped = 0;  // without a usable orientation
   int multigrid_levels = 0;
