@@ -391,6 +391,44 @@ struct RenderCommand {
   }
 };
 
+// common: several runs' saved renders of one view, compared with the photo
+// over the pixels every run covers.
+struct CommonCommand {
+  CLI::App* cmd = nullptr;
+  std::vector<std::string> saved;
+
+  void add(CLI::App& app, Output& output) {
+    cmd = app.add_subcommand("common", "PSNR/SSIM of several runs' renders of one view over the pixels all cover");
+    cmd->add_option("--saved", saved, "views saved by 'render --save' (DIR/NAME.png), one per run, same photo")
+        ->required();
+    output.add_json(cmd);
+  }
+
+  Report run(hos::Reporter&) const {
+#ifdef HOS_EVAL_HAS_RENDER
+    Report r;
+    const hos::eval::CommonComparison c =
+        hos::eval::compare_on_common_pixels(std::vector<fs::path>(saved.begin(), saved.end()));
+    const auto share = [&](std::size_t pixels) { return static_cast<double>(pixels) / c.photo_pixels; };
+    r.j["photo_pixels"] = c.photo_pixels;
+    r.j["common_coverage"] = share(c.common_pixels);
+    r.j["runs"] = json::array();
+    r.table += row("common coverage", fmt(share(c.common_pixels), 4));
+    for (std::size_t i = 0; i < saved.size(); ++i) {
+      r.j["runs"].push_back({{"saved", saved[i]},
+                             {"coverage", share(c.covered_pixels[i])},
+                             {"psnr", number(c.psnr[i])},
+                             {"ssim", c.ssim[i]}});
+      r.table += row(saved[i], "PSNR " + fmt(c.psnr[i], 4) + " dB  SSIM " + fmt(c.ssim[i], 4) + "  coverage " +
+                                   fmt(share(c.covered_pixels[i]), 4));
+    }
+    return r;
+#else
+    throw hos::ConfigError("common", "hos-eval was built without the render module");
+#endif
+  }
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -407,11 +445,13 @@ int main(int argc, char** argv) {
   SanityCommand sanity;
   CamerasCommand cameras;
   RenderCommand render;
+  CommonCommand common;
   mesh.add(app, output);
   curvature.add(app, output);
   sanity.add(app, output);
   cameras.add(app, output);
   render.add(app, output);
+  common.add(app, output);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -424,6 +464,7 @@ int main(int argc, char** argv) {
     if (sanity.cmd->parsed()) r = sanity.run(reporter);
     if (cameras.cmd->parsed()) r = cameras.run(reporter);
     if (render.cmd->parsed()) r = render.run(reporter);
+    if (common.cmd->parsed()) r = common.run(reporter);
     // Names the measurement in the file, e.g. for the run report's eval/*.json tables.
     r.j["command"] = app.get_subcommands().front()->get_name();
     output.emit(r.j, r.table);

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
 
 #include "core/error.h"
 #include "eval/image_metrics.h"
@@ -34,8 +36,11 @@ RenderComparison compare_renders(const render::RenderObject& object,
     const render::RenderedView view = render::render_view(objects, camera, image, options);
     reporter.advance();
     if (!save_dir.empty()) {
-      cv::Mat side_by_side;
-      cv::hconcat(view.color, photo, side_by_side);
+      cv::Mat render_with_mask, photo_opaque, side_by_side;
+      cv::cvtColor(view.color, render_with_mask, cv::COLOR_BGR2BGRA);
+      cv::insertChannel(view.mask, render_with_mask, 3);
+      cv::cvtColor(photo, photo_opaque, cv::COLOR_BGR2BGRA);
+      cv::hconcat(render_with_mask, photo_opaque, side_by_side);
       const std::filesystem::path target = save_dir / (std::filesystem::path(image.name).stem().string() + ".png");
       if (!cv::imwrite(target.string(), side_by_side)) throw OutputError(target.string(), "cannot write the image");
     }
@@ -61,6 +66,48 @@ RenderComparison compare_renders(const render::RenderObject& object,
   out.mean_psnr =
       finite_psnr > 0 ? sum_psnr / static_cast<double>(finite_psnr) : std::numeric_limits<double>::infinity();
   out.mean_ssim = sum_ssim / static_cast<double>(out.views.size());
+  return out;
+}
+
+SavedRender read_saved_render(const std::filesystem::path& path) {
+  const cv::Mat image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+  if (image.empty()) throw InputError(path.string(), "missing or not a readable image");
+  if (image.type() != CV_8UC4 || image.cols % 2 != 0) {
+    throw InputError(path.string(), "not a render saved by hos-eval render --save (8-bit RGBA, render beside photo)");
+  }
+  const int width = image.cols / 2;
+  SavedRender out;
+  const cv::Mat render = image.colRange(0, width), photo = image.colRange(width, image.cols);
+  cv::cvtColor(render, out.color, cv::COLOR_BGRA2BGR);
+  cv::extractChannel(render, out.mask, 3);
+  cv::cvtColor(photo, out.photo, cv::COLOR_BGRA2BGR);
+  return out;
+}
+
+CommonComparison compare_on_common_pixels(const std::vector<std::filesystem::path>& saved_views) {
+  if (saved_views.empty()) throw std::invalid_argument("compare_on_common_pixels: no views");
+  std::vector<SavedRender> runs;
+  for (const auto& path : saved_views) {
+    runs.push_back(read_saved_render(path));
+    const SavedRender& first = runs.front();
+    if (runs.back().photo.size() != first.photo.size() || cv::norm(runs.back().photo, first.photo, cv::NORM_INF) > 0) {
+      throw InputError(path.string(),
+                       "its photo differs from " + saved_views.front().string() + "'s: not a render of the same view");
+    }
+  }
+  CommonComparison out;
+  out.photo_pixels = runs.front().photo.total();
+  cv::Mat common = runs.front().mask.clone();
+  for (const SavedRender& run : runs) {
+    out.covered_pixels.push_back(static_cast<std::size_t>(cv::countNonZero(run.mask)));
+    cv::bitwise_and(common, run.mask, common);
+  }
+  out.common_pixels = static_cast<std::size_t>(cv::countNonZero(common));
+  if (out.common_pixels == 0) throw InputError(saved_views.front().string(), "the runs cover no pixel in common");
+  for (const SavedRender& run : runs) {
+    out.psnr.push_back(masked_psnr(run.color, run.photo, common));
+    out.ssim.push_back(masked_ssim(run.color, run.photo, common));
+  }
   return out;
 }
 

@@ -30,11 +30,37 @@ struct RenderComparison {
 // Photos are read from images_dir / image.name and must have the camera's
 // size. Throws InputError naming a missing or unreadable photo. With a
 // non-empty save_dir, each view is also written there as a PNG: the render
-// beside the photo (for looking at what the figures measure).
+// beside the photo (for looking at what the figures measure), the render's
+// alpha being its mask (see read_saved_render).
 RenderComparison compare_renders(const render::RenderObject& object,
                                  const SparseModel& model,
                                  const std::filesystem::path& images_dir,
                                  Reporter& reporter,
                                  const std::filesystem::path& save_dir = {});
+
+// One view saved by compare_renders: the render, its mask and the photo.
+struct SavedRender {
+  cv::Mat color, mask, photo;  // 8-bit BGR, 8-bit mask (255 = covered), 8-bit BGR
+};
+
+// Reads a PNG written by compare_renders; throws InputError naming the file
+// when it is unreadable or not such an image (4 channels, even width).
+SavedRender read_saved_render(const std::filesystem::path& path);
+
+// Every run's render of one view against the photo over the pixels all runs
+// cover. A run's PSNR over its own mask rewards trimming: surface that
+// trimming removed is not measured, so a run with holes can score higher
+// than one that covers more of the photo with an approximate surface. On
+// the common pixels the runs are measured on the same part of the photo.
+struct CommonComparison {
+  std::size_t photo_pixels = 0;
+  std::size_t common_pixels = 0;
+  std::vector<std::size_t> covered_pixels;  // per run
+  std::vector<double> psnr, ssim;           // per run, over the common pixels
+};
+
+// Throws InputError when the views differ in size or their photos differ
+// (they must be renders of the same view), or no pixel is common.
+CommonComparison compare_on_common_pixels(const std::vector<std::filesystem::path>& saved_views);
 
 }  // namespace hos::eval

@@ -13,7 +13,8 @@
 #               shared cameras (measures mesh and texture).
 # Both SfM runs are made once per WORK folder and reused: run the script
 # with several BIN folders (or --set overrides, under different --label) on
-# the same WORK to compare them side by side.
+# the same WORK to compare them side by side; bench/realdata/compare.sh then
+# measures them on the pixels all of them cover (a run's own pixels reward holes).
 #
 #   bench/realdata/holdout.sh DATA BIN WORK [--holdout NAME] [--photos N] [--label L]
 #                             [--set stage.key=value]... [--keep] [--sfm-only] [--shared-sfm]
@@ -32,7 +33,7 @@
 #             refine and texture settings without rerunning mvs and recon
 # Prints one markdown row per camera; figures also in WORK/runs/L/summary.json.
 set -euo pipefail
-usage() { sed -n '18,30p' "$0" | sed 's/^# *//' >&2; exit 2; }
+usage() { sed -n '19,31p' "$0" | sed 's/^# *//' >&2; exit 2; }
 [ $# -ge 3 ] || usage
 data="$(cd "$1" && pwd)" bin="$(cd "$2" && pwd)" work="$3"
 shift 3

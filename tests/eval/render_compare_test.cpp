@@ -3,8 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <opencv2/imgcodecs.hpp>
+#include <string>
 
+#include "core/error.h"
 #include "synth/shapes.h"
 #include "tests/eval/test_meshes.h"
 #include "tests/support/test_support.h"
@@ -58,6 +61,49 @@ TEST(RenderCompare, SelfRendersMatchAndAChangedColourDoesNot) {
   EXPECT_TRUE(std::isfinite(other.mean_psnr));
   EXPECT_LT(other.mean_psnr, 30.0);
   EXPECT_LT(other.mean_ssim, 1.0);
+}
+
+// Photos of the unit sphere; run "whole" re-renders it exactly, run "small"
+// is a sphere of radius 0.6 in another colour: it covers a part of the
+// photo, and only there are the two runs compared.
+TEST(RenderCompare, RunsAreComparedOnThePixelsEveryRunCovers) {
+  hos::testing::TempDir dir;
+  const SparseModel model = two_views();
+  render::RenderObject whole{synth::icosphere(3, 1.0), {}};
+  whole.material.constant_albedo = Eigen::Vector3f(0.6f, 0.3f, 0.2f);
+  render::RenderObject small{synth::icosphere(3, 0.6), {}};
+  small.material.constant_albedo = Eigen::Vector3f(0.3f, 0.3f, 0.2f);
+  render::RenderOptions options;
+  options.lighting.unlit = true;
+  std::map<std::string, cv::Mat> small_masks;
+  for (const auto& [id, image] : model.images) {
+    cv::imwrite((dir.path() / image.name).string(),
+                render::render_view({whole}, model.camera_of(image), image, options).color);
+    small_masks[image.name] = render::render_view({small}, model.camera_of(image), image, options).mask;
+  }
+  compare_renders(whole, model, dir.path(), null_reporter(), dir / "whole");
+  compare_renders(small, model, dir.path(), null_reporter(), dir / "small");
+
+  const std::filesystem::path whole_view = dir / "whole" / "view0.png", small_view = dir / "small" / "view0.png";
+  const SavedRender saved = read_saved_render(small_view);  // the mask survives the PNG
+  EXPECT_EQ(cv::norm(saved.mask, small_masks["view0.png"], cv::NORM_INF), 0.0);
+
+  const CommonComparison c = compare_on_common_pixels({whole_view, small_view});
+  ASSERT_EQ(c.psnr.size(), 2u);
+  EXPECT_EQ(c.photo_pixels, 96u * 72u);
+  EXPECT_GT(c.covered_pixels[0], c.covered_pixels[1] + 100);
+  EXPECT_EQ(c.common_pixels, c.covered_pixels[1]);  // the small sphere lies inside the whole one
+  EXPECT_TRUE(std::isinf(c.psnr[0]));
+  EXPECT_LT(c.psnr[1], 30.0);
+
+  // A view of another photo is refused, naming the file.
+  try {
+    compare_on_common_pixels({whole_view, dir / "small" / "view1.png"});
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("view1.png"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(read_saved_render(dir.path() / "view0.png"), InputError);  // a photo, not a saved view
 }
 
 }  // namespace
