@@ -74,7 +74,7 @@ struct ReconOptions {
   double samples_per_cell = 6.0;
   // Finer than the samples' density. With refine on, 1.5 scored 0.4-0.6 dB
   // higher than 1 in the Strecha sets' held-out photo and 1.0 dB lower in
-  // hos-synth's scene (docs/recon.md); the preset "quality" sets 2.
+  // hos-synth's scene (docs/recon.md); the preset "quality" sets 1.5.
   double density_refinement = 1.0;
   double voxel_size = 0.0;     // if > 0, overrides resolution
   double margin = 0.1;         // domain margin as a fraction of the points' longest extent
