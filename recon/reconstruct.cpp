@@ -422,11 +422,17 @@ void choose_resolution_from_density(const BoundingBox& box,
     options.solver.band_only_voxels =
         std::max(options.solver.band_only_voxels, static_cast<int>(std::ceil(options.trim.distance_voxels + 2.0)));
   };
+  options.resolution = refined;
   scale_trim(refined);
-  const int fitting = largest_resolution_within(box, points, options, memory_budget_bytes(options));
-  // (When none fits, check_memory_budget refuses the run.)
-  options.resolution = fitting > 0 ? std::min(refined, fitting) : refined;
-  scale_trim(options.resolution);
+  const std::size_t budget = memory_budget_bytes(options);
+  if (estimate_peak_bytes(make_domain(box, options), points, options) > budget) {
+    // The largest grid within the budget; when none fits, check_memory_budget refuses the run.
+    const int fitting = largest_resolution_within(box, points, options, budget);
+    if (fitting > 0) {
+      options.resolution = std::min(refined, fitting);
+      scale_trim(options.resolution);
+    }
+  }
   stats.samples_per_occupied_cell = mean_samples_per_occupied_cell(box, points, options, options.resolution);
   reporter.info(format_message("recon: resolution ", options.resolution, " (", stats.samples_per_occupied_cell,
                                " samples per occupied cell; ", density_grid, " from the samples' density",
