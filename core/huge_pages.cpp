@@ -21,4 +21,6 @@ void keep_freed_memory_for_reuse() {
   ::mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
 }
 
+void release_freed_memory() { ::malloc_trim(0); }
+
 }  // namespace hos

@@ -65,9 +65,11 @@ class ActiveNodes {
   // stored (or outside the grid). For an active span's node i and rows within
   // kHalo, the run covers i' in [begin - kHalo, end + kHalo) inside the grid.
   std::int64_t row_base(int j, int k, int i) const;
-  // out[t] = the value of node (lo + t, j, k), zero where it is not stored.
+  // out[t] = the value of node (lo + t, j, k), zero where it is not stored;
+  // values holds the layout's values from storage index `first` on (a window
+  // of the array, e.g. one plane).
   template <typename T>
-  void gather_row(const T* values, int j, int k, int lo, int hi, T* out) const;
+  void gather_row(const T* values, int j, int k, int lo, int hi, T* out, std::int64_t first = 0) const;
   // stored = the dense grid array's values at every stored node.
   template <typename T>
   void gather(const T* dense, T* stored) const;
@@ -150,14 +152,14 @@ inline std::int64_t ActiveNodes::row_base(int j, int k, int i) const {
 }
 
 template <typename T>
-void ActiveNodes::gather_row(const T* values, int j, int k, int lo, int hi, T* out) const {
+void ActiveNodes::gather_row(const T* values, int j, int k, int lo, int hi, T* out, std::int64_t first) const {
   std::fill(out, out + (hi - lo), T(0));
   if (j < 0 || k < 0 || j >= dims_.y() || k >= dims_.z()) return;
   const std::int64_t row = std::int64_t{k} * dims_.y() + j;
   const auto copy = [&](int a, int b, std::int64_t base) {
     a = std::max(a, lo);
     b = std::min(b, hi);
-    if (a < b) std::copy(values + base + a, values + base + b, out + (a - lo));
+    if (a < b) std::copy(values + (base - first + a), values + (base - first + b), out + (a - lo));
   };
   if (is_all()) {
     copy(0, dims_.x(), row * dims_.x());

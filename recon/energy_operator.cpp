@@ -76,7 +76,7 @@ void EnergyOperator::set_active(std::shared_ptr<const ActiveNodes> active) {
   active_ = std::move(active);
 }
 
-template <typename T, typename SpanFn>
+template <bool kWithL1, typename T, typename SpanFn>
 void EnergyOperator::for_each_span(const T* x, SpanFn&& span_fn) const {
   const GridGeometry& g = geometry_;
   const Eigen::Vector3i d = g.dims;
@@ -96,7 +96,7 @@ void EnergyOperator::for_each_span(const T* x, SpanFn&& span_fn) const {
   const std::int64_t num_spans = static_cast<std::int64_t>(spans.size());
 #pragma omp parallel if (worth_threads(active.count()))
   {
-    std::vector<T> row_buffer(nx);
+    std::vector<T> row_buffer(nx), l1_buffer(kWithL1 ? nx : 0);
 #pragma omp for schedule(static)
     for (std::int64_t s = 0; s < num_spans; ++s) {
       const NodeSpan& span = spans[s];
@@ -142,9 +142,21 @@ void EnergyOperator::for_each_span(const T* x, SpanFn&& span_fn) const {
         for (int q = 0; q < 9; ++q) x_rows[q] = x_row(q % 3 - 1, q / 3 - 1);
         screening_->add_row(std::int64_t{k} * d.y() + j, b, e, x_rows, row);
       }
-      span_fn(start, b, e, static_cast<const T*>(row));
+      if constexpr (kWithL1) {
+        l1_row(span, l1_buffer.data());
+        span_fn(start, b, e, static_cast<const T*>(row), static_cast<const T*>(l1_buffer.data()));
+      } else {
+        span_fn(start, b, e, static_cast<const T*>(row));
+      }
     }
   }
+}
+
+template <typename T>
+void EnergyOperator::l1_row(const NodeSpan& span, T* l1_row) const {
+  const std::int64_t start = span.first - span.begin;  // node i at start + i
+  for (int i = span.begin; i < span.end; ++i) l1_row[i] = static_cast<T>(l1_diagonal(start + i));
+  screening_->add_row_sums(std::int64_t{span.k} * geometry_.dims.y() + span.j, span.begin, span.end, 1.0, l1_row);
 }
 
 void EnergyOperator::apply(const std::vector<double>& x, std::vector<double>& y) const {
@@ -165,12 +177,35 @@ void EnergyOperator::residual(const T* b, const T* x, T* r) const {
 }
 
 template <typename T>
-void EnergyOperator::jacobi(const T* b, const T* x, const T* inv_l1, T* out) const {
-  for_each_span(x, [&](std::int64_t start, int i0, int i1, const T* ax) {
+void EnergyOperator::jacobi(const T* b, const T* x, T* out) const {
+  for_each_span<true>(x, [&](std::int64_t start, int i0, int i1, const T* ax, const T* l1) {
     for (int i = i0; i < i1; ++i) {
       const std::int64_t n = start + i;
-      out[n] = x[n] + (b[n] - ax[i]) * inv_l1[n];
+      out[n] = x[n] + (b[n] - ax[i]) / l1[i];
     }
+  });
+}
+
+template <typename T>
+void EnergyOperator::smoothing_step(const T* b, const T* x, double keep, double a, T* step) const {
+  const T k = static_cast<T>(keep), s = static_cast<T>(a);
+  for_each_span<true>(x, [&](std::int64_t start, int i0, int i1, const T* ax, const T* l1) {
+    for (int i = i0; i < i1; ++i) {
+      const std::int64_t n = start + i;
+      step[n] = (keep == 0.0 ? T(0) : k * step[n]) + s * (b[n] - ax[i]) / l1[i];
+    }
+  });
+}
+
+template <typename T>
+void EnergyOperator::scale_by_inverse_l1(const T* in, double a, T* out) const {
+  const T s = static_cast<T>(a);
+  for_each_active_span(*active_, [&](const NodeSpan& span) {
+    // The span's row sums first, in out itself.
+    const std::int64_t start = span.first - span.begin;
+    T* row = out + start;
+    l1_row(span, row);
+    for (int i = span.begin; i < span.end; ++i) row[i] = s * in[start + i] / row[i];
   });
 }
 
@@ -178,8 +213,12 @@ template void EnergyOperator::apply<float>(const float*, float*) const;
 template void EnergyOperator::apply<double>(const double*, double*) const;
 template void EnergyOperator::residual<float>(const float*, const float*, float*) const;
 template void EnergyOperator::residual<double>(const double*, const double*, double*) const;
-template void EnergyOperator::jacobi<float>(const float*, const float*, const float*, float*) const;
-template void EnergyOperator::jacobi<double>(const double*, const double*, const double*, double*) const;
+template void EnergyOperator::jacobi<float>(const float*, const float*, float*) const;
+template void EnergyOperator::jacobi<double>(const double*, const double*, double*) const;
+template void EnergyOperator::smoothing_step<float>(const float*, const float*, double, double, float*) const;
+template void EnergyOperator::smoothing_step<double>(const double*, const double*, double, double, double*) const;
+template void EnergyOperator::scale_by_inverse_l1<float>(const float*, double, float*) const;
+template void EnergyOperator::scale_by_inverse_l1<double>(const double*, double, double*) const;
 
 void EnergyOperator::scale_screening(double factor) {
   auto scaled = std::make_shared<ScreeningTerm>(*screening_);
@@ -215,12 +254,7 @@ double EnergyOperator::l1_diagonal(std::int64_t node) const {
 
 template <typename T>
 void EnergyOperator::l1_diagonals(T* l1) const {
-  const int ny = geometry_.dims.y();
-  for_each_active_span(*active_, [&](const NodeSpan& span) {
-    const std::int64_t start = span.first - span.begin;  // node i at start + i
-    for (int i = span.begin; i < span.end; ++i) l1[start + i] = static_cast<T>(l1_diagonal(start + i));
-    screening_->add_row_sums(std::int64_t{span.k} * ny + span.j, span.begin, span.end, 1.0, l1 + start);
-  });
+  for_each_active_span(*active_, [&](const NodeSpan& span) { l1_row(span, l1 + (span.first - span.begin)); });
 }
 
 template void EnergyOperator::l1_diagonals<float>(float*) const;

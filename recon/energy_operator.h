@@ -52,11 +52,21 @@ class EnergyOperator {
   // r = b - A x.
   template <typename T>
   void residual(const T* b, const T* x, T* r) const;
+  // The smoothers' steps, with l1 the per-node l1 row sums (>= |a_ii| +
+  // sum |a_ij|) of every term, computed on the fly rather than stored (an
+  // array as large as x on every multigrid level otherwise).
   // One l1-Jacobi sweep: out = x + (b - A x) / l1 (out must not alias x).
   template <typename T>
-  void jacobi(const T* b, const T* x, const T* inv_l1, T* out) const;
-  // Per-node l1 row sums (>= |a_ii| + sum |a_ij|) of every term: the l1-Jacobi smoother.
-  // Written for the active nodes of an array in the layout of active().
+  void jacobi(const T* b, const T* x, T* out) const;
+  // One step of a polynomial smoother: step = keep * step + a (b - A x) / l1
+  // (step must not alias x or b; with keep 0 it is only written).
+  template <typename T>
+  void smoothing_step(const T* b, const T* x, double keep, double a, T* step) const;
+  // out = a * in / l1, no operator application (out must not alias in).
+  template <typename T>
+  void scale_by_inverse_l1(const T* in, double a, T* out) const;
+  // The l1 row sums themselves, for the active nodes of an array in the
+  // layout of active().
   template <typename T>
   void l1_diagonals(T* l1) const;
   // The same energy rediscretized on the coarsened grid (weights restricted,
@@ -67,8 +77,13 @@ class EnergyOperator {
   // Calls span_fn(start, begin, end, A x on that row) for every span of
   // active nodes, in parallel: node i of the span is stored at start + i, and
   // (A x)[i] is valid for begin <= i < end.
-  template <typename T, typename SpanFn>
+  // With kWithL1, span_fn also gets the l1 row sums of the span's nodes
+  // (span_fn(start, begin, end, ax, l1), l1 indexed like ax).
+  template <bool kWithL1 = false, typename T, typename SpanFn>
   void for_each_span(const T* x, SpanFn&& span_fn) const;
+  // l1_row[i] = the l1 row sum of node i of the span, begin <= i < end.
+  template <typename T>
+  void l1_row(const NodeSpan& span, T* l1_row) const;
   // The l1 row sum of one node without the screening term.
   double l1_diagonal(std::int64_t node) const;
 

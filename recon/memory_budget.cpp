@@ -33,12 +33,13 @@ constexpr double kBytesPerNodeTotalVariation = 100.0;
 constexpr double kBytesPerNodeBanded = 24.0;
 constexpr double kBytesPerBandNode = 48.0;
 // Band only (keeps_only_band): per stored band node bound, the fine band's
-// right-hand side, unknowns, solver vectors and multigrid levels, the coarser
-// bands (about a quarter more), and the field near the samples before them;
-// fitted to the bunny's scans at grids 512 and 1024 (docs/recon.md,
-// "Memory"), with the whole-grid level the solve starts on added (per node
-// as a whole-grid run).
-constexpr double kBytesPerBoundNodeBandOnly = 96.0;
+// solve in single precision (x, r, p, Ap and the V-cycle's result: 20 bytes
+// per stored node, the peak), the coarser bands' V-cycle arrays and the
+// screening term's cells; the bound is 1.3-1.7x the stored nodes. Fitted to
+// the bunny's scans at grids 512 and 1024 and the 6-direction sphere at 1024
+// (docs/recon.md, "Memory"), with the whole-grid level the solve starts on
+// added (per node as a whole-grid run).
+constexpr double kBytesPerBoundNodeBandOnly = 24.0;
 // Per sample: the copies of the points, the trimming's search tree and, with
 // screening, the per-level screening samples.
 constexpr double kBytesPerSample = 128.0;

@@ -5,8 +5,10 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "core/error.h"
+#include "core/huge_pages.h"
 #include "recon/grid_transfer.h"
 
 namespace hos::recon {
@@ -28,9 +30,11 @@ double dot(const EnergyOperator& op, const A* a, const B* b) {
 }
 
 // y = a * x + y on the active nodes.
-void axpy(const EnergyOperator& op, double a, const double* x, double* y) {
+template <typename T>
+void axpy(const EnergyOperator& op, double a, const T* x, T* y) {
+  const T at = static_cast<T>(a);
   for_each_active_range(op.active(), [&](std::int64_t first, std::int64_t last) {
-    for (std::int64_t i = first; i < last; ++i) y[i] += a * x[i];
+    for (std::int64_t i = first; i < last; ++i) y[i] += at * x[i];
   });
 }
 
@@ -48,52 +52,45 @@ MultigridPreconditioner::MultigridPreconditioner(const EnergyOperator& fine, int
   while ((max_levels <= 0 || static_cast<int>(ops.size()) < max_levels) && ops.back().geometry().can_coarsen(3)) {
     ops.push_back(ops.back().coarsened());
   }
-  for (auto& op : ops) {
-    const std::size_t n = static_cast<std::size_t>(op.active().storage_size());
-    Level level{std::move(op),         ZeroedArray<float>(n), ZeroedArray<float>(n),
-                ZeroedArray<float>(n), ZeroedArray<float>(n), ZeroedArray<float>(n)};
-    level.op.l1_diagonals(level.inv_l1.data());
-    for_each_active_range(level.op.active(), [&](std::int64_t first, std::int64_t last) {
-      for (std::int64_t i = first; i < last; ++i) level.inv_l1[i] = 1.0f / level.inv_l1[i];
-    });
+  for (std::size_t i = 0; i < ops.size(); ++i) {
+    const std::size_t n = static_cast<std::size_t>(ops[i].active().storage_size());
+    // The finest level's b and step come with apply.
+    const std::size_t own = i == 0 ? 0 : n;
+    Level level{std::move(ops[i]), ZeroedArray<float>(own), ZeroedArray<float>(n), ZeroedArray<float>(own)};
+    level.rhs = level.b.data();
+    level.work = level.step.data();
     levels_.push_back(std::move(level));
   }
 }
 
 void MultigridPreconditioner::smooth(const Level& l, int degree, bool from_zero) const {
-  // The Chebyshev polynomial of this degree in M A, M = diag(inv_l1), that is
-  // smallest over [1 / kChebyshevRatio, 1]: the eigenvalues of M A lie in
+  // The Chebyshev polynomial of this degree in M A, M = diag(1 / l1), that
+  // is smallest over [1 / kChebyshevRatio, 1]: the eigenvalues of M A lie in
   // (0, 1] for l1 row sums, and the upper part of the spectrum is what the
-  // coarse levels cannot correct. Three-term recurrence, one residual per
-  // step after the first.
+  // coarse levels cannot correct. Three-term recurrence, one operator
+  // application per step after the first.
   const double upper = 1.0, lower = upper / kChebyshevRatio;
   const double theta = 0.5 * (upper + lower), delta = 0.5 * (upper - lower), sigma = theta / delta;
   double rho = 1.0 / sigma;
   const ActiveNodes& active = l.op.active();
+  float* const x = l.x.data();
+  float* const step = l.work;
   for (int s = 0; s < degree; ++s) {
-    const float* r = l.b.data();
-    if (!(from_zero && s == 0)) {
-      l.op.residual(l.b.data(), l.x.data(), l.scratch.data());
-      r = l.scratch.data();
-    }
-    if (s == 0) {
-      const float a = static_cast<float>(1.0 / theta);
-      for_each_active_range(active, [&](std::int64_t first, std::int64_t last) {
-        for (std::int64_t i = first; i < last; ++i) {
-          l.step[i] = a * r[i] * l.inv_l1[i];
-          l.x[i] = (from_zero ? 0.0f : l.x[i]) + l.step[i];
-        }
-      });
+    if (s == 0 && from_zero) {
+      l.op.scale_by_inverse_l1(l.rhs, 1.0 / theta, step);
+      for_each_active_range(
+          active, [&](std::int64_t first, std::int64_t last) { std::copy(step + first, step + last, x + first); });
       continue;
     }
-    const double rho_next = 1.0 / (2.0 * sigma - rho);
-    const float keep = static_cast<float>(rho_next * rho), a = static_cast<float>(2.0 * rho_next / delta);
-    rho = rho_next;
+    if (s == 0) {
+      l.op.smoothing_step(l.rhs, x, 0.0, 1.0 / theta, step);
+    } else {
+      const double rho_next = 1.0 / (2.0 * sigma - rho);
+      l.op.smoothing_step(l.rhs, x, rho_next * rho, 2.0 * rho_next / delta, step);
+      rho = rho_next;
+    }
     for_each_active_range(active, [&](std::int64_t first, std::int64_t last) {
-      for (std::int64_t i = first; i < last; ++i) {
-        l.step[i] = keep * l.step[i] + a * r[i] * l.inv_l1[i];
-        l.x[i] += l.step[i];
-      }
+      for (std::int64_t i = first; i < last; ++i) x[i] += step[i];
     });
   }
 }
@@ -102,14 +99,14 @@ void MultigridPreconditioner::smooth_jacobi(const Level& l, int sweeps, bool fro
   int s = 0;
   if (from_zero && sweeps > 0) {
     // The first sweep from x = 0 needs no operator application.
-    for_each_active_range(l.op.active(), [&](std::int64_t first, std::int64_t last) {
-      for (std::int64_t i = first; i < last; ++i) l.x[i] = l.b[i] * l.inv_l1[i];
-    });
+    l.op.scale_by_inverse_l1(l.rhs, 1.0, l.x.data());
     s = 1;
   }
   for (; s < sweeps; ++s) {
-    l.op.jacobi(l.b.data(), l.x.data(), l.inv_l1.data(), l.scratch.data());
-    l.x.swap(l.scratch);
+    l.op.jacobi(l.rhs, l.x.data(), l.work);
+    for_each_active_range(l.op.active(), [&](std::int64_t first, std::int64_t last) {
+      std::copy(l.work + first, l.work + last, l.x.data() + first);
+    });
   }
 }
 
@@ -120,9 +117,10 @@ void MultigridPreconditioner::v_cycle(int level) const {
     return;
   }
   smooth(l, smoothing_steps_, true);
-  l.op.residual(l.b.data(), l.x.data(), l.scratch.data());
+  // The residual in the step's array, which the next smoothing rewrites.
+  l.op.residual(l.rhs, l.x.data(), l.work);
   const Level& c = levels_[level + 1];
-  restrict_to_coarse(l.op.geometry(), l.op.active(), l.scratch.data(), c.op.geometry(), c.op.active(), c.b.data());
+  restrict_to_coarse(l.op.geometry(), l.op.active(), l.work, c.op.geometry(), c.op.active(), c.b.data());
   v_cycle(level + 1);
   prolongate_add(c.op.geometry(), c.op.active(), c.x.data(), l.op.geometry(), l.op.active(), l.x.data());
   smooth(l, smoothing_steps_, false);
@@ -130,83 +128,54 @@ void MultigridPreconditioner::v_cycle(int level) const {
 
 const float* MultigridPreconditioner::apply(const double* r) const {
   const Level& l = levels_.front();
+  if (l.b.size() == 0) {
+    const std::size_t n = l.x.size();
+    l.b = ZeroedArray<float>(n);
+    l.step = ZeroedArray<float>(n);
+  }
   for_each_active_range(l.op.active(), [&](std::int64_t first, std::int64_t last) {
     for (std::int64_t i = first; i < last; ++i) l.b[i] = static_cast<float>(r[i]);
   });
+  l.rhs = l.b.data();
+  l.work = l.step.data();
+  v_cycle(0);
+  return l.x.data();
+}
+
+const float* MultigridPreconditioner::apply(const float* r, float* work) const {
+  const Level& l = levels_.front();
+  l.rhs = r;
+  l.work = work;
   v_cycle(0);
   return l.x.data();
 }
 
 namespace {
 
-// solve_linear_system; owned_b, if not null, is b and is freed after the
-// first residual.
-SolveReport conjugate_gradients(const EnergyOperator& op,
-                                const std::vector<double>& b,
-                                std::vector<double>* owned_b,
-                                std::vector<double>& x,
-                                const SolverOptions& options,
-                                Reporter& reporter) {
+// Flexible preconditioned CG on raw arrays of the operator's layout: r holds
+// b on entry and the residual on return, x the initial guess and the result.
+template <typename Real>
+SolveReport conjugate_gradients(
+    const EnergyOperator& op, Real* r, Real* x, const SolverOptions& options, Reporter& reporter) {
   using Clock = std::chrono::steady_clock;
   const auto seconds_since = [](Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
   };
   const auto t_setup = Clock::now();
   SolveReport report;
-  const std::size_t n = b.size();
-  if (static_cast<std::int64_t>(n) != op.active().storage_size()) {
-    throw std::invalid_argument("solve_linear_system: the right-hand side has " + std::to_string(n) +
-                                " values, the operator's layout " + std::to_string(op.active().storage_size()));
-  }
-  x.resize(n, 0.0);
-  const MultigridPreconditioner multigrid(op, options.multigrid ? options.max_levels : 1, options.smoothing_steps);
-  report.levels = multigrid.num_levels();
-  ZeroedArray<double> inv_l1, z_jacobi;
-  if (!options.multigrid) {
-    inv_l1 = ZeroedArray<double>(n);
-    z_jacobi = ZeroedArray<double>(n);
-    op.l1_diagonals(inv_l1.data());
-    for_each_active_range(op.active(), [&](std::int64_t first, std::int64_t last) {
-      for (std::int64_t i = first; i < last; ++i) inv_l1[i] = 1.0 / inv_l1[i];
-    });
-  }
-  const auto for_active = [&](auto&& fn) { for_each_active_range(op.active(), fn); };
-  // z = M^-1 r: the V-cycle's own single-precision result, or l1-Jacobi's in
-  // double; both are read only through z_at.
-  const float* z_multigrid = nullptr;
-  const auto precondition = [&](const double* r) {
-    if (options.multigrid) {
-      z_multigrid = multigrid.apply(r);
-    } else {
-      for_active([&](std::int64_t first, std::int64_t last) {
-        for (std::int64_t i = first; i < last; ++i) z_jacobi[i] = r[i] * inv_l1[i];
-      });
-    }
-  };
-  const auto z_at = [&](std::int64_t i) { return options.multigrid ? double{z_multigrid[i]} : z_jacobi[i]; };
-  const auto dot_rz = [&](const double* r) {
-    return options.multigrid ? dot(op, r, z_multigrid) : dot(op, r, z_jacobi.data());
-  };
-
+  const auto n = static_cast<std::size_t>(op.active().storage_size());
   // The residual is relative to |b| over the rows being solved.
-  double b_norm = std::sqrt(dot(op, b.data(), b.data()));
+  double b_norm = std::sqrt(dot(op, r, r));
   if (!std::isfinite(b_norm)) throw NumericalError("recon", "right-hand side is not finite");
   if (b_norm == 0.0 && op.active().is_all()) {
-    x.assign(n, 0.0);
+    for_each_active_range(op.active(),
+                          [&](std::int64_t first, std::int64_t last) { std::fill(x + first, x + last, Real(0)); });
     report.relative_residual = 0.0;
     report.converged = true;
     return report;
   }
-  // Only the active nodes of these are written (and p, zero elsewhere, read
-  // around them).
-  const ZeroedArray<double> r_values(n), p_values(n), ap_values(n);
-  double* const r = r_values.data();
-  double* const p = p_values.data();
-  double* const ap = ap_values.data();
-  report.seconds_setup = seconds_since(t_setup);
-  const auto t_iterations = Clock::now();
-  op.residual(b.data(), x.data(), r);
-  if (owned_b) *owned_b = std::vector<double>{};
+  // r = b - A x in b's storage (each row reads x only).
+  op.residual(r, x, r);
   if (b_norm == 0.0) {
     // A band whose rows have no data of their own: only the values held
     // outside drive it, so the first residual sets the scale.
@@ -217,11 +186,50 @@ SolveReport conjugate_gradients(const EnergyOperator& op,
       return report;
     }
   }
-  precondition(r);
-  for_active([&](std::int64_t first, std::int64_t last) {
+  const MultigridPreconditioner multigrid(op, options.multigrid ? options.max_levels : 1, options.smoothing_steps);
+  report.levels = multigrid.num_levels();
+  // Only the active nodes of these are written (and p, zero elsewhere, read
+  // around them).
+  const ZeroedArray<Real> p_values(n), ap_values(n);
+  Real* const p = p_values.data();
+  Real* const ap = ap_values.data();
+  ZeroedArray<Real> inv_l1, z_jacobi;
+  if (!options.multigrid) {
+    inv_l1 = ZeroedArray<Real>(n);
+    z_jacobi = ZeroedArray<Real>(n);
+    op.l1_diagonals(inv_l1.data());
+    for_each_active_range(op.active(), [&](std::int64_t first, std::int64_t last) {
+      for (std::int64_t i = first; i < last; ++i) inv_l1[i] = Real(1) / inv_l1[i];
+    });
+  }
+  // z = M^-1 r: the V-cycle's own single-precision result, or l1-Jacobi's;
+  // both are read only through z_at.
+  const float* z_multigrid = nullptr;
+  const auto precondition = [&]() {
+    if (options.multigrid) {
+      // A float r is read in place, with ap (free until the next operator
+      // application) lent as the finest smoother step.
+      if constexpr (std::is_same_v<Real, float>) {
+        z_multigrid = multigrid.apply(r, ap);
+      } else {
+        z_multigrid = multigrid.apply(r);
+      }
+    } else {
+      for_each_active_range(op.active(), [&](std::int64_t first, std::int64_t last) {
+        for (std::int64_t i = first; i < last; ++i) z_jacobi[i] = r[i] * inv_l1[i];
+      });
+    }
+  };
+  const auto z_at = [&](std::int64_t i) { return options.multigrid ? Real(z_multigrid[i]) : z_jacobi[i]; };
+  const auto dot_rz = [&]() { return options.multigrid ? dot(op, r, z_multigrid) : dot(op, r, z_jacobi.data()); };
+  report.seconds_setup = seconds_since(t_setup);
+  const auto t_iterations = Clock::now();
+
+  precondition();
+  for_each_active_range(op.active(), [&](std::int64_t first, std::int64_t last) {
     for (std::int64_t i = first; i < last; ++i) p[i] = z_at(i);
   });
-  double rz = dot_rz(r);
+  double rz = dot_rz();
   report.relative_residual = std::sqrt(dot(op, r, r)) / b_norm;
   for (int it = 0; it < options.max_iterations && report.relative_residual > options.tolerance; ++it) {
     reporter.throw_if_cancelled();
@@ -232,7 +240,7 @@ SolveReport conjugate_gradients(const EnergyOperator& op,
                            "conjugate gradients lost positive definiteness (p'Ap = " + std::to_string(pap) + ")");
     }
     const double alpha = rz / pap;
-    axpy(op, alpha, p, x.data());
+    axpy(op, alpha, p, x);
     axpy(op, -alpha, ap, r);
     report.relative_residual = std::sqrt(dot(op, r, r)) / b_norm;
     report.residual_history.push_back(report.relative_residual);
@@ -244,17 +252,49 @@ SolveReport conjugate_gradients(const EnergyOperator& op,
     if (report.relative_residual <= options.tolerance) break;
     // Flexible (Polak-Ribiere) beta = r' (z_new - z_old) / r_old' z_old: it
     // keeps CG convergent with the slightly nonlinear single-precision V-cycle.
-    const double r_z_old = dot_rz(r);
-    precondition(r);
-    const double rz_new = dot_rz(r);
+    const double r_z_old = dot_rz();
+    precondition();
+    const double rz_new = dot_rz();
     const double beta = (rz_new - r_z_old) / rz;
     rz = rz_new;
-    for_active([&](std::int64_t first, std::int64_t last) {
-      for (std::int64_t i = first; i < last; ++i) p[i] = z_at(i) + beta * p[i];
+    for_each_active_range(op.active(), [&](std::int64_t first, std::int64_t last) {
+      for (std::int64_t i = first; i < last; ++i) p[i] = z_at(i) + static_cast<Real>(beta) * p[i];
     });
   }
   report.converged = report.relative_residual <= options.tolerance;
   report.seconds_iterations = seconds_since(t_iterations);
+  return report;
+}
+
+void check_layout(const EnergyOperator& op, std::size_t n) {
+  if (static_cast<std::int64_t>(n) != op.active().storage_size()) {
+    throw std::invalid_argument("solve_linear_system: the right-hand side has " + std::to_string(n) +
+                                " values, the operator's layout " + std::to_string(op.active().storage_size()));
+  }
+}
+
+// CG in single precision: x and b are converted (b freed first when owned),
+// and x returns in double.
+SolveReport solve_in_single_precision(const EnergyOperator& op,
+                                      const std::vector<double>& b,
+                                      std::vector<double>* owned_b,
+                                      std::vector<double>& x,
+                                      const SolverOptions& options,
+                                      Reporter& reporter) {
+  // Each double array is freed as soon as its copy exists.
+  const std::size_t n = b.size();
+  ZeroedArray<float> xf(n);
+  std::copy(x.begin(), x.end(), xf.data());
+  x = std::vector<double>{};
+  ZeroedArray<float> rf(n);
+  std::copy(b.begin(), b.end(), rf.data());
+  if (owned_b) *owned_b = std::vector<double>{};
+  // The freed double arrays leave holes that the solver's arrays may not
+  // fill exactly: their pages go back before those are made.
+  release_freed_memory();
+  const SolveReport report = conjugate_gradients(op, rf.data(), xf.data(), options, reporter);
+  rf = ZeroedArray<float>{};
+  x.assign(xf.data(), xf.data() + n);
   return report;
 }
 
@@ -264,16 +304,27 @@ SolveReport solve_linear_system(const EnergyOperator& op,
                                 const std::vector<double>& b,
                                 std::vector<double>& x,
                                 const SolverOptions& options,
-                                Reporter& reporter) {
-  return conjugate_gradients(op, b, nullptr, x, options, reporter);
+                                Reporter& reporter,
+                                VectorPrecision precision) {
+  check_layout(op, b.size());
+  x.resize(b.size(), 0.0);
+  if (precision == VectorPrecision::kSingle) return solve_in_single_precision(op, b, nullptr, x, options, reporter);
+  std::vector<double> r = b;
+  return conjugate_gradients(op, r.data(), x.data(), options, reporter);
 }
 
 SolveReport solve_linear_system(const EnergyOperator& op,
                                 std::vector<double>&& b,
                                 std::vector<double>& x,
                                 const SolverOptions& options,
-                                Reporter& reporter) {
-  return conjugate_gradients(op, b, &b, x, options, reporter);
+                                Reporter& reporter,
+                                VectorPrecision precision) {
+  check_layout(op, b.size());
+  x.resize(b.size(), 0.0);
+  if (precision == VectorPrecision::kSingle) return solve_in_single_precision(op, b, &b, x, options, reporter);
+  // b's storage becomes the residual and is freed on return.
+  std::vector<double> r = std::move(b);
+  return conjugate_gradients(op, r.data(), x.data(), options, reporter);
 }
 
 }  // namespace hos::recon

@@ -33,12 +33,13 @@ struct SolveReport {
   double seconds_iterations = 0.0;       // the CG iterations
 };
 
-// The V-cycle runs in single precision (the outer CG keeps double vectors and
-// the exact operator): a preconditioner only needs to be an approximate
-// inverse, and float halves the memory traffic of every sweep. Its rounding
-// makes it slightly nonlinear, which flexible CG (see solve_linear_system)
-// tolerates. apply() uses internal work arrays, so one preconditioner must not
-// be applied from two threads at once.
+// The V-cycle runs in single precision (the outer CG keeps the exact
+// operator): a preconditioner only needs to be an approximate inverse, and
+// float halves the memory traffic of every sweep. Its rounding makes it
+// slightly nonlinear, which flexible CG (see solve_linear_system) tolerates.
+// Each level keeps three arrays (right-hand side, solution, smoother step);
+// the l1 row sums are computed on the fly. apply() uses them as work arrays,
+// so one preconditioner must not be applied from two threads at once.
 class MultigridPreconditioner {
  public:
   // Builds up to max_levels levels (0 = while every axis keeps >= 3 nodes).
@@ -49,14 +50,20 @@ class MultigridPreconditioner {
   // finest level's own array, valid until the next apply: the V-cycle's
   // result is single precision, so a copy in double would only add memory.
   const float* apply(const double* r) const;
+  // The same for a single-precision r, which the finest level reads in
+  // place, with `work` (as large as r, overwritten) as its smoother step:
+  // two arrays of the finest level fewer.
+  const float* apply(const float* r, float* work) const;
 
  private:
   struct Level {
     EnergyOperator op;
-    ZeroedArray<float> inv_l1;                       // 1 / l1 row sums
-    mutable ZeroedArray<float> b, x, scratch, step;  // step: the Chebyshev update
+    mutable ZeroedArray<float> b, x, step;  // the finest b and step: see apply
+    // The arrays the cycle uses: b and step's, or the finest level's lent ones.
+    mutable const float* rhs = nullptr;
+    mutable float* work = nullptr;
   };
-  // Levels_[level].x = approximately A^-1 levels_[level].b.
+  // Levels_[level].x = approximately A^-1 levels_[level].rhs.
   void v_cycle(int level) const;
   // Chebyshev smoothing of the given degree (operator applications) on a
   // level; from_zero: x starts at zero.
@@ -68,19 +75,26 @@ class MultigridPreconditioner {
   int smoothing_steps_;
 };
 
+// Precision of the conjugate-gradient vectors. Single halves their memory
+// (used for the grids that keep only the band, where they are the peak); the
+// operator, the dot products and the step lengths stay in double.
+enum class VectorPrecision { kDouble, kSingle };
+
 // Preconditioned CG from the initial guess in x. Throws NumericalError if a
 // NaN or Inf appears. Logs the residual every few iterations at debug level.
 SolveReport solve_linear_system(const EnergyOperator& op,
                                 const std::vector<double>& b,
                                 std::vector<double>& x,
                                 const SolverOptions& options,
-                                Reporter& reporter);
-// The same, freeing b once the first residual is computed (CG does not read
-// it again): on a large band one array fewer at the peak.
+                                Reporter& reporter,
+                                VectorPrecision precision = VectorPrecision::kDouble);
+// The same, with b's storage reused for the residual (CG does not read b
+// again): on a large band one array fewer at the peak.
 SolveReport solve_linear_system(const EnergyOperator& op,
                                 std::vector<double>&& b,
                                 std::vector<double>& x,
                                 const SolverOptions& options,
-                                Reporter& reporter);
+                                Reporter& reporter,
+                                VectorPrecision precision = VectorPrecision::kDouble);
 
 }  // namespace hos::recon

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "core/error.h"
+#include "core/huge_pages.h"
 #include "recon/active_nodes.h"
 #include "recon/energy_operator.h"
 #include "recon/grid_transfer.h"
@@ -202,6 +203,7 @@ LevelSolution solve_with_bands(EnergyOperator& op,
   // Keeping only bands, the coarse solution is not needed any more.
   if (band_only) coarse_solution = LevelSolution{};
   op.set_active(band);
+  if (band_only) release_freed_memory();
   reporter.debug(format_message("recon: band start ", seconds_since(t_transfer), " s"));
   solve(op, std::move(band_rhs), band_x);
   if (band_only) return {StoredField{band, std::move(band_x)}, band->count()};
@@ -270,8 +272,9 @@ void solve_and_report(const EnergyOperator& op,
                       std::vector<double>& x,
                       const SolverOptions& so,
                       ReconStats& stats,
-                      Reporter& reporter) {
-  const SolveReport report = solve_linear_system(op, std::forward<B>(b), x, so, reporter);
+                      Reporter& reporter,
+                      VectorPrecision precision = VectorPrecision::kDouble) {
+  const SolveReport report = solve_linear_system(op, std::forward<B>(b), x, so, reporter, precision);
   stats.solver_iterations += report.iterations;
   stats.multigrid_levels = report.levels;
   stats.relative_residual = report.relative_residual;
@@ -362,7 +365,10 @@ StoredField solve_quadratic(const GridGeometry& grid,
   LevelSolution f = solve_with_bands(
       op, std::move(rhs), points, band_only ? solver.band_only_voxels : solver.band_voxels, band_only, x_level,
       std::move(x), reporter, [&](const EnergyOperator& o, std::vector<double>&& b, std::vector<double>& xs) {
-        solve_and_report(o, std::move(b), xs, solver, stats, reporter);
+        // Keeping only the band, the CG vectors are the peak: single
+        // precision halves them (see docs/recon.md, "Memory").
+        solve_and_report(o, std::move(b), xs, solver, stats, reporter,
+                         band_only ? VectorPrecision::kSingle : VectorPrecision::kDouble);
       });
   stats.band_nodes = f.band_nodes;
   return std::move(f.x);
@@ -560,6 +566,7 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   reporter.end();
   stats.seconds_solve = seconds_since(t_solve);
 
+  if (band_only) release_freed_memory();
   const auto t_mesh = Clock::now();
   reporter.begin("isosurface", 0);
   extract_surface(f, band_f, points, unit_options, result);

@@ -1,6 +1,9 @@
 #include "recon/screening_term.h"
 
+#include <limits>
 #include <parallel/algorithm>
+#include <stdexcept>
+#include <string>
 
 namespace hos::recon {
 
@@ -92,68 +95,78 @@ std::vector<std::array<std::int64_t, 8>> cell_corners(const GridGeometry& g,
   return cell_nodes;
 }
 
-// Each touched node's 27 coefficients of weight * S^T S (offsets (-1..1)^3,
-// x fastest), contiguous in node order.
-std::vector<float> accumulate_coefficients(const GridGeometry& g,
-                                           const CellSamples& cells,
-                                           const std::vector<std::array<std::int64_t, 8>>& cell_nodes,
-                                           std::size_t num_nodes,
-                                           double weight) {
-  const Eigen::Vector3i d = g.dims;
-  const std::size_t num_cells = cells.num_cells();
-  // The cells of one plane of cells (one z) write node planes z and z + 1
-  // only: planes of one parity run in parallel without write conflicts.
-  std::vector<std::size_t> first_of_plane;  // cells of plane p: [first_of_plane[p], first_of_plane[p + 1])
-  const std::int64_t cells_per_plane = std::int64_t{d.x() + 3} * (d.y() + 3);
-  for (std::size_t q = 0; q < num_cells; ++q) {
-    if (q == 0 || cells.cell_key(q) / cells_per_plane != cells.cell_key(q - 1) / cells_per_plane) {
-      first_of_plane.push_back(q);
-    }
-  }
-  const std::int64_t num_planes = static_cast<std::int64_t>(first_of_plane.size());
-  first_of_plane.push_back(num_cells);
-  std::vector<float> coefficients(27 * num_nodes, 0.0f);
-  for (int parity = 0; parity < 2; ++parity) {
-#pragma omp parallel for schedule(dynamic, 4)
-    for (std::int64_t p = 0; p < num_planes; ++p) {
-      const std::size_t first = first_of_plane[p];
-      if ((cells.cell_key(first) / cells_per_plane) % 2 != parity) continue;
-      for (std::size_t q = first; q < first_of_plane[p + 1]; ++q) {
-        const std::array<std::int64_t, 8>& corners = cell_nodes[q];
-        for (std::size_t s = cells.first_of_cell[q]; s < cells.first_of_cell[q + 1]; ++s) {
-          const TrilinearStencil st{cells.samples[s].corner, cells.samples[s].frac};
-          std::array<double, 8> w;
-          for (int c = 0; c < 8; ++c) w[c] = st.weight(c & 1, (c >> 1) & 1, (c >> 2) & 1);
-          for (int a = 0; a < 8; ++a) {
-            if (corners[a] < 0) continue;
-            float* row = &coefficients[27 * corners[a]];
-            for (int b = 0; b < 8; ++b) {
-              if (corners[b] < 0) continue;
-              const int o = ((b & 1) - (a & 1) + 1) + 3 * (((b >> 1) & 1) - ((a >> 1) & 1) + 1) +
-                            9 * (((b >> 2) & 1) - ((a >> 2) & 1) + 1);
-              row[o] += static_cast<float>(weight * w[a] * w[b]);
-            }
-          }
-        }
-      }
-    }
-  }
-  return coefficients;
-}
-
 }  // namespace
 
 ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vector3f>& points, double weight)
     : geometry_(g), weight_(weight) {
+  if (points.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max() / 8)) {
+    throw std::invalid_argument("ScreeningTerm: more than " +
+                                std::to_string(std::numeric_limits<std::int32_t>::max() / 8) + " samples");
+  }
   const CellSamples cells = sort_by_cell(g, points);
   const std::vector<std::int64_t> nodes = touched_nodes(g, cells);
-  coefficients_ = accumulate_coefficients(g, cells, cell_corners(g, cells, nodes), nodes.size(), weight);
+  const std::vector<std::array<std::int64_t, 8>> corners = cell_corners(g, cells, nodes);
+  const std::size_t num_cells = cells.num_cells();
+  cells_.resize(num_cells);
+  std::int64_t num_values = 0;
+  for (std::size_t q = 0; q < num_cells; ++q) {
+    const auto samples = static_cast<std::int32_t>(cells.first_of_cell[q + 1] - cells.first_of_cell[q]);
+    cells_[q] = {cells.samples[cells.first_of_cell[q]].corner, samples, num_values};
+    num_values += samples > kMaxListedSamples ? 36 : 8 * samples;
+  }
+  values_.resize(static_cast<std::size_t>(num_values));
+#pragma omp parallel for schedule(static)
+  for (std::size_t q = 0; q < num_cells; ++q) {
+    float* v = values_.data() + cells_[q].values;
+    const std::size_t first = cells.first_of_cell[q], last = cells.first_of_cell[q + 1];
+    if (cells_[q].samples <= kMaxListedSamples) {
+      for (std::size_t s = first; s < last; ++s, v += 8) {
+        const TrilinearStencil st{cells.samples[s].corner, cells.samples[s].frac};
+        for (int c = 0; c < 8; ++c) v[c] = static_cast<float>(st.weight(c & 1, (c >> 1) & 1, c >> 2));
+      }
+      continue;
+    }
+    std::array<double, 36> sum{};
+    for (std::size_t s = first; s < last; ++s) {
+      const TrilinearStencil st{cells.samples[s].corner, cells.samples[s].frac};
+      std::array<double, 8> w;
+      for (int c = 0; c < 8; ++c) w[c] = st.weight(c & 1, (c >> 1) & 1, c >> 2);
+      for (int a = 0; a < 8; ++a) {
+        for (int b = a; b < 8; ++b) sum[moment_index(a, b)] += w[a] * w[b];
+      }
+    }
+    for (int m = 0; m < 36; ++m) v[m] = static_cast<float>(sum[m]);
+  }
+  // Per touched node the cells it is a corner of, in cell order.
+  first_cell_.assign(nodes.size() + 1, 0);
+  for (const auto& cell : corners) {
+    for (std::int64_t n : cell) {
+      if (n >= 0) ++first_cell_[n + 1];
+    }
+  }
+  for (std::size_t n = 0; n < nodes.size(); ++n) first_cell_[n + 1] += first_cell_[n];
+  cells_of_node_.resize(static_cast<std::size_t>(first_cell_.back()));
+  std::vector<std::int32_t> fill(first_cell_.begin(), first_cell_.end() - 1);
+  for (std::size_t q = 0; q < num_cells; ++q) {
+    for (int c = 0; c < 8; ++c) {
+      const std::int64_t n = corners[q][c];
+      if (n >= 0) cells_of_node_[fill[n]++] = static_cast<std::int32_t>(8 * q + c);
+    }
+  }
   index_runs(nodes);
+  // The row sums (l1, the smoothers' scaling) once, in run order.
+  row_sums_.assign(nodes.size(), 0.0f);
+  for (const Run& run : runs_) {
+    for (int i = run.begin; i < run.end; ++i) {
+      double sum = 0.0;
+      for_each_cell_of(run, i, [&](const Cell& cell, int c) { sum += cell_row_times(cell, c, kOnes); });
+      row_sums_[run.first + (i - run.begin)] = static_cast<float>(sum);
+    }
+  }
 }
 
 void ScreeningTerm::index_runs(const std::vector<std::int64_t>& nodes) {
   const Eigen::Vector3i d = geometry_.dims;
-  num_nodes_ = static_cast<std::int64_t>(nodes.size());
   for (std::size_t e = 0; e < nodes.size();) {
     std::size_t last = e + 1;
     while (last < nodes.size() && nodes[last] == nodes[last - 1] + 1 && nodes[last] % d.x() != 0) {
@@ -164,8 +177,7 @@ void ScreeningTerm::index_runs(const std::vector<std::int64_t>& nodes) {
     run.end = run.begin + static_cast<int>(last - e);
     run.j = static_cast<int>((nodes[e] / d.x()) % d.y());
     run.k = static_cast<int>(nodes[e] / (std::int64_t{d.x()} * d.y()));
-    run.coefficients = 27 * static_cast<std::int64_t>(e);
-    run.interior = run.j > 0 && run.j < d.y() - 1 && run.k > 0 && run.k < d.z() - 1 && run.begin > 0 && run.end < d.x();
+    run.first = static_cast<std::int64_t>(e);
     runs_.push_back(run);
     e = last;
   }
@@ -186,13 +198,12 @@ std::shared_ptr<const ScreeningTerm> ScreeningTerm::coarsened(const std::vector<
 void ScreeningTerm::scale(double factor) {
   weight_ *= factor;
   coarser_.reset();
-  for (float& c : coefficients_) c = static_cast<float>(c * factor);
 }
 
 double ScreeningTerm::mean_row_sum() const {
   double sum = 0.0;
-  for (float c : coefficients_) sum += c;
-  return num_nodes_ == 0 ? 0.0 : sum / static_cast<double>(num_nodes_);
+  for (float r : row_sums_) sum += r;
+  return row_sums_.empty() ? 0.0 : weight_ * sum / static_cast<double>(row_sums_.size());
 }
 
 void ScreeningTerm::add_target(double target, const ActiveNodes& nodes, double* rhs) const {

@@ -19,8 +19,12 @@ namespace hos::recon {
 // are too coarse to place it (one orientation per scan). Every multigrid level
 // rediscretises it from the sample positions at its own spacing, with the
 // weight divided by 8 per level (the Galerkin scaling of R S^T S P with the
-// restriction R = P^T / 8), and stores S^T S as a 27-point stencil on the
-// nodes it touches, so the operator stays a row-local sweep.
+// restriction R = P^T / 8). S^T S is stored per cell that holds samples:
+// a cell of at most 4 samples keeps their trilinear weights w_s at its 8
+// corners, one of more the 36 distinct entries of sum_s w_s w_s^T. For the
+// bunny's 362 k samples at grid 1024 that is about 30 MB, where 27
+// coefficients per touched node took 270 MB. The operator stays a row-local sweep: a touched node's row reads x
+// only at the corners of its own cells, all within its 27 neighbours.
 class ScreeningTerm {
  public:
   ScreeningTerm() = default;
@@ -50,73 +54,130 @@ class ScreeningTerm {
   void add_row(std::int64_t row, int begin, int end, const std::array<const T*, 9>& x_rows, T* y_row) const;
 
  private:
-  GridGeometry geometry_;
-  double weight_ = 0.0;
+  // A cell that holds samples: its lower corner and the upper triangle of
+  // sum_s w_s w_s^T over its samples (corners as bits x, y, z).
+  // Cells of at most kMaxListedSamples samples list their weights at the 8
+  // corners in values_ from `values`; larger ones keep the 36 moments there
+  // (upper triangle, see moment_index): never more values than moments.
+  static constexpr int kMaxListedSamples = 4;
+  struct Cell {
+    Eigen::Vector3i corner;
+    std::int32_t samples;  // in the cell; more than kMaxListedSamples: moments
+    std::int64_t values;   // index of its first value in values_
+  };
   // The touched nodes as runs of consecutive nodes along x (the rows a span
-  // meets are found without a search), each node's 27 coefficients (offsets
-  // (-1..1)^3, x fastest) contiguous.
+  // meets are found without a search); node e of the runs (in run order) is
+  // corner c of cell q for every 8 q + c in
+  // cells_of_node_[first_cell_[e] .. first_cell_[e + 1]).
   struct Run {
-    int j, k, begin, end;       // grid row and nodes begin <= i < end
-    std::int64_t coefficients;  // index of the run's first coefficient
-    bool interior;              // all 27 neighbours of every node inside the grid
+    int j, k, begin, end;  // grid row and nodes begin <= i < end
+    std::int64_t first;    // index of the run's first node among the touched nodes
   };
   // Splits the touched nodes (ascending) into runs_ and indexes them per row.
   void index_runs(const std::vector<std::int64_t>& nodes);
+  // Calls fn(cell, c) for the cells node i of run e is corner c of.
+  template <typename Fn>
+  void for_each_cell_of(const Run& run, int i, Fn&& fn) const;
+  // Row c of the cell's matrix sum_s w_s w_s^T times xc (its corners' values).
+  double cell_row_times(const Cell& cell, int c, const std::array<double, 8>& xc) const;
 
+  GridGeometry geometry_;
+  double weight_ = 0.0;
   std::vector<Run> runs_;
   std::vector<std::int64_t> row_begin_;  // per grid row (j, k): first run
-  std::vector<float> coefficients_;
-  std::int64_t num_nodes_ = 0;
+  std::vector<Cell> cells_;
+  std::vector<float> values_;
+  std::vector<float> row_sums_;           // per touched node, without the weight
+  std::vector<std::int32_t> first_cell_;  // per touched node, and one past the last
+  std::vector<std::int32_t> cells_of_node_;
   mutable std::shared_ptr<const ScreeningTerm> coarser_;
 };
 
 // Defined here so that the operator's row sweep inlines them.
+
+// Index in Cell::moments of entry (a, b) of the symmetric 8x8 matrix.
+constexpr int moment_index(int a, int b) {
+  const int lo = a < b ? a : b, hi = a < b ? b : a;
+  return lo * 8 - lo * (lo - 1) / 2 + (hi - lo);
+}
+
+inline constexpr std::array<double, 8> kOnes = {1, 1, 1, 1, 1, 1, 1, 1};
+
+// For a node that is corner c of a cell, where its corner b lies: the row
+// (dy + 1) + 3 (dz + 1) of the 9 rows around the node, the offset along x,
+// and the entry (c, b) in Cell::moments.
+struct CellCornerTap {
+  int row, dx, moment;
+};
+constexpr std::array<std::array<CellCornerTap, 8>, 8> cell_corner_taps() {
+  std::array<std::array<CellCornerTap, 8>, 8> taps{};
+  for (int c = 0; c < 8; ++c) {
+    for (int b = 0; b < 8; ++b) {
+      const int dx = (b & 1) - (c & 1), dy = ((b >> 1) & 1) - ((c >> 1) & 1), dz = (b >> 2) - (c >> 2);
+      taps[c][b] = {(dy + 1) + 3 * (dz + 1), dx, moment_index(c, b)};
+    }
+  }
+  return taps;
+}
+inline constexpr std::array<std::array<CellCornerTap, 8>, 8> kCellCornerTaps = cell_corner_taps();
+
+template <typename Fn>
+void ScreeningTerm::for_each_cell_of(const Run& run, int i, Fn&& fn) const {
+  const std::int64_t node = run.first + (i - run.begin);
+  for (std::int32_t t = first_cell_[node]; t < first_cell_[node + 1]; ++t) {
+    fn(cells_[cells_of_node_[t] >> 3], cells_of_node_[t] & 7);
+  }
+}
+
 template <typename T>
 void ScreeningTerm::add_row_sums(std::int64_t row, int begin, int end, double scale, T* y_row) const {
   if (runs_.empty()) return;
   for (std::int64_t e = row_begin_[row]; e < row_begin_[row + 1]; ++e) {
     const Run& run = runs_[e];
-    const int i0 = std::max(run.begin, begin), i1 = std::min(run.end, end);
-    const float* c = coefficients_.data() + run.coefficients + 27 * (i0 - run.begin);
-    for (int i = i0; i < i1; ++i, c += 27) {
-      double sum = 0.0;
-      for (int q = 0; q < 27; ++q) sum += c[q];
-      y_row[i] += static_cast<T>(scale * sum);
+    for (int i = std::max(run.begin, begin); i < std::min(run.end, end); ++i) {
+      y_row[i] += static_cast<T>(scale * weight_ * row_sums_[run.first + (i - run.begin)]);
     }
   }
+}
+
+inline double ScreeningTerm::cell_row_times(const Cell& cell, int c, const std::array<double, 8>& xc) const {
+  const float* v = values_.data() + cell.values;
+  double sum = 0.0;
+  if (cell.samples > kMaxListedSamples) {
+    for (int b = 0; b < 8; ++b) sum += v[moment_index(c, b)] * xc[b];
+    return sum;
+  }
+  for (int s = 0; s < cell.samples; ++s, v += 8) {
+    double at_sample = 0.0;  // f at the sample
+    for (int b = 0; b < 8; ++b) at_sample += v[b] * xc[b];
+    sum += v[c] * at_sample;
+  }
+  return sum;
 }
 
 template <typename T>
 void ScreeningTerm::add_row(
     std::int64_t row, int begin, int end, const std::array<const T*, 9>& x_rows, T* y_row) const {
-  const int nx = geometry_.dims.x();
+  const Eigen::Vector3i d = geometry_.dims;
   for (std::int64_t e = row_begin_[row]; e < row_begin_[row + 1]; ++e) {
     const Run& run = runs_[e];
-    const int i0 = std::max(run.begin, begin), i1 = std::min(run.end, end);
-    const float* c = coefficients_.data() + run.coefficients + 27 * (i0 - run.begin);
-    if (run.interior) {
-      // Every neighbour inside the grid: a fixed 27-term sum per node, three
-      // neighbours along x from each of the 9 rows.
-      const std::array<const T*, 9> r = x_rows;
-      for (int i = i0; i < i1; ++i, c += 27) {
-        T sum = 0;
-        for (int q = 0; q < 9; ++q) {
-          const T* p = r[q] + (i - 1);
-          sum += static_cast<T>(c[3 * q]) * p[0] + static_cast<T>(c[3 * q + 1]) * p[1] +
-                 static_cast<T>(c[3 * q + 2]) * p[2];
+    // Every neighbour of the run's nodes inside the grid: no checks.
+    const bool interior = run.j > 0 && run.j < d.y() - 1 && run.k > 0 && run.k < d.z() - 1;
+    for (int i = std::max(run.begin, begin); i < std::min(run.end, end); ++i) {
+      const bool inside = interior && i > 0 && i < d.x() - 1;
+      double sum = 0.0;
+      for_each_cell_of(run, i, [&](const Cell& cell, int c) {
+        // x at the cell's corners; corners outside the grid are zero ghosts.
+        std::array<double, 8> xc;
+        for (int b = 0; b < 8; ++b) {
+          const CellCornerTap& tap = kCellCornerTaps[c][b];
+          const T* x = x_rows[tap.row];
+          const int ii = i + tap.dx;
+          xc[b] = inside || (x && ii >= 0 && ii < d.x()) ? static_cast<double>(x[ii]) : 0.0;
         }
-        y_row[i] += sum;
-      }
-      continue;
-    }
-    for (int i = i0; i < i1; ++i, c += 27) {
-      T sum = 0;
-      for (int q = 0; q < 27; ++q) {
-        const int ii = i + q % 3 - 1;
-        // Neighbours outside the grid have zero coefficients: skip them.
-        if (x_rows[q / 3] && ii >= 0 && ii < nx) sum += static_cast<T>(c[q]) * x_rows[q / 3][ii];
-      }
-      y_row[i] += sum;
+        sum += cell_row_times(cell, c, xc);
+      });
+      y_row[i] += static_cast<T>(weight_ * sum);
     }
   }
 }

@@ -449,47 +449,84 @@ StoredField density_scaled_rhs_near_samples(const GridGeometry& geometry,
   };
   const double scale = normalization_scale(geometry, mean_norm_at_samples(geometry, points, node_field), passes.filter);
 
-  // F at every stored node (zero at the others: the density is), then -div
-  // of the scaled F as in density_scaled_rhs.
+  // -div of the scaled F as in density_scaled_rhs, F (zero where the
+  // density is) evaluated plane by plane: three planes of it at a time
+  // instead of three band-sized arrays (bunny at grid 1024: 800 MB).
   const Eigen::Vector3i d = geometry.dims;
   const std::vector<NodeSpan> spans = nodes.stored_spans();
-  const auto num_spans = static_cast<std::int64_t>(spans.size());
-  std::array<std::vector<double>, 3> f;
-  for (auto& c : f) assign_large(c, static_cast<std::size_t>(nodes.storage_size()));
-#pragma omp parallel for schedule(dynamic, 64)
-  for (std::int64_t s = 0; s < num_spans; ++s) {
-    const NodeSpan& sp = spans[s];
-    for (int i = sp.begin; i < sp.end; ++i) {
-      const std::int64_t n = sp.first + (i - sp.begin);
-      const Eigen::Vector3d v = dirs.field_at(geometry.position(i, sp.j, sp.k), density[n]);
-      for (int a = 0; a < 3; ++a) f[a][n] = v[a];
-    }
-  }
-  density = std::vector<float>{};
+  // Spans of plane k: [plane_span[k], plane_span[k + 1]); their storage is
+  // contiguous, from plane_first(k) on.
+  std::vector<std::size_t> plane_span(d.z() + 1, spans.size());
+  for (std::size_t s = spans.size(); s-- > 0;) plane_span[spans[s].k] = s;
+  for (int k = d.z() - 1; k >= 0; --k) plane_span[k] = std::min(plane_span[k], plane_span[k + 1]);
+  const auto plane_first = [&](int k) {
+    return plane_span[k] < spans.size() ? spans[plane_span[k]].first : nodes.storage_size();
+  };
+  std::int64_t largest_plane = 0;
+  for (int k = 0; k < d.z(); ++k) largest_plane = std::max(largest_plane, plane_first(k + 1) - plane_first(k));
   const double factor = -scale / (2.0 * geometry.spacing);
   assign_large(rhs.values, static_cast<std::size_t>(nodes.storage_size()));
+  int blocks = 1;
+#ifdef _OPENMP
+  if (worth_threads(nodes.storage_size())) blocks = 4 * omp_get_max_threads();
+#endif
+  blocks = std::max(1, std::min(blocks, d.z()));
 #pragma omp parallel
   {
+    // window[k mod 3][a]: component a of F in plane k, from plane_first(k) on.
+    std::array<std::array<std::vector<double>, 3>, 3> window;
+    for (auto& slot : window) {
+      for (auto& c : slot) c.resize(static_cast<std::size_t>(largest_plane));
+    }
+    const auto slot = [&](int k) -> std::array<std::vector<double>, 3>& { return window[k % 3]; };
+    const auto fill = [&](int k) {
+      auto& w = slot(k);
+      const std::int64_t first = plane_first(k);
+      for (std::size_t s = plane_span[k]; s < plane_span[k + 1]; ++s) {
+        const NodeSpan& sp = spans[s];
+        for (int i = sp.begin; i < sp.end; ++i) {
+          const std::int64_t n = sp.first + (i - sp.begin);
+          const Eigen::Vector3d v = dirs.field_at(geometry.position(i, sp.j, sp.k), density[n]);
+          for (int a = 0; a < 3; ++a) w[a][n - first] = v[a];
+        }
+      }
+    };
     // Rows of F_y below and above, of F_z below and above.
     std::array<std::vector<double>, 4> rows;
     for (auto& row : rows) row.resize(d.x());
-#pragma omp for schedule(dynamic, 64)
-    for (std::int64_t s = 0; s < num_spans; ++s) {
-      const NodeSpan& sp = spans[s];
-      const int len = sp.end - sp.begin;
-      nodes.gather_row(f[1].data(), sp.j - 1, sp.k, sp.begin, sp.end, rows[0].data());
-      nodes.gather_row(f[1].data(), sp.j + 1, sp.k, sp.begin, sp.end, rows[1].data());
-      nodes.gather_row(f[2].data(), sp.j, sp.k - 1, sp.begin, sp.end, rows[2].data());
-      nodes.gather_row(f[2].data(), sp.j, sp.k + 1, sp.begin, sp.end, rows[3].data());
-      const double* fx = f[0].data() + sp.first;
-      for (int t = 0; t < len; ++t) {
-        // The sums and their order of divergence_plane; a stored run ends
-        // where F is zero, so the x neighbours beyond it add zero.
-        double v = 0.0;
-        v += ((t + 1 < len ? fx[t + 1] : 0.0) - (t > 0 ? fx[t - 1] : 0.0)) * factor;
-        v += (rows[1][t] - rows[0][t]) * factor;
-        v += (rows[3][t] - rows[2][t]) * factor;
-        rhs.values[sp.first + t] = v;
+    const auto divergence_of_plane = [&](int k) {
+      for (std::size_t s = plane_span[k]; s < plane_span[k + 1]; ++s) {
+        const NodeSpan& sp = spans[s];
+        const int len = sp.end - sp.begin;
+        nodes.gather_row(slot(k)[1].data(), sp.j - 1, sp.k, sp.begin, sp.end, rows[0].data(), plane_first(k));
+        nodes.gather_row(slot(k)[1].data(), sp.j + 1, sp.k, sp.begin, sp.end, rows[1].data(), plane_first(k));
+        if (k > 0) {
+          nodes.gather_row(slot(k - 1)[2].data(), sp.j, k - 1, sp.begin, sp.end, rows[2].data(), plane_first(k - 1));
+        }
+        if (k + 1 < d.z()) {
+          nodes.gather_row(slot(k + 1)[2].data(), sp.j, k + 1, sp.begin, sp.end, rows[3].data(), plane_first(k + 1));
+        }
+        const double* fx = slot(k)[0].data() + (sp.first - plane_first(k));
+        for (int t = 0; t < len; ++t) {
+          // The sums and their order of divergence_plane; a stored run ends
+          // where F is zero, so the x neighbours beyond it add zero.
+          double v = 0.0;
+          v += ((t + 1 < len ? fx[t + 1] : 0.0) - (t > 0 ? fx[t - 1] : 0.0)) * factor;
+          v += (rows[1][t] - rows[0][t]) * factor;
+          v += ((k + 1 < d.z() ? rows[3][t] : 0.0) - (k > 0 ? rows[2][t] : 0.0)) * factor;
+          rhs.values[sp.first + t] = v;
+        }
+      }
+    };
+#pragma omp for schedule(dynamic, 1)
+    for (int b = 0; b < blocks; ++b) {
+      const int k_begin = static_cast<int>(std::int64_t{d.z()} * b / blocks);
+      const int k_end = static_cast<int>(std::int64_t{d.z()} * (b + 1) / blocks);
+      if (k_begin > 0) fill(k_begin - 1);
+      fill(k_begin);
+      for (int k = k_begin; k < k_end; ++k) {
+        if (k + 1 < d.z()) fill(k + 1);
+        divergence_of_plane(k);
       }
     }
   }

@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include "recon/grid_transfer.h"
 #include "tests/recon/shape_samples.h"
@@ -71,36 +73,48 @@ TEST(EnergyOperator, IsSymmetric) {
 TEST(EnergyOperator, ScreeningAddsTheSumOverSamplesOfSquaredTrilinearValues) {
   // Samples everywhere in the grid, also in the cells at its faces and in the
   // ghost cells just outside (whose outer corners are the zero ghost nodes).
-  const GridGeometry g = cube_grid(9, 0.1);
-  auto points = std::make_shared<std::vector<Eigen::Vector3f>>();
-  for (int s = 0; s < 400; ++s) {
-    const Eigen::Vector3d u(std::fmod(0.37 * s, 1.0), std::fmod(0.61 * s, 1.0), std::fmod(0.83 * s, 1.0));
-    points->push_back((-0.1 + 1.0 * u.array()).matrix().cast<float>());  // [-h, 9h] per axis
-  }
-  const double weight = 2.5;
-  const EnergyOperator plain(g, SmoothnessEnergy::kMembrane, 0.0);
-  EnergyOperator screened = plain;
-  screened.set_screening(points, weight);
-  std::vector<double> x(g.num_nodes()), a, b;
-  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.7 * i) + 0.3;
-  plain.apply(x, a);
-  screened.apply(x, b);
-  // weight * S^T S x with (S x)_s = f(p_s), trilinear, ghost nodes zero.
-  std::vector<double> expected(g.num_nodes(), 0.0);
-  ScalarGrid f(g);
-  f.values = x;
-  for (const auto& p : *points) {
-    const double value = f.sample(p.cast<double>());
-    const TrilinearStencil st = trilinear_stencil(g, p.cast<double>());
-    for (int c = 0; c < 8; ++c) {
-      const Eigen::Vector3i n = st.corner + Eigen::Vector3i(c & 1, (c >> 1) & 1, c >> 2);
-      if (g.contains(n.x(), n.y(), n.z())) {
-        expected[g.index(n.x(), n.y(), n.z())] += weight * st.weight(c & 1, (c >> 1) & 1, c >> 2) * value;
+  // On 9^3 nodes the 1000 cells hold 400 samples (the term lists them); on
+  // 4^3 nodes 125 cells hold 3000 (it keeps their moments).
+  for (const auto& [n, count] : {std::pair{9, 400}, std::pair{4, 3000}}) {
+    const GridGeometry g = cube_grid(n, 0.1);
+    auto points = std::make_shared<std::vector<Eigen::Vector3f>>();
+    for (int s = 0; s < count; ++s) {
+      const Eigen::Vector3d u(std::fmod(0.37 * s, 1.0), std::fmod(0.61 * s, 1.0), std::fmod(0.83 * s, 1.0));
+      points->push_back((-0.1 + 0.1 * (n + 1) * u.array()).matrix().cast<float>());  // [-h, n h] per axis
+    }
+    const double weight = 2.5;
+    const EnergyOperator plain(g, SmoothnessEnergy::kMembrane, 0.0);
+    EnergyOperator screened = plain;
+    screened.set_screening(points, weight);
+    std::vector<double> x(g.num_nodes()), a, b;
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.7 * i) + 0.3;
+    plain.apply(x, a);
+    screened.apply(x, b);
+    // weight * S^T S x with (S x)_s = f(p_s), trilinear, ghost nodes zero;
+    // its l1 row sums weight * sum_s w_s(node), the weights being >= 0 and
+    // summing to 1 per sample.
+    std::vector<double> expected(g.num_nodes(), 0.0), expected_l1(g.num_nodes(), 0.0);
+    ScalarGrid f(g);
+    f.values = x;
+    for (const auto& p : *points) {
+      const double value = f.sample(p.cast<double>());
+      const TrilinearStencil st = trilinear_stencil(g, p.cast<double>());
+      for (int c = 0; c < 8; ++c) {
+        const Eigen::Vector3i node = st.corner + Eigen::Vector3i(c & 1, (c >> 1) & 1, c >> 2);
+        if (g.contains(node.x(), node.y(), node.z())) {
+          const double w = st.weight(c & 1, (c >> 1) & 1, c >> 2);
+          expected[g.index(node.x(), node.y(), node.z())] += weight * w * value;
+          expected_l1[g.index(node.x(), node.y(), node.z())] += weight * w;
+        }
       }
     }
-  }
-  for (std::int64_t i = 0; i < g.num_nodes(); ++i) {
-    ASSERT_NEAR(b[i] - a[i], expected[i], 1e-5 * (1.0 + std::abs(expected[i]))) << i;
+    std::vector<double> l1_plain(g.num_nodes()), l1_screened(g.num_nodes());
+    plain.l1_diagonals(l1_plain.data());
+    screened.l1_diagonals(l1_screened.data());
+    for (std::int64_t i = 0; i < g.num_nodes(); ++i) {
+      ASSERT_NEAR(b[i] - a[i], expected[i], 1e-5 * (1.0 + std::abs(expected[i]))) << n << " " << i;
+      ASSERT_NEAR(l1_screened[i] - l1_plain[i], expected_l1[i], 1e-5 * (1.0 + expected_l1[i])) << n << " " << i;
+    }
   }
 }
 

