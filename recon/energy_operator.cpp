@@ -154,8 +154,12 @@ void EnergyOperator::for_each_span(const T* x, SpanFn&& span_fn) const {
 
 template <typename T>
 void EnergyOperator::l1_row(const NodeSpan& span, T* l1_row) const {
-  const std::int64_t start = span.first - span.begin;  // node i at start + i
-  for (int i = span.begin; i < span.end; ++i) l1_row[i] = static_cast<T>(l1_diagonal(start + i));
+  if (tv_node_weights_.empty()) {
+    std::fill(l1_row + span.begin, l1_row + span.end, static_cast<T>(stencil_abs_sum_));
+  } else {
+    const std::int64_t start = span.first - span.begin;  // node i at start + i
+    for (int i = span.begin; i < span.end; ++i) l1_row[i] = static_cast<T>(l1_diagonal(start + i));
+  }
   screening_->add_row_sums(std::int64_t{span.k} * geometry_.dims.y() + span.j, span.begin, span.end, 1.0, l1_row);
 }
 
