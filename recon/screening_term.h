@@ -19,17 +19,22 @@ namespace hos::recon {
 // are too coarse to place it (one orientation per scan). Every multigrid level
 // rediscretises it from the sample positions at its own spacing, with the
 // weight divided by 8 per level (the Galerkin scaling of R S^T S P with the
-// restriction R = P^T / 8). S^T S is stored per cell that holds samples:
-// a cell of at most 4 samples keeps their trilinear weights w_s at its 8
+// restriction R = P^T / 8). S^T S is stored in one of two forms per level:
+// per touched node its 27 coefficients (offsets (-1..1)^3), fastest to
+// apply; or, where that takes more than twice the memory (samples sparse
+// for the level's cells: the fine levels of large grids), per cell that
+// holds samples: a cell of one sample keeps its trilinear weights w_s at its 8
 // corners, one of more the 36 distinct entries of sum_s w_s w_s^T. For the
-// bunny's 362 k samples at grid 1024 that is about 30 MB, where 27
-// coefficients per touched node took 270 MB. The operator stays a row-local sweep: a touched node's row reads x
-// only at the corners of its own cells, all within its 27 neighbours.
+// bunny's 362 k samples at grid 1024 the cells take about 70 MB where the
+// coefficients would take 270 MB. Either way the operator stays a row-local
+// sweep: a touched node's row reads x only within its 27 neighbours.
 class ScreeningTerm {
  public:
   ScreeningTerm() = default;
   ScreeningTerm(const GridGeometry& geometry, const std::vector<Eigen::Vector3f>& points, double weight);
   bool empty() const { return runs_.empty(); }
+  // Is the term kept per cell (else per touched node)?
+  bool kept_per_cell() const { return coefficients_.empty() && !runs_.empty(); }
   double weight() const { return weight_; }
   // Adds weight * target * S^T 1 (the target's share of the right-hand side)
   // to rhs, in the layout of nodes (which must store every touched node).
@@ -56,10 +61,11 @@ class ScreeningTerm {
  private:
   // A cell that holds samples: its lower corner and the upper triangle of
   // sum_s w_s w_s^T over its samples (corners as bits x, y, z).
-  // Cells of at most kMaxListedSamples samples list their weights at the 8
-  // corners in values_ from `values`; larger ones keep the 36 moments there
-  // (upper triangle, see moment_index): never more values than moments.
-  static constexpr int kMaxListedSamples = 4;
+  // A cell of one sample keeps its weights at the 8 corners in values_ from
+  // `values`; a fuller one the 36 moments there (upper triangle, see
+  // moment_index), whose row takes 8 products where listing its n samples
+  // would take 16 n.
+  static constexpr int kMaxListedSamples = 1;
   struct Cell {
     Eigen::Vector3i corner;
     std::int32_t samples;  // in the cell; more than kMaxListedSamples: moments
@@ -75,6 +81,10 @@ class ScreeningTerm {
   };
   // Splits the touched nodes (ascending) into runs_ and indexes them per row.
   void index_runs(const std::vector<std::int64_t>& nodes);
+  // The cells' matrices as 27 coefficients per touched node (coefficients_);
+  // `plane_first`: the first cell of each plane of cells (z), and one past
+  // the last.
+  void accumulate_coefficients(const std::vector<std::size_t>& plane_first);
   // Calls fn(cell, c) for the cells node i of run e is corner c of.
   template <typename Fn>
   void for_each_cell_of(const Run& run, int i, Fn&& fn) const;
@@ -85,6 +95,8 @@ class ScreeningTerm {
   double weight_ = 0.0;
   std::vector<Run> runs_;
   std::vector<std::int64_t> row_begin_;  // per grid row (j, k): first run
+  // Per touched node its 27 coefficients (x fastest), or empty: the cells.
+  std::vector<float> coefficients_;
   std::vector<Cell> cells_;
   std::vector<float> values_;
   std::vector<float> row_sums_;           // per touched node, without the weight
@@ -163,6 +175,28 @@ void ScreeningTerm::add_row(
     const Run& run = runs_[e];
     // Every neighbour of the run's nodes inside the grid: no checks.
     const bool interior = run.j > 0 && run.j < d.y() - 1 && run.k > 0 && run.k < d.z() - 1;
+    if (!coefficients_.empty()) {
+      for (int i = std::max(run.begin, begin); i < std::min(run.end, end); ++i) {
+        const float* c = coefficients_.data() + 27 * (run.first + (i - run.begin));
+        T sum = 0;
+        if (interior && i > 0 && i < d.x() - 1) {
+          // A fixed 27-term sum, three neighbours along x from each of the 9 rows.
+          for (int q = 0; q < 9; ++q) {
+            const T* p = x_rows[q] + (i - 1);
+            sum += static_cast<T>(c[3 * q]) * p[0] + static_cast<T>(c[3 * q + 1]) * p[1] +
+                   static_cast<T>(c[3 * q + 2]) * p[2];
+          }
+        } else {
+          for (int q = 0; q < 27; ++q) {
+            const int ii = i + q % 3 - 1;
+            // Neighbours outside the grid have zero coefficients: skip them.
+            if (x_rows[q / 3] && ii >= 0 && ii < d.x()) sum += static_cast<T>(c[q]) * x_rows[q / 3][ii];
+          }
+        }
+        y_row[i] += static_cast<T>(weight_) * sum;
+      }
+      continue;
+    }
     for (int i = std::max(run.begin, begin); i < std::min(run.end, end); ++i) {
       const bool inside = interior && i > 0 && i < d.x() - 1;
       double sum = 0.0;

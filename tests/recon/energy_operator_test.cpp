@@ -73,19 +73,30 @@ TEST(EnergyOperator, IsSymmetric) {
 TEST(EnergyOperator, ScreeningAddsTheSumOverSamplesOfSquaredTrilinearValues) {
   // Samples everywhere in the grid, also in the cells at its faces and in the
   // ghost cells just outside (whose outer corners are the zero ghost nodes).
-  // On 9^3 nodes the 1000 cells hold 400 samples (the term lists them); on
-  // 4^3 nodes 125 cells hold 3000 (it keeps their moments).
-  for (const auto& [n, count] : {std::pair{9, 400}, std::pair{4, 3000}}) {
+  // The term's two forms: 3000 samples in the 125 cells of 4^3 nodes (per
+  // touched node); 400 in the 1000 cells of 9^3 nodes, 300 pairs of samples
+  // in the 9261 cells of 20^3 nodes and 150 single ones in them (per cell,
+  // the pairs by their moments, the single ones by their weights).
+  struct Case {
+    int n, count;
+    bool pairs, per_cell;
+  };
+  for (const Case& t : {Case{4, 3000, false, false}, Case{9, 400, false, true}, Case{20, 300, true, true},
+                        Case{20, 150, false, true}}) {
+    const int n = t.n;
     const GridGeometry g = cube_grid(n, 0.1);
     auto points = std::make_shared<std::vector<Eigen::Vector3f>>();
-    for (int s = 0; s < count; ++s) {
+    for (int s = 0; s < t.count; ++s) {
       const Eigen::Vector3d u(std::fmod(0.37 * s, 1.0), std::fmod(0.61 * s, 1.0), std::fmod(0.83 * s, 1.0));
-      points->push_back((-0.1 + 0.1 * (n + 1) * u.array()).matrix().cast<float>());  // [-h, n h] per axis
+      const Eigen::Vector3f p = (-0.1 + 0.1 * (n + 1) * u.array()).matrix().cast<float>();  // [-h, n h] per axis
+      points->push_back(p);
+      if (t.pairs) points->push_back(p + Eigen::Vector3f::Constant(1e-4f));
     }
     const double weight = 2.5;
     const EnergyOperator plain(g, SmoothnessEnergy::kMembrane, 0.0);
     EnergyOperator screened = plain;
     screened.set_screening(points, weight);
+    EXPECT_EQ(screened.screening().kept_per_cell(), t.per_cell) << n << " " << t.count;
     std::vector<double> x(g.num_nodes()), a, b;
     for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.7 * i) + 0.3;
     plain.apply(x, a);
