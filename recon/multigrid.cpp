@@ -292,7 +292,7 @@ SolveReport solve_in_single_precision(const EnergyOperator& op,
   // The freed double arrays leave holes that the solver's arrays may not
   // fill exactly: their pages go back before those are made.
   release_freed_memory();
-  const SolveReport report = conjugate_gradients(op, rf.data(), xf.data(), options, reporter);
+  SolveReport report = conjugate_gradients(op, rf.data(), xf.data(), options, reporter);
   rf = ZeroedArray<float>{};
   x.assign(xf.data(), xf.data() + n);
   return report;
