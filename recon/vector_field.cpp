@@ -342,6 +342,31 @@ void normalize_field(VectorGrid& field, const std::vector<Eigen::Vector3f>& poin
   }
 }
 
+namespace {
+
+// Planes [0, planes) in `blocks` runs of consecutive planes, shared among
+// the threads of the enclosing parallel region, each thread with its own
+// window of F: a run fills the planes around its first one, then per plane
+// k fills k + 1 and takes the divergence of k (the two planes around a run
+// are evaluated twice; a few runs per thread balance the planes that cut
+// more of the surface).
+template <typename Fill, typename Divergence>
+void for_each_plane_in_blocks(int planes, int blocks, Fill&& fill, Divergence&& divergence) {
+#pragma omp for schedule(dynamic, 1)
+  for (int b = 0; b < blocks; ++b) {
+    const int k_begin = static_cast<int>(std::int64_t{planes} * b / blocks);
+    const int k_end = static_cast<int>(std::int64_t{planes} * (b + 1) / blocks);
+    if (k_begin > 0) fill(k_begin - 1);
+    fill(k_begin);
+    for (int k = k_begin; k < k_end; ++k) {
+      if (k + 1 < planes) fill(k + 1);
+      divergence(k);
+    }
+  }
+}
+
+}  // namespace
+
 ScalarGrid divergence(const VectorGrid& field) {
   const GridGeometry& g = field.geometry;
   ScalarGrid div(g);
@@ -389,9 +414,8 @@ ScalarGrid density_scaled_rhs(const GridGeometry& geometry,
   const double factor = -scale / (2.0 * geometry.spacing);
   const Eigen::Vector3i d = geometry.dims;
   const std::int64_t plane = std::int64_t{d.x()} * d.y();
-  // Blocks of planes, each with its own window of F in planes k - 1, k, k + 1
-  // (the two planes around a block are evaluated twice); a few blocks per
-  // thread balance the planes that cut more of the surface.
+  // Per thread a window of F in planes k - 1, k, k + 1 (see
+  // for_each_plane_in_blocks).
   int blocks = 1;
 #ifdef _OPENMP
   if (worth_threads(geometry.num_nodes())) blocks = 4 * omp_get_max_threads();
@@ -415,18 +439,10 @@ ScalarGrid density_scaled_rhs(const GridGeometry& geometry,
         }
       }
     };
-#pragma omp for schedule(dynamic, 1)
-    for (int b = 0; b < blocks; ++b) {
-      const int k_begin = static_cast<int>(std::int64_t{d.z()} * b / blocks);
-      const int k_end = static_cast<int>(std::int64_t{d.z()} * (b + 1) / blocks);
-      if (k_begin > 0) fill(k_begin - 1);
-      fill(k_begin);
-      for (int k = k_begin; k < k_end; ++k) {
-        if (k + 1 < d.z()) fill(k + 1);
-        divergence_plane(d, factor, slot(k)[0].data(), slot(k)[1].data(), k > 0 ? slot(k - 1)[2].data() : nullptr,
-                         k + 1 < d.z() ? slot(k + 1)[2].data() : nullptr, rhs.values.data() + k * plane);
-      }
-    }
+    for_each_plane_in_blocks(d.z(), blocks, fill, [&](int k) {
+      divergence_plane(d, factor, slot(k)[0].data(), slot(k)[1].data(), k > 0 ? slot(k - 1)[2].data() : nullptr,
+                       k + 1 < d.z() ? slot(k + 1)[2].data() : nullptr, rhs.values.data() + k * plane);
+    });
   }
   return rhs;
 }
@@ -518,17 +534,7 @@ StoredField density_scaled_rhs_near_samples(const GridGeometry& geometry,
         }
       }
     };
-#pragma omp for schedule(dynamic, 1)
-    for (int b = 0; b < blocks; ++b) {
-      const int k_begin = static_cast<int>(std::int64_t{d.z()} * b / blocks);
-      const int k_end = static_cast<int>(std::int64_t{d.z()} * (b + 1) / blocks);
-      if (k_begin > 0) fill(k_begin - 1);
-      fill(k_begin);
-      for (int k = k_begin; k < k_end; ++k) {
-        if (k + 1 < d.z()) fill(k + 1);
-        divergence_of_plane(k);
-      }
-    }
+    for_each_plane_in_blocks(d.z(), blocks, fill, divergence_of_plane);
   }
   return rhs;
 }
