@@ -18,7 +18,7 @@
 #
 #   bench/realdata/holdout.sh DATA BIN WORK [--holdout NAME] [--photos N] [--label L]
 #                             [--set stage.key=value]... [--keep] [--sfm-only] [--shared-sfm]
-#                             [--mesh-from L]
+#                             [--mesh-from L] [--points-from L]
 #
 # --holdout   photo to hold out (default: the middle one by name)
 # --photos N  use only the N photos nearest the held-out one by name (quick runs)
@@ -31,13 +31,16 @@
 # --mesh-from L  start at refine with the points and mesh of run L (made
 #             with --keep; its mvs and recon times are reported): compares
 #             refine and texture settings without rerunning mvs and recon
+# --points-from L  start at recon with the points of run L (made with --keep;
+#             its mvs time is reported): compares recon settings or builds
+#             without rerunning mvs
 # Prints one markdown row per camera; figures also in WORK/runs/L/summary.json.
 set -euo pipefail
 usage() { sed -n '19,31p' "$0" | sed 's/^# *//' >&2; exit 2; }
 [ $# -ge 3 ] || usage
 data="$(cd "$1" && pwd)" bin="$(cd "$2" && pwd)" work="$3"
 shift 3
-holdout="" photos=0 label="" keep=0 sfm_only=0 shared=0 mesh_from="" sets=()
+holdout="" photos=0 label="" keep=0 sfm_only=0 shared=0 mesh_from="" points_from="" sets=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --holdout) holdout="$2"; shift 2 ;;
@@ -46,6 +49,7 @@ while [ $# -gt 0 ]; do
     --set) sets+=(--set "$2"); shift 2 ;;
     --keep) keep=1; shift ;;
     --mesh-from) mesh_from="$2"; shift 2 ;;
+    --points-from) points_from="$2"; shift 2 ;;
     --sfm-only) sfm_only=1; shift ;;
     --shared-sfm) shared=1; shift ;;
     *) usage ;;
@@ -137,8 +141,14 @@ if [ -n "$mesh_from" ]; then
   [ -f "$from/mesh.ply" ] || { echo "$from/mesh.ply: missing (make run $mesh_from with --keep)" >&2; exit 3; }
   cp "$from/points.ply" "$from/mesh.ply" "$from/mvs.time" "$from/recon.time" "$run/"
 else
-  timed mvs "$bin/hos-mvs" --workspace "$undistorted" --output "$run/points.ply" --progress none \
-    --log "$run/mvs.log" "${sets_mvs[@]}" >/dev/null
+  if [ -n "$points_from" ]; then
+    from="$work/runs/$points_from"
+    [ -f "$from/points.ply" ] || { echo "$from/points.ply: missing (make run $points_from with --keep)" >&2; exit 3; }
+    cp "$from/points.ply" "$from/mvs.time" "$run/"
+  else
+    timed mvs "$bin/hos-mvs" --workspace "$undistorted" --output "$run/points.ply" --progress none \
+      --log "$run/mvs.log" "${sets_mvs[@]}" >/dev/null
+  fi
   timed recon "$bin/hos-recon" --input "$run/points.ply" --output "$run/mesh.ply" --progress none \
     --log "$run/recon.log" "${sets_recon[@]}" >/dev/null
 fi
