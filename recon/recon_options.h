@@ -24,8 +24,11 @@ enum class SmoothnessEnergy {
 
 struct SolverOptions {
   // Relative residual ||b - Ax|| / ||b|| to reach; tighter moves the surface
-  // by no measurable amount but costs iterations.
-  double tolerance = 1e-5;
+  // by no measurable amount but costs iterations. 1e-4 against 1e-5: the
+  // bunny's mean distance to its reference 6.14e-5 against 6.18e-5 at grid
+  // 256 (fine-grid iterations 5 against 9) and 4.83e-5 against 4.84e-5 at
+  // 1024 (9 against 13); the Strecha hold-outs' PSNR within 0.02 dB.
+  double tolerance = 1e-4;
   int max_iterations = 200;  // conjugate-gradient iterations per linear solve
   int max_levels = 0;        // multigrid levels; 0 = as many as the grid allows
   // Degree of the Chebyshev smoother (operator applications) before and
