@@ -7,21 +7,18 @@
 
 namespace hos::recon {
 
-namespace {
-
-struct Sample {
-  std::int64_t cell;  // lower corner on the grid padded by two nodes: a sort key
-  std::size_t input;  // index in points
-  Eigen::Vector3i corner;
-  Eigen::Vector3d frac;
-};
-
 // The samples sorted by cell, ties broken by the input order (the sums below,
 // and so the result, do not depend on the sort or the thread count). Sorted
 // by cell, each corner's node index ascends with the cell: the touched nodes
 // are the merge of 8 sorted lists (one per corner) instead of a sort of all
 // corners, and every corner's compact index is found by a forward walk.
 struct CellSamples {
+  struct Sample {
+    std::int64_t cell;  // lower corner on the grid padded by two nodes: a sort key
+    std::size_t input;  // index in points
+    Eigen::Vector3i corner;
+    Eigen::Vector3d frac;
+  };
   std::vector<Sample> samples;
   std::vector<std::size_t> first_of_cell;  // samples of cell q: [first_of_cell[q], first_of_cell[q + 1])
 
@@ -29,10 +26,12 @@ struct CellSamples {
   std::int64_t cell_key(std::size_t q) const { return samples[first_of_cell[q]].cell; }
 };
 
+namespace {
+
 CellSamples sort_by_cell(const GridGeometry& g, const std::vector<Eigen::Vector3f>& points) {
   const Eigen::Vector3i d = g.dims;
   CellSamples out;
-  std::vector<Sample>& samples = out.samples;
+  std::vector<CellSamples::Sample>& samples = out.samples;
   samples.resize(points.size());
 #pragma omp parallel for schedule(static)
   for (std::size_t s = 0; s < points.size(); ++s) {
@@ -42,7 +41,7 @@ CellSamples sort_by_cell(const GridGeometry& g, const std::vector<Eigen::Vector3
     const Eigen::Vector3i c = st.corner.cwiseMax(-2).cwiseMin(d);
     samples[s] = {(std::int64_t{c.z() + 2} * (d.y() + 3) + c.y() + 2) * (d.x() + 3) + c.x() + 2, s, st.corner, st.frac};
   }
-  __gnu_parallel::sort(samples.begin(), samples.end(), [](const Sample& a, const Sample& b) {
+  __gnu_parallel::sort(samples.begin(), samples.end(), [](const CellSamples::Sample& a, const CellSamples::Sample& b) {
     return a.cell < b.cell || (a.cell == b.cell && a.input < b.input);
   });
   for (std::size_t s = 0; s < samples.size(); ++s) {
@@ -106,6 +105,24 @@ ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vec
   const CellSamples cells = sort_by_cell(g, points);
   const std::vector<std::int64_t> nodes = touched_nodes(g, cells);
   const std::vector<std::array<std::int64_t, 8>> corners = cell_corners(g, cells, nodes);
+  store_cells(cells);
+  index_cells_of_nodes(corners, nodes.size());
+  index_runs(nodes);
+  compute_row_sums();
+  // The coefficients, faster to apply, unless the cells take less than half
+  // their memory (bunny: 1/6 at grid 1024, 1/2.7 at 512, 1/1.3 at 256).
+  const double cell_bytes = sizeof(Cell) * cells_.size() + sizeof(float) * values_.size() +
+                            sizeof(std::int32_t) * (cells_of_node_.size() + first_cell_.size());
+  if (27.0 * sizeof(float) * static_cast<double>(nodes.size()) <= 2.0 * cell_bytes) {
+    accumulate_coefficients(corners);
+    cells_ = {};
+    values_ = {};
+    cells_of_node_ = {};
+    first_cell_ = {};
+  }
+}
+
+void ScreeningTerm::store_cells(const CellSamples& cells) {
   const std::size_t num_cells = cells.num_cells();
   cells_.resize(num_cells);
   std::int64_t num_values = 0;
@@ -137,74 +154,60 @@ ScreeningTerm::ScreeningTerm(const GridGeometry& g, const std::vector<Eigen::Vec
     }
     for (int m = 0; m < 36; ++m) v[m] = static_cast<float>(sum[m]);
   }
-  // Per touched node the cells it is a corner of, in cell order.
-  first_cell_.assign(nodes.size() + 1, 0);
+}
+
+void ScreeningTerm::index_cells_of_nodes(const std::vector<std::array<std::int64_t, 8>>& corners,
+                                         std::size_t num_nodes) {
+  first_cell_.assign(num_nodes + 1, 0);
   for (const auto& cell : corners) {
     for (std::int64_t n : cell) {
       if (n >= 0) ++first_cell_[n + 1];
     }
   }
-  for (std::size_t n = 0; n < nodes.size(); ++n) first_cell_[n + 1] += first_cell_[n];
+  for (std::size_t n = 0; n < num_nodes; ++n) first_cell_[n + 1] += first_cell_[n];
   cells_of_node_.resize(static_cast<std::size_t>(first_cell_.back()));
   std::vector<std::int32_t> fill(first_cell_.begin(), first_cell_.end() - 1);
-  for (std::size_t q = 0; q < num_cells; ++q) {
+  for (std::size_t q = 0; q < corners.size(); ++q) {
     for (int c = 0; c < 8; ++c) {
       const std::int64_t n = corners[q][c];
       if (n >= 0) cells_of_node_[fill[n]++] = static_cast<std::int32_t>(8 * q + c);
     }
   }
-  index_runs(nodes);
-  // The coefficients, faster to apply, unless the cells take less than half
-  // their memory (bunny: 1/6 at grid 1024, 1/2.7 at 512, 1/1.3 at 256).
-  const double cell_bytes = sizeof(Cell) * cells_.size() + sizeof(float) * values_.size() +
-                            sizeof(std::int32_t) * (cells_of_node_.size() + first_cell_.size());
-  if (27.0 * sizeof(float) * static_cast<double>(nodes.size()) <= 2.0 * cell_bytes) {
-    // The cells are sorted by their corner clamped to [-2, d] (sort_by_cell).
-    const auto plane = [&](std::size_t q) { return std::clamp(cells_[q].corner.z(), -2, g.dims.z()); };
-    std::vector<std::size_t> plane_first;
-    for (std::size_t q = 0; q < num_cells; ++q) {
-      if (q == 0 || plane(q) != plane(q - 1)) plane_first.push_back(q);
-    }
-    plane_first.push_back(num_cells);
-    accumulate_coefficients(plane_first);
-  }
-  // The row sums (l1, the smoothers' scaling) once, in run order.
-  row_sums_.assign(nodes.size(), 0.0f);
+}
+
+void ScreeningTerm::compute_row_sums() {
+  row_sums_.assign(first_cell_.size() - 1, 0.0f);
   for (const Run& run : runs_) {
     for (int i = run.begin; i < run.end; ++i) {
       double sum = 0.0;
-      for_each_cell_of(run, i, [&](const Cell& cell, int c) { sum += cell_row_times(cell, c, kOnes); });
+      for_each_cell_of(run, i, [&](const Cell& cell, int c) { sum += cell_row_times(cell, c, kAllOnes); });
       row_sums_[run.first + (i - run.begin)] = static_cast<float>(sum);
     }
   }
-  if (!coefficients_.empty()) {
-    cells_ = {};
-    values_ = {};
-    cells_of_node_ = {};
-    first_cell_ = {};
-  }
 }
 
-void ScreeningTerm::accumulate_coefficients(const std::vector<std::size_t>& plane_first) {
+void ScreeningTerm::accumulate_coefficients(const std::vector<std::array<std::int64_t, 8>>& corners) {
   // Per cell, entry (a, b) of its matrix goes to corner a's coefficient of
-  // the offset b - a. The cells of one plane write node planes z and z + 1
-  // only: planes of one parity run in parallel without write conflicts.
-  std::vector<std::int64_t> node_of_corner(8 * cells_.size(), -1);
-  for (std::size_t n = 0; n + 1 < first_cell_.size(); ++n) {
-    for (std::int32_t t = first_cell_[n]; t < first_cell_[n + 1]; ++t) node_of_corner[cells_of_node_[t]] = n;
+  // the offset b - a. The cells of one plane (z) write node planes z and
+  // z + 1 only: planes of one parity run in parallel without write
+  // conflicts. The cells are sorted by their corner clamped to [-2, d]
+  // (sort_by_cell), so a plane's cells are consecutive.
+  const auto plane = [&](std::size_t q) { return std::clamp(cells_[q].corner.z(), -2, geometry_.dims.z()); };
+  std::vector<std::size_t> plane_first;
+  for (std::size_t q = 0; q < cells_.size(); ++q) {
+    if (q == 0 || plane(q) != plane(q - 1)) plane_first.push_back(q);
   }
-  coefficients_.assign(27 * (first_cell_.size() - 1), 0.0f);
+  plane_first.push_back(cells_.size());
+  coefficients_.assign(27 * row_sums_.size(), 0.0f);
   const auto num_planes = static_cast<std::int64_t>(plane_first.size()) - 1;
   for (int parity = 0; parity < 2; ++parity) {
 #pragma omp parallel for schedule(dynamic, 4)
     for (std::int64_t p = 0; p < num_planes; ++p) {
-      const int z = std::clamp(cells_[plane_first[p]].corner.z(), -2, geometry_.dims.z());
-      if ((z + 2) % 2 != parity) continue;
+      if ((plane(plane_first[p]) + 2) % 2 != parity) continue;
       for (std::size_t q = plane_first[p]; q < plane_first[p + 1]; ++q) {
         for (int a = 0; a < 8; ++a) {
-          const std::int64_t n = node_of_corner[8 * q + a];
-          if (n < 0) continue;
-          float* row = coefficients_.data() + 27 * n;
+          if (corners[q][a] < 0) continue;
+          float* row = coefficients_.data() + 27 * corners[q][a];
           std::array<double, 8> unit{};
           for (int b = 0; b < 8; ++b) {
             // Entry (a, b): row a of the matrix times the unit vector b.

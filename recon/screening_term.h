@@ -14,6 +14,8 @@
 
 namespace hos::recon {
 
+struct CellSamples;  // the samples sorted by the cell holding them (screening_term.cpp)
+
 // Optional screening term weight * sum_i (f(p_i) - target)^2 over the samples
 // (f(p_i) trilinear): it pins the level set to the samples where orientations
 // are too coarse to place it (one orientation per scan). Every multigrid level
@@ -23,10 +25,10 @@ namespace hos::recon {
 // per touched node its 27 coefficients (offsets (-1..1)^3), fastest to
 // apply; or, where that takes more than twice the memory (samples sparse
 // for the level's cells: the fine levels of large grids), per cell that
-// holds samples: a cell of one sample keeps its trilinear weights w_s at its 8
-// corners, one of more the 36 distinct entries of sum_s w_s w_s^T. For the
-// bunny's 362 k samples at grid 1024 the cells take about 70 MB where the
-// coefficients would take 270 MB. Either way the operator stays a row-local
+// holds samples: a cell of one sample keeps its trilinear weights w_s at its
+// 8 corners, one of more the 36 distinct entries of sum_s w_s w_s^T. For the
+// bunny's 362 k samples at grid 1024 the finest level's cells take 41 MB
+// where its coefficients would take 238 MB. Either way the operator stays a row-local
 // sweep: a touched node's row reads x only within its 27 neighbours.
 class ScreeningTerm {
  public:
@@ -59,13 +61,14 @@ class ScreeningTerm {
   void add_row(std::int64_t row, int begin, int end, const std::array<const T*, 9>& x_rows, T* y_row) const;
 
  private:
-  // A cell that holds samples: its lower corner and the upper triangle of
-  // sum_s w_s w_s^T over its samples (corners as bits x, y, z).
-  // A cell of one sample keeps its weights at the 8 corners in values_ from
-  // `values`; a fuller one the 36 moments there (upper triangle, see
+  // A cell that holds samples (corners as bits x, y, z). A cell of one
+  // sample keeps its weights at the 8 corners in values_ from `values`; a
+  // fuller one the upper triangle of sum_s w_s w_s^T there (36 values, see
   // moment_index), whose row takes 8 products where listing its n samples
   // would take 16 n.
   static constexpr int kMaxListedSamples = 1;
+  // x = 1 at every corner: cell_row_times gives the row's sum.
+  static constexpr std::array<double, 8> kAllOnes = {1, 1, 1, 1, 1, 1, 1, 1};
   struct Cell {
     Eigen::Vector3i corner;
     std::int32_t samples;  // in the cell; more than kMaxListedSamples: moments
@@ -79,12 +82,16 @@ class ScreeningTerm {
     int j, k, begin, end;  // grid row and nodes begin <= i < end
     std::int64_t first;    // index of the run's first node among the touched nodes
   };
-  // Splits the touched nodes (ascending) into runs_ and indexes them per row.
+  // The construction's steps: the cells' values (cells_, values_); per
+  // touched node the cells it is a corner of (corners: per cell the touched
+  // node of each corner, -1 outside the grid); the runs of touched nodes
+  // (ascending), indexed per row; the row sums; and, where they are kept,
+  // the cells' matrices as 27 coefficients per touched node.
+  void store_cells(const CellSamples& cells);
+  void index_cells_of_nodes(const std::vector<std::array<std::int64_t, 8>>& corners, std::size_t num_nodes);
   void index_runs(const std::vector<std::int64_t>& nodes);
-  // The cells' matrices as 27 coefficients per touched node (coefficients_);
-  // `plane_first`: the first cell of each plane of cells (z), and one past
-  // the last.
-  void accumulate_coefficients(const std::vector<std::size_t>& plane_first);
+  void compute_row_sums();
+  void accumulate_coefficients(const std::vector<std::array<std::int64_t, 8>>& corners);
   // Calls fn(cell, c) for the cells node i of run e is corner c of.
   template <typename Fn>
   void for_each_cell_of(const Run& run, int i, Fn&& fn) const;
@@ -112,8 +119,6 @@ constexpr int moment_index(int a, int b) {
   const int lo = a < b ? a : b, hi = a < b ? b : a;
   return lo * 8 - lo * (lo - 1) / 2 + (hi - lo);
 }
-
-inline constexpr std::array<double, 8> kOnes = {1, 1, 1, 1, 1, 1, 1, 1};
 
 // For a node that is corner c of a cell, where its corner b lies: the row
 // (dy + 1) + 3 (dz + 1) of the 9 rows around the node, the offset along x,
