@@ -95,4 +95,13 @@ ColmapStep mapping_step(const ColmapRunContext& context, const SfmOptions& optio
   return step;
 }
 
+ColmapStep principal_point_step(const std::filesystem::path& input, const std::filesystem::path& output) {
+  return {
+      "bundle_adjuster",
+      {"--input_path", input.string(), "--output_path", output.string(), "--BundleAdjustment.refine_principal_point",
+       "1", "--BundleAdjustment.refine_focal_length", "1", "--BundleAdjustment.refine_extra_params", "1"},
+      "adjusting the principal point",
+      0};
+}
+
 }  // namespace hos::sfm

@@ -33,4 +33,8 @@ std::vector<ColmapStep> matching_steps(const ColmapRunContext& context, const Sf
 
 ColmapStep mapping_step(const ColmapRunContext& context, const SfmOptions& options);
 
+// A bundle adjustment of the model in input that also estimates the
+// principal point, written to output.
+ColmapStep principal_point_step(const std::filesystem::path& input, const std::filesystem::path& output);
+
 }  // namespace hos::sfm

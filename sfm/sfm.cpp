@@ -307,7 +307,55 @@ fs::path map_photos(const ColmapInfo& colmap,
   return best_dir;
 }
 
+// The final bundle adjustment that also estimates the principal point,
+// whose model is kept when the estimate stays within
+// options.principal_point_max_offset of the image centre (an estimate
+// farther away means the photos did not constrain it). Returns the folder
+// of the model to use.
+fs::path adjust_principal_point(const ColmapInfo& colmap,
+                                const fs::path& model_dir,
+                                const SfmOptions& options,
+                                const SfmPaths& paths,
+                                Reporter& reporter,
+                                SfmResult& result) {
+  if (options.principal_point_max_offset <= 0) return model_dir;
+  const fs::path adjusted_dir = paths.sparse / "principal_point";
+  fs::remove_all(adjusted_dir);
+  fs::create_directories(adjusted_dir);
+  const ColmapStepResult run = run_colmap_step(colmap, principal_point_step(model_dir, adjusted_dir), reporter);
+  result.step_seconds.emplace_back("bundle_adjuster", run.seconds);
+  if (run.exit_code != 0) {
+    reporter.warn("sfm: the principal point's bundle adjustment failed; the image centre is kept" +
+                  format_tail(run.last_lines));
+    return model_dir;
+  }
+  const SparseModel adjusted = read_colmap_model(adjusted_dir);
+  const PrincipalPointOffset offset = largest_principal_point_offset(adjusted);
+  if (offset.fraction > options.principal_point_max_offset) {
+    reporter.warn(format_message("sfm: the principal point was estimated ", offset.pixels,
+                                 " px from the image centre, more than sfm.principal_point_max_offset (",
+                                 options.principal_point_max_offset,
+                                 " of the longer side): the photos do not constrain it; the image centre is kept"));
+    return model_dir;
+  }
+  fill_model_figures(adjusted, result);
+  result.principal_point_offset_px = offset.pixels;
+  result.principal_point_estimated = true;
+  return adjusted_dir;
+}
+
 }  // namespace
+
+PrincipalPointOffset largest_principal_point_offset(const SparseModel& model) {
+  PrincipalPointOffset largest;
+  for (const auto& [id, camera] : model.cameras) {
+    const double pixels =
+        std::hypot(camera.principal_x() - 0.5 * camera.width, camera.principal_y() - 0.5 * camera.height);
+    const double fraction = pixels / std::max(1, std::max(camera.width, camera.height));
+    if (fraction > largest.fraction) largest = {pixels, fraction};
+  }
+  return largest;
+}
 
 std::string step_times_text(const SfmResult& r) {
   std::ostringstream times;
@@ -354,7 +402,8 @@ SfmResult run_sfm(const SfmInput& input, const SfmOptions& options, Reporter& re
   for (const ColmapStep& step : matching_steps(context, result.plan, options)) {
     run_timed(colmap, step, reporter, result);
   }
-  const fs::path model_dir = map_photos(colmap, context, options, inputs, reporter, result);
+  const fs::path model_dir = adjust_principal_point(
+      colmap, map_photos(colmap, context, options, inputs, reporter, result), options, paths, reporter, result);
   // Undistortion into the workspace the later stages read.
   write_folder_atomically(paths.undistorted, [&](const fs::path& tmp) {
     undistort_with_colmap(colmap, paths.images, model_dir, tmp, result.images_registered, reporter, result);
@@ -375,6 +424,7 @@ void write_sfm_report(const SfmResult& r, const fs::path& file) {
   j["points"] = r.points;
   j["mean_reprojection_error_px"] = r.mean_reprojection_error_px;
   j["mean_track_length"] = r.mean_track_length;
+  j["principal_point"] = {{"estimated", r.principal_point_estimated}, {"offset_px", r.principal_point_offset_px}};
   j["models"] = nlohmann::json::array();
   for (const auto& m : r.models)
     j["models"].push_back({{"index", m.index}, {"images", m.images}, {"points", m.points}});
@@ -412,6 +462,7 @@ std::vector<std::string> sfm_summary_lines(const SfmResult& r) {
   figures.precision(3);
   figures << r.points << " 3D points, mean reprojection error " << r.mean_reprojection_error_px
           << " px, mean track length " << r.mean_track_length;
+  if (r.principal_point_estimated) figures << ", principal point " << r.principal_point_offset_px << " px off centre";
   lines.push_back(figures.str());
   if (!r.plan.matcher.empty()) {
     lines.push_back(format_message(r.plan.matcher, " matching (", r.plan.matcher_reason, "), ", r.plan.max_num_features,

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/reporter.h"
+#include "core/sparse_model.h"
 #include "sfm/image_inputs.h"
 #include "sfm/sfm_options.h"
 #include "sfm/sfm_plan.h"
@@ -60,6 +61,12 @@ struct SfmResult {
   std::int64_t points = 0;
   double mean_reprojection_error_px = 0.0;
   double mean_track_length = 0.0;
+  // The principal point after the final adjustment (options'
+  // principal_point_max_offset): its largest distance from the image centre
+  // over the cameras (pixels; 0 when not estimated), and whether the estimate
+  // was kept (else the centre was).
+  double principal_point_offset_px = 0.0;
+  bool principal_point_estimated = false;
   std::vector<SfmModelSummary> models;  // every model COLMAP produced
   int used_model = 0;
   std::string matcher;  // plan.matcher, or "existing model"
@@ -70,6 +77,15 @@ struct SfmResult {
   std::vector<std::pair<std::string, double>> step_seconds;
   double total_seconds = 0.0;  // the whole stage
 };
+
+// The largest distance of a camera's principal point from its image centre
+// over the model's cameras, in pixels and as a fraction of that camera's
+// longer side.
+struct PrincipalPointOffset {
+  double pixels = 0.0;
+  double fraction = 0.0;
+};
+PrincipalPointOffset largest_principal_point_offset(const SparseModel& model);
 
 // Runs the stage. Throws InputError (bad photo folder or model), StageError
 // (COLMAP missing or failed, too few images registered), Cancelled.

@@ -68,6 +68,10 @@ void register_options(OptionSet& set, SfmOptions& o) {
           "inlier matches the mapper needs to register a photo (COLMAP default 30)", 6, 10000);
   set.add("ba_global_ratio", o.ba_global_ratio,
           "global bundle adjustment when the model grew by this factor (COLMAP default 1.1)", 1.01, 10.0);
+  set.add("principal_point_max_offset", o.principal_point_max_offset,
+          "after mapping, estimate the principal point (COLMAP keeps the image centre); an estimate farther "
+          "than this fraction of the longer side from the centre is discarded; 0 = keep the centre",
+          0.0, 0.5);
   set.add("min_registered_images", o.min_registered_images, "fewer registered photos fail the stage", 3, 1000000);
   set.add("random_seed", o.random_seed, "COLMAP random seed (repeatable runs)", 0, 2147483647);
 }

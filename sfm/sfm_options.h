@@ -65,6 +65,14 @@ struct SfmOptions {
   // the last one (COLMAP Mapper.ba_global_images_ratio / points_ratio, default
   // 1.1); the final global adjustment always runs.
   double ba_global_ratio = 1.1;
+  // After mapping, a bundle adjustment that also estimates the principal
+  // point, which COLMAP's mapper keeps at the image centre. A shifted or
+  // cropped sensor puts it pixels away, which the mapper absorbs into the
+  // focal length and distortion; finer matching levels then miss by pixels.
+  // An estimate farther than this fraction of the longer side from the
+  // centre is taken as unconstrained by the photos and discarded. 0 = keep
+  // the centre.
+  double principal_point_max_offset = 0.1;
   int min_registered_images = 3;  // fewer registered photos is a failure
   int random_seed = 0;            // COLMAP's random seed, for repeatable runs
 

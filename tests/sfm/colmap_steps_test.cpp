@@ -101,5 +101,14 @@ TEST(ColmapSteps, MapperAdjustsOnBothCoresAndLessOften) {
   EXPECT_EQ(arg(step, "output_path"), "ws/sfm/sparse");
 }
 
+TEST(ColmapSteps, PrincipalPointStepAdjustsTheMappedModelIntoAnotherFolder) {
+  const ColmapStep step = principal_point_step("ws/sfm/sparse/0", "ws/sfm/sparse/principal_point");
+  EXPECT_EQ(step.command, "bundle_adjuster");
+  EXPECT_EQ(arg(step, "input_path"), "ws/sfm/sparse/0");
+  EXPECT_EQ(arg(step, "output_path"), "ws/sfm/sparse/principal_point");
+  EXPECT_EQ(arg(step, "BundleAdjustment.refine_principal_point"), "1");
+  EXPECT_EQ(arg(step, "BundleAdjustment.refine_focal_length"), "1");
+}
+
 }  // namespace
 }  // namespace hos::sfm

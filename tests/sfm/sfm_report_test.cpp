@@ -62,5 +62,43 @@ TEST(SfmReport, ExistingModelHasNoPlan) {
   EXPECT_EQ(j["matcher"], "existing model");
 }
 
+TEST(SfmReport, SaysWhereThePrincipalPointWasEstimated) {
+  SfmResult r = result_with_plan();
+  r.principal_point_estimated = true;
+  r.principal_point_offset_px = 23.5;
+  hos::testing::TempDir dir;
+  write_sfm_report(r, dir / "report.json");
+  std::ifstream in(dir / "report.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["principal_point"]["estimated"], true);
+  EXPECT_DOUBLE_EQ(j["principal_point"]["offset_px"].get<double>(), 23.5);
+  std::string summary;
+  for (const auto& line : sfm_summary_lines(r)) summary += line + "\n";
+  EXPECT_THAT(summary, HasSubstr("principal point 23.5 px off centre"));
+}
+
+// The offset of the camera farthest from its centre, relative to its own
+// longer side: a 3-4-5 triangle off the centre of each camera.
+TEST(PrincipalPointOffset, IsTheLargestOverTheCamerasRelativeToTheLongerSide) {
+  SparseModel model;
+  Camera wide;
+  wide.id = 1;
+  wide.model = CameraModel::kPinhole;
+  wide.width = 3000;
+  wide.height = 2000;
+  wide.params = {2500, 2500, 1500 + 30, 1000 - 40};  // 50 px off: 1/60 of 3000
+  Camera tall = wide;
+  tall.id = 2;
+  tall.width = 600;
+  tall.height = 1200;
+  tall.params = {1000, 1000, 300 - 18, 600 + 24};  // 30 px off: 1/40 of 1200
+  model.cameras[1] = wide;
+  EXPECT_NEAR(largest_principal_point_offset(model).pixels, 50.0, 1e-9);
+  EXPECT_NEAR(largest_principal_point_offset(model).fraction, 50.0 / 3000, 1e-12);
+  model.cameras[2] = tall;
+  EXPECT_NEAR(largest_principal_point_offset(model).pixels, 30.0, 1e-9);
+  EXPECT_NEAR(largest_principal_point_offset(model).fraction, 30.0 / 1200, 1e-12);
+}
+
 }  // namespace
 }  // namespace hos::sfm

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -133,9 +134,17 @@ TEST_F(SfmTest, SyntheticSceneRegistersEveryViewAccurately) {
   if (!have_colmap()) GTEST_SKIP() << "colmap is not installed";
   const fs::path scene = synth_scene(16);
   if (scene.empty()) GTEST_SKIP() << "hos-synth is not built";
-  // The photos plus two bad files that must be skipped with a warning each.
+  // The photos, cropped by kCrop pixels on the left so the principal point
+  // lies kCrop / 2 pixels left of the image centre, plus two bad files that
+  // must be skipped with a warning each.
+  constexpr int kCrop = 48;
   const fs::path photos = dir_ / "photos";
-  fs::copy(scene / "images", photos);
+  fs::create_directories(photos);
+  for (const auto& entry : fs::directory_iterator(scene / "images")) {
+    const cv::Mat image = cv::imread(entry.path().string());
+    cv::imwrite((photos / entry.path().filename()).string(),
+                image(cv::Rect(kCrop, 0, image.cols - kCrop, image.rows)).clone());
+  }
   std::ofstream(photos / "zero.jpg").close();  // an empty file
   std::vector<std::uint8_t> jpeg;
   cv::imencode(".jpg",
@@ -160,6 +169,16 @@ TEST_F(SfmTest, SyntheticSceneRegistersEveryViewAccurately) {
   const SparseModel result = read_colmap_model(ws / "sfm" / "undistorted" / "sparse");
   ASSERT_EQ(result.images.size(), truth.images.size()) << "every view registers";
   for (const auto& [id, camera] : result.cameras) EXPECT_FALSE(camera.has_distortion());
+
+  // The final adjustment finds the shifted principal point (the undistorter
+  // then resamples the photos around their centre).
+  const Camera& true_camera = truth.cameras.begin()->second;
+  for (const auto& [id, camera] : read_colmap_model(ws / "sfm" / "sparse" / "principal_point").cameras) {
+    const double dx = camera.principal_x() - (true_camera.principal_x() - kCrop);
+    const double dy = camera.principal_y() - true_camera.principal_y();
+    EXPECT_LT(std::hypot(dx, dy), kCrop / 8.0)
+        << "principal point (" << camera.principal_x() << ", " << camera.principal_y() << ")";
+  }
 
   const PoseErrors errors = pose_errors(truth, result);
   EXPECT_LT(errors.worst_centre, 0.01);
