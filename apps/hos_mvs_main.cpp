@@ -2,31 +2,15 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 #include <optional>
-#include <regex>
 
 #include "apps/stage_main.h"
 #include "core/atomic_file.h"
 #include "core/exit_codes.h"
 #include "core/ply_io.h"
 #include "core/undistorted_workspace.h"
+#include "core/view_range.h"
 #include "mvs/mvs_report.h"
 #include "mvs/run_mvs.h"
-
-namespace {
-
-// "3-9" or "4"; nothing for anything else.
-std::optional<hos::mvs::ViewRange> parse_view_range(const std::string& text) {
-  static const std::regex kRange(R"((\d{1,9})(?:-(\d{1,9}))?)");
-  std::smatch m;
-  if (!std::regex_match(text, m, kRange)) return std::nullopt;
-  hos::mvs::ViewRange range;
-  range.first = std::stoi(m[1]);
-  range.last = m[2].matched ? std::stoi(m[2]) : range.first;
-  if (range.last < range.first) return std::nullopt;
-  return range;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   hos::mvs::MvsOptions options;
@@ -54,7 +38,7 @@ int main(int argc, char** argv) {
                  "(see --help)\n";
     return hos::kExitUsage;
   }
-  const std::optional<hos::mvs::ViewRange> range = split ? parse_view_range(views) : std::nullopt;
+  const std::optional<hos::ViewRange> range = split ? hos::parse_view_range(views) : std::nullopt;
   if (split && !range) {
     std::cerr << "hos-mvs: error: --views " << views << ": expected FIRST-LAST or INDEX, e.g. 0-9\n";
     return hos::kExitUsage;

@@ -356,10 +356,7 @@ MvsStats compute_depth_maps(const UndistortedWorkspace& workspace,
                             const std::filesystem::path& folder) {
   MvsStats stats;
   const MvsPlan plan = make_plan(workspace, options, reporter, stats);
-  std::vector<bool> selected(plan.views.size(), false);
-  for (int i = std::max(range.first, 0); i <= range.last && i < static_cast<int>(plan.views.size()); ++i) {
-    selected[static_cast<std::size_t>(i)] = true;
-  }
+  const std::vector<bool> selected = range.selection(static_cast<int>(plan.views.size()));
   std::filesystem::create_directories(folder);
   match_views(workspace, options, plan, selected, reporter, stats,
               [&](std::size_t i, const MvsView&, const DepthMap& map) {

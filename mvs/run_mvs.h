@@ -8,6 +8,7 @@
 #include "core/reporter.h"
 #include "core/types.h"
 #include "core/undistorted_workspace.h"
+#include "core/view_range.h"
 #include "mvs/mvs_options.h"
 
 namespace hos::mvs {
@@ -47,12 +48,7 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
                   const std::filesystem::path& depth_map_folder = {});
 
 // Split runs (job arrays on a cluster): the views are the model's registered
-// images in the order of their ids, numbered from 0. A range of them is the
-// views first..last (inclusive); the part past the last view is empty.
-struct ViewRange {
-  int first = 0;
-  int last = 0;
-};
+// images in the order of their ids, numbered from 0 (core/view_range.h).
 
 // Number of views run_mvs would match (the model's registered images).
 int count_views(const UndistortedWorkspace& workspace);
