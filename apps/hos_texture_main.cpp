@@ -2,12 +2,14 @@
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include "apps/stage_main.h"
 #include "core/atomic_file.h"
 #include "core/exit_codes.h"
 #include "core/ply_io.h"
 #include "core/undistorted_workspace.h"
+#include "core/view_range.h"
 #include "texture/gltf_writer.h"
 #include "texture/texture_mesh.h"
 #include "texture/texture_report.h"
@@ -17,27 +19,49 @@ int main(int argc, char** argv) {
   hos::OptionSet option_set("texture");
   register_options(option_set, options);
   hos::apps::CommonStageFlags flags;
-  std::string mesh_path, workspace_path, output_path, report_path;
+  std::string mesh_path, workspace_path, output_path, report_path, views, view_data, from_view_data;
 
   CLI::App app{"hos-texture: view selection, seam leveling and texture atlas; writes a .glb"};
   app.add_option("--mesh", mesh_path, "mesh PLY (model coordinates of the workspace)");
   app.add_option("--workspace", workspace_path, "undistorted workspace (images/ + sparse/ PINHOLE model)");
   app.add_option("--output", output_path, "output binary glTF (.glb)");
   app.add_option("--report", report_path, "also write the stage's figures as JSON (incl. the root matrix)");
+  // Job splitting (docs/scale.md): view chunks in parallel jobs, then one join.
+  app.add_option("--views", views,
+                 "only compute the per-view data (visibility, face samples) of the views FIRST-LAST (0-based, in "
+                 "image id order) into --view-data; no --output");
+  app.add_option("--view-data", view_data, "folder for the per-view data of --views");
+  app.add_option("--from-view-data", from_view_data,
+                 "texture from the per-view data --views wrote into this folder (every view's) into --output");
   hos::apps::add_common_stage_flags(app, flags, option_set);
   if (const auto code = hos::apps::parse_stage_command_line(app, argc, argv, flags, option_set)) return *code;
-  if (mesh_path.empty() || workspace_path.empty() || output_path.empty()) {
-    std::cerr << "hos-texture: error: --mesh, --workspace and --output are required (see --help)\n";
+  const bool split = !views.empty();
+  if (mesh_path.empty() || workspace_path.empty() || (output_path.empty() != split) || (split != !view_data.empty()) ||
+      (split && !from_view_data.empty())) {
+    std::cerr << "hos-texture: error: --mesh, --workspace and --output are required; or --mesh, --workspace, --views "
+                 "and --view-data (see --help)\n";
+    return hos::kExitUsage;
+  }
+  const std::optional<hos::ViewRange> range = split ? hos::parse_view_range(views) : std::nullopt;
+  if (split && !range) {
+    std::cerr << "hos-texture: error: --views " << views << ": expected FIRST-LAST or INDEX, e.g. 0-9\n";
     return hos::kExitUsage;
   }
 
   return hos::apps::run_stage_main("texture", flags, [&](hos::Reporter& reporter) {
     hos::apps::apply_config_and_overrides(option_set, flags);
     options.validate();
-    hos::check_writable_target(output_path);  // before the work, not after
+    if (!split) hos::check_writable_target(output_path);  // before the work, not after
     const hos::TriangleMesh mesh = hos::read_mesh_ply(mesh_path);
     const hos::UndistortedWorkspace workspace = hos::load_undistorted_workspace(workspace_path);
-    const hos::texture::TextureResult result = hos::texture::texture_mesh(mesh, workspace, options, reporter);
+    if (split) {
+      hos::texture::compute_view_data(mesh, workspace, options, reporter, *range, view_data);
+      return;
+    }
+    const hos::texture::TextureResult result =
+        from_view_data.empty()
+            ? hos::texture::texture_mesh(mesh, workspace, options, reporter)
+            : hos::texture::texture_mesh_from_view_data(mesh, workspace, options, reporter, from_view_data);
     hos::texture::GltfWriteOptions write_options;
     write_options.image_format = options.image_format;
     write_options.jpeg_quality = options.jpeg_quality;

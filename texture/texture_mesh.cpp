@@ -1,6 +1,7 @@
 #include "texture/texture_mesh.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <chrono>
 
 #include "core/error.h"
@@ -10,6 +11,7 @@
 #include "texture/exposure.h"
 #include "texture/mesh_topology.h"
 #include "texture/seam_leveling.h"
+#include "texture/view_data.h"
 #include "texture/view_selection.h"
 #include "texture/visibility.h"
 
@@ -134,18 +136,30 @@ Eigen::Matrix4d root_matrix_for(const std::vector<TextureView>& views, const Tex
   return m;
 }
 
-TextureResult texture_mesh(const TriangleMesh& input_mesh,
-                           const std::vector<TextureView>& views,
-                           const TextureOptions& options,
-                           Reporter& reporter) {
-  options.validate();
-  TextureResult result;
-  TextureStats& stats = result.stats;
-  StepTimer timer(stats);
+namespace {
+
+// The mesh texturing works on: the input after validation and (optional)
+// decimation, with its topology.
+struct PreparedMesh {
+  PreparedMesh() = default;
+  PreparedMesh(const PreparedMesh&) = delete;  // mesh may point at decimated
+  PreparedMesh& operator=(const PreparedMesh&) = delete;
+
+  TriangleMesh decimated;  // empty unless decimation ran
+  const TriangleMesh* mesh = nullptr;
+  MeshTopology topology;
+};
+
+// Checks the mesh and decimates it; what every mode (whole, parts, join)
+// does alike, so their meshes are the same.
+void prepare_mesh(const TriangleMesh& input_mesh,
+                  const TextureOptions& options,
+                  Reporter& reporter,
+                  PreparedMesh& prepared,
+                  TextureStats& stats,
+                  StepTimer& timer) {
   stats.input_faces = input_mesh.faces.size();
-  stats.num_views = static_cast<int>(views.size());
   if (input_mesh.faces.empty()) throw StageError("texture", "the mesh has no faces");
-  if (views.empty()) throw StageError("texture", "no registered images to texture from");
   const int num_vertices = static_cast<int>(input_mesh.vertices.size());
   for (std::size_t f = 0; f < input_mesh.faces.size(); ++f) {
     for (int c = 0; c < 3; ++c) {
@@ -158,25 +172,34 @@ TextureResult texture_mesh(const TriangleMesh& input_mesh,
   for (const auto& v : input_mesh.vertices) {
     if (!v.allFinite()) throw NumericalError("texture", "the mesh has a non-finite vertex");
   }
-
-  TriangleMesh decimated;
   if (options.max_faces > 0 && input_mesh.faces.size() > static_cast<std::size_t>(options.max_faces)) {
     reporter.begin("decimate", 0);
     DecimationStats ds;
-    decimated = decimate_mesh(input_mesh, options.max_faces, &ds);
+    prepared.decimated = decimate_mesh(input_mesh, options.max_faces, &ds);
     reporter.end();
     reporter.info(format_message("decimated ", ds.faces_before, " -> ", ds.faces_after, " faces"));
     timer.lap("decimate");
   }
-  const TriangleMesh& mesh = decimated.faces.empty() ? input_mesh : decimated;
-  stats.faces = mesh.faces.size();
-
-  const MeshTopology topology = build_topology(mesh);
+  prepared.mesh = prepared.decimated.faces.empty() ? &input_mesh : &prepared.decimated;
+  stats.faces = prepared.mesh->faces.size();
+  prepared.topology = build_topology(*prepared.mesh);
   timer.lap("topology");
-  FaceViewCandidates candidates = compute_visibility(mesh, topology, views, options, reporter);
+}
+
+// Everything after visibility: exposure, consistency, view selection,
+// charts, leveling, atlas and the output mesh.
+void texture_from_candidates(const PreparedMesh& prepared,
+                             FaceViewCandidates candidates,
+                             const std::vector<TextureView>& views,
+                             const TextureOptions& options,
+                             Reporter& reporter,
+                             TextureResult& result,
+                             StepTimer& timer) {
+  const TriangleMesh& mesh = *prepared.mesh;
+  const MeshTopology& topology = prepared.topology;
+  TextureStats& stats = result.stats;
   stats.num_candidates = static_cast<std::int64_t>(candidates.samples.size());
   stats.views_per_face = views_per_face_histogram(candidates);
-  timer.lap("visibility");
 
   std::vector<Eigen::Vector3f> gains(views.size(), Eigen::Vector3f::Ones());
   if (options.exposure_compensation) {
@@ -243,6 +266,28 @@ TextureResult texture_mesh(const TriangleMesh& input_mesh,
   out.root_matrix = root_matrix_for(views, options);
   stats.estimated_up = estimate_up_direction(views);
   timer.lap("assemble");
+}
+
+ViewDataKey view_data_key(const PreparedMesh& prepared, const TextureView& view, int index, const TextureOptions& o) {
+  return {index, static_cast<int>(prepared.mesh->faces.size()), view_data_fingerprint(*prepared.mesh, view, o)};
+}
+
+}  // namespace
+
+TextureResult texture_mesh(const TriangleMesh& input_mesh,
+                           const std::vector<TextureView>& views,
+                           const TextureOptions& options,
+                           Reporter& reporter) {
+  options.validate();
+  TextureResult result;
+  StepTimer timer(result.stats);
+  result.stats.num_views = static_cast<int>(views.size());
+  if (views.empty()) throw StageError("texture", "no registered images to texture from");
+  PreparedMesh prepared;
+  prepare_mesh(input_mesh, options, reporter, prepared, result.stats, timer);
+  FaceViewCandidates candidates = compute_visibility(*prepared.mesh, prepared.topology, views, options, reporter);
+  timer.lap("visibility");
+  texture_from_candidates(prepared, std::move(candidates), views, options, reporter, result, timer);
   return result;
 }
 
@@ -253,6 +298,73 @@ TextureResult texture_mesh(const TriangleMesh& mesh,
   options.validate();
   const std::vector<TextureView> views = load_texture_views(workspace, reporter);
   return texture_mesh(mesh, views, options, reporter);
+}
+
+int compute_view_data(const TriangleMesh& input_mesh,
+                      const UndistortedWorkspace& workspace,
+                      const TextureOptions& options,
+                      Reporter& reporter,
+                      const ViewRange& range,
+                      const std::filesystem::path& folder) {
+  options.validate();
+  TextureStats stats;
+  StepTimer timer(stats);
+  PreparedMesh prepared;
+  prepare_mesh(input_mesh, options, reporter, prepared, stats, timer);
+  const std::vector<TextureView> views = load_texture_views(workspace, reporter, range);
+  const int first = std::max(range.first, 0);
+  std::filesystem::create_directories(folder);
+  const int count = static_cast<int>(views.size());
+  std::vector<ViewSamples> per_view(views.size());
+  reporter.begin("visibility", count);
+#pragma omp parallel for schedule(dynamic)
+  for (int i = 0; i < count; ++i) {
+    if (reporter.cancel_requested()) continue;
+    per_view[static_cast<std::size_t>(i)] = compute_view_visibility(
+        *prepared.mesh, prepared.topology, views[static_cast<std::size_t>(i)], first + i, options);
+    reporter.advance();
+  }
+  reporter.end();
+  reporter.throw_if_cancelled();
+  // Written outside the parallel loop: a write error must propagate as an exception.
+  for (int i = 0; i < count; ++i) {
+    const TextureView& view = views[static_cast<std::size_t>(i)];
+    write_view_data(view_data_file(folder, view.name), view_data_key(prepared, view, first + i, options),
+                    per_view[static_cast<std::size_t>(i)]);
+  }
+  timer.lap("visibility");
+  reporter.info(format_message("texture: view data of views ", range.text(), ": ", count, " of ",
+                               workspace.model.images.size(), " views in ", stats.step_seconds.back().second, " s"));
+  return count;
+}
+
+TextureResult texture_mesh_from_view_data(const TriangleMesh& input_mesh,
+                                          const UndistortedWorkspace& workspace,
+                                          const TextureOptions& options,
+                                          Reporter& reporter,
+                                          const std::filesystem::path& folder) {
+  options.validate();
+  const std::vector<TextureView> views = load_texture_views(workspace, reporter);
+  TextureResult result;
+  StepTimer timer(result.stats);
+  result.stats.num_views = static_cast<int>(views.size());
+  if (views.empty()) throw StageError("texture", "no registered images to texture from");
+  PreparedMesh prepared;
+  prepare_mesh(input_mesh, options, reporter, prepared, result.stats, timer);
+  std::vector<ViewSamples> per_view(views.size());
+  reporter.begin("reading view data", static_cast<std::int64_t>(views.size()));
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    reporter.throw_if_cancelled();
+    const int index = static_cast<int>(v);
+    per_view[v] =
+        read_view_data(view_data_file(folder, views[v].name), view_data_key(prepared, views[v], index, options));
+    reporter.advance();
+  }
+  reporter.end();
+  FaceViewCandidates candidates = gather_candidates(static_cast<int>(prepared.mesh->faces.size()), per_view);
+  timer.lap("view data");
+  texture_from_candidates(prepared, std::move(candidates), views, options, reporter, result, timer);
+  return result;
 }
 
 }  // namespace hos::texture

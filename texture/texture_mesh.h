@@ -8,6 +8,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "core/reporter.h"
 #include "core/types.h"
 #include "core/undistorted_workspace.h"
+#include "core/view_range.h"
 #include "texture/texture_options.h"
 #include "texture/texture_view.h"
 #include "texture/textured_mesh.h"
@@ -68,5 +70,30 @@ TextureResult texture_mesh(const TriangleMesh& mesh,
                            const UndistortedWorkspace& workspace,
                            const TextureOptions& options,
                            Reporter& reporter);
+
+// Split runs (job arrays on a cluster, docs/scale.md): the views are the
+// workspace's registered images in the order of their ids, numbered from 0
+// (core/view_range.h).
+//
+// The per-view work of the views in `range` (the visibility test and each
+// visible face's samples, texture/visibility.h), each view's result written
+// atomically into folder (texture/view_data.h). The mesh is checked and
+// decimated as texture_mesh does. Returns the number of views computed (0
+// for a range past the last view). Throws as texture_mesh.
+int compute_view_data(const TriangleMesh& mesh,
+                      const UndistortedWorkspace& workspace,
+                      const TextureOptions& options,
+                      Reporter& reporter,
+                      const ViewRange& range,
+                      const std::filesystem::path& folder);
+
+// texture_mesh from the view data compute_view_data wrote into folder for
+// every view: the same result, byte for byte. Throws InputError naming a
+// missing, truncated or foreign view data file, otherwise as texture_mesh.
+TextureResult texture_mesh_from_view_data(const TriangleMesh& mesh,
+                                          const UndistortedWorkspace& workspace,
+                                          const TextureOptions& options,
+                                          Reporter& reporter,
+                                          const std::filesystem::path& folder);
 
 }  // namespace hos::texture

@@ -16,9 +16,18 @@ Eigen::Vector3d TextureView::project(const Eigen::Vector3d& x_in_world) const {
 }
 
 std::vector<TextureView> load_texture_views(const UndistortedWorkspace& workspace, Reporter& reporter) {
+  return load_texture_views(workspace, reporter, ViewRange{0, static_cast<int>(workspace.model.images.size()) - 1});
+}
+
+std::vector<TextureView> load_texture_views(const UndistortedWorkspace& workspace,
+                                            Reporter& reporter,
+                                            const ViewRange& range) {
+  const std::vector<bool> selected = range.selection(static_cast<int>(workspace.model.images.size()));
   std::vector<TextureView> views;
-  reporter.begin("load images", static_cast<std::int64_t>(workspace.model.images.size()));
+  reporter.begin("load images", range.count(static_cast<int>(selected.size())));
+  std::size_t index = 0;
   for (const auto& [id, image] : workspace.model.images) {
+    if (!selected[index++]) continue;
     reporter.throw_if_cancelled();
     TextureView view;
     view.name = image.name;

@@ -10,6 +10,7 @@
 #include "core/reporter.h"
 #include "core/sparse_model.h"
 #include "core/undistorted_workspace.h"
+#include "core/view_range.h"
 
 namespace hos::texture {
 
@@ -27,6 +28,10 @@ struct TextureView {
 // Loads every registered image of the workspace. Throws InputError for an
 // unreadable image or one whose size differs from its camera's.
 std::vector<TextureView> load_texture_views(const UndistortedWorkspace& workspace, Reporter& reporter);
+// The registered images of range only (numbered from 0 in image id order).
+std::vector<TextureView> load_texture_views(const UndistortedWorkspace& workspace,
+                                            Reporter& reporter,
+                                            const ViewRange& range);
 
 // Bilinear sample of a CV_8UC3 (BGR) or CV_32F image at continuous pixel
 // coordinates (COLMAP convention), clamped at the border. Returns RGB.

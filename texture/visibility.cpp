@@ -29,100 +29,90 @@ bool passes_depth_test(const render::DepthBuffer& buffer, const Eigen::Vector3f&
 
 }  // namespace
 
-FaceViewCandidates compute_visibility(const TriangleMesh& mesh,
-                                      const MeshTopology& topology,
-                                      const std::vector<TextureView>& views,
-                                      const TextureOptions& options,
-                                      Reporter& reporter) {
+ViewSamples compute_view_visibility(const TriangleMesh& mesh,
+                                    const MeshTopology& topology,
+                                    const TextureView& view,
+                                    int view_index,
+                                    const TextureOptions& options) {
   const int num_faces = static_cast<int>(mesh.faces.size());
-  const int num_views = static_cast<int>(views.size());
   const float cos_max = static_cast<float>(std::cos(options.max_view_angle_deg * M_PI / 180.0));
   const float tolerance = static_cast<float>(options.depth_tolerance);
-  std::vector<std::vector<std::pair<int, FaceViewSample>>> per_view(num_views);
+  const std::vector<Eigen::Vector3f> projected = project_vertices(mesh, view);
+  const render::DepthBuffer buffer = render::rasterize_depth(mesh, projected, view.camera.width, view.camera.height);
 
-  reporter.begin("visibility", num_views);
-#pragma omp parallel for schedule(dynamic)
-  for (int v = 0; v < num_views; ++v) {
-    if (reporter.cancel_requested()) continue;
-    const TextureView& view = views[v];
-    const std::vector<Eigen::Vector3f> projected = project_vertices(mesh, view);
-    const render::DepthBuffer buffer = render::rasterize_depth(mesh, projected, view.camera.width, view.camera.height);
+  cv::Mat grey, gx, gy, gradient;
+  cv::cvtColor(view.image, grey, cv::COLOR_BGR2GRAY);
+  cv::Sobel(grey, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
+  cv::Sobel(grey, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
+  cv::magnitude(gx, gy, gradient);
 
-    cv::Mat grey, gx, gy, gradient;
-    cv::cvtColor(view.image, grey, cv::COLOR_BGR2GRAY);
-    cv::Sobel(grey, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
-    cv::Sobel(grey, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
-    cv::magnitude(gx, gy, gradient);
-
-    // Per-face pixel sums over the visible pixels of this view.
-    struct Accumulator {
-      float gradient = 0.0f;
-      float count = 0.0f;
-      Eigen::Vector3f rgb = Eigen::Vector3f::Zero();
-    };
-    std::vector<Accumulator> acc(num_faces);
-    for (int y = 0; y < buffer.face_id.rows; ++y) {
-      const int* ids = buffer.face_id.ptr<int>(y);
-      const float* g = gradient.ptr<float>(y);
-      const cv::Vec3b* px = view.image.ptr<cv::Vec3b>(y);
-      for (int x = 0; x < buffer.face_id.cols; ++x) {
-        if (ids[x] < 0) continue;
-        Accumulator& a = acc[ids[x]];
-        a.gradient += g[x];
-        a.count += 1.0f;
-        a.rgb += Eigen::Vector3f(px[x][2], px[x][1], px[x][0]);
-      }
+  // Per-face pixel sums over the visible pixels of this view.
+  struct Accumulator {
+    float gradient = 0.0f;
+    float count = 0.0f;
+    Eigen::Vector3f rgb = Eigen::Vector3f::Zero();
+  };
+  std::vector<Accumulator> acc(num_faces);
+  for (int y = 0; y < buffer.face_id.rows; ++y) {
+    const int* ids = buffer.face_id.ptr<int>(y);
+    const float* g = gradient.ptr<float>(y);
+    const cv::Vec3b* px = view.image.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < buffer.face_id.cols; ++x) {
+      if (ids[x] < 0) continue;
+      Accumulator& a = acc[ids[x]];
+      a.gradient += g[x];
+      a.count += 1.0f;
+      a.rgb += Eigen::Vector3f(px[x][2], px[x][1], px[x][0]);
     }
-
-    const Eigen::Vector3f center = view.pose.center().cast<float>();
-    auto& out = per_view[v];
-    for (int f = 0; f < num_faces; ++f) {
-      const auto& face = mesh.faces[f];
-      if (topology.face_areas[f] <= 0.0f) continue;
-      const Eigen::Vector3f centroid =
-          (mesh.vertices[face[0]] + mesh.vertices[face[1]] + mesh.vertices[face[2]]) / 3.0f;
-      const Eigen::Vector3f to_camera = (center - centroid).normalized();
-      const float cos_angle = topology.face_normals[f].dot(to_camera);
-      if (cos_angle < cos_max) continue;
-      const Eigen::Vector3f& a = projected[face[0]];
-      const Eigen::Vector3f& b = projected[face[1]];
-      const Eigen::Vector3f& c = projected[face[2]];
-      bool inside = true;
-      for (const Eigen::Vector3f* p : {&a, &b, &c}) {
-        inside = inside && p->z() > render::kMinDepth && p->x() >= 0.0f && p->y() >= 0.0f &&
-                 p->x() <= view.camera.width && p->y() <= view.camera.height;
-      }
-      if (!inside) continue;
-      const Eigen::Vector3f pc = (a + b + c) / 3.0f;
-      // Centroid and points halfway to the corners: a face half hidden by an
-      // occluder fails, so occluders are never sampled into the texture.
-      bool visible = passes_depth_test(buffer, pc, f, tolerance);
-      for (const Eigen::Vector3f* p : {&a, &b, &c}) {
-        visible = visible && passes_depth_test(buffer, 0.5f * (pc + *p), f, tolerance);
-      }
-      if (!visible) continue;
-      FaceViewSample s;
-      s.view = v;
-      s.cos_angle = cos_angle;
-      s.projected_area_px = 0.5f * std::abs((b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x()));
-      const Accumulator& sum = acc[f];
-      if (sum.count > 0.0f) {
-        s.visible_px = sum.count;
-        s.gradient_integral = sum.gradient;
-        s.mean_rgb = sum.rgb / sum.count;
-      } else {
-        // Sub-pixel face: one sample at the centroid stands for its area.
-        s.visible_px = s.projected_area_px;
-        s.gradient_integral = sample_float(gradient, pc.x(), pc.y()) * s.projected_area_px;
-        s.mean_rgb = sample_rgb(view.image, pc.x(), pc.y());
-      }
-      out.emplace_back(f, s);
-    }
-    reporter.advance();
   }
-  reporter.end();
-  reporter.throw_if_cancelled();
 
+  const Eigen::Vector3f center = view.pose.center().cast<float>();
+  ViewSamples out;
+  for (int f = 0; f < num_faces; ++f) {
+    const auto& face = mesh.faces[f];
+    if (topology.face_areas[f] <= 0.0f) continue;
+    const Eigen::Vector3f centroid = (mesh.vertices[face[0]] + mesh.vertices[face[1]] + mesh.vertices[face[2]]) / 3.0f;
+    const Eigen::Vector3f to_camera = (center - centroid).normalized();
+    const float cos_angle = topology.face_normals[f].dot(to_camera);
+    if (cos_angle < cos_max) continue;
+    const Eigen::Vector3f& a = projected[face[0]];
+    const Eigen::Vector3f& b = projected[face[1]];
+    const Eigen::Vector3f& c = projected[face[2]];
+    bool inside = true;
+    for (const Eigen::Vector3f* p : {&a, &b, &c}) {
+      inside = inside && p->z() > render::kMinDepth && p->x() >= 0.0f && p->y() >= 0.0f &&
+               p->x() <= view.camera.width && p->y() <= view.camera.height;
+    }
+    if (!inside) continue;
+    const Eigen::Vector3f pc = (a + b + c) / 3.0f;
+    // Centroid and points halfway to the corners: a face half hidden by an
+    // occluder fails, so occluders are never sampled into the texture.
+    bool visible = passes_depth_test(buffer, pc, f, tolerance);
+    for (const Eigen::Vector3f* p : {&a, &b, &c}) {
+      visible = visible && passes_depth_test(buffer, 0.5f * (pc + *p), f, tolerance);
+    }
+    if (!visible) continue;
+    FaceViewSample s;
+    s.view = view_index;
+    s.cos_angle = cos_angle;
+    s.projected_area_px = 0.5f * std::abs((b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x()));
+    const Accumulator& sum = acc[f];
+    if (sum.count > 0.0f) {
+      s.visible_px = sum.count;
+      s.gradient_integral = sum.gradient;
+      s.mean_rgb = sum.rgb / sum.count;
+    } else {
+      // Sub-pixel face: one sample at the centroid stands for its area.
+      s.visible_px = s.projected_area_px;
+      s.gradient_integral = sample_float(gradient, pc.x(), pc.y()) * s.projected_area_px;
+      s.mean_rgb = sample_rgb(view.image, pc.x(), pc.y());
+    }
+    out.emplace_back(f, s);
+  }
+  return out;
+}
+
+FaceViewCandidates gather_candidates(int num_faces, std::vector<ViewSamples>& per_view) {
   FaceViewCandidates result;
   result.offsets.assign(num_faces + 1, 0);
   for (const auto& list : per_view) {
@@ -137,6 +127,25 @@ FaceViewCandidates compute_visibility(const TriangleMesh& mesh,
     list.shrink_to_fit();
   }
   return result;
+}
+
+FaceViewCandidates compute_visibility(const TriangleMesh& mesh,
+                                      const MeshTopology& topology,
+                                      const std::vector<TextureView>& views,
+                                      const TextureOptions& options,
+                                      Reporter& reporter) {
+  const int num_views = static_cast<int>(views.size());
+  std::vector<ViewSamples> per_view(num_views);
+  reporter.begin("visibility", num_views);
+#pragma omp parallel for schedule(dynamic)
+  for (int v = 0; v < num_views; ++v) {
+    if (reporter.cancel_requested()) continue;
+    per_view[v] = compute_view_visibility(mesh, topology, views[v], v, options);
+    reporter.advance();
+  }
+  reporter.end();
+  reporter.throw_if_cancelled();
+  return gather_candidates(static_cast<int>(mesh.faces.size()), per_view);
 }
 
 }  // namespace hos::texture

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <utility>
 #include <vector>
 
 #include "core/reporter.h"
@@ -33,6 +34,22 @@ struct FaceViewCandidates {
   int begin(int f) const { return offsets[f]; }
   int end(int f) const { return offsets[f + 1]; }
 };
+
+// What one view sees: (face, sample) pairs in increasing face order.
+using ViewSamples = std::vector<std::pair<int, FaceViewSample>>;
+
+// The visibility of one view, views[view_index] of the run (the samples
+// carry that index). The per-view part of compute_visibility: split runs
+// compute it for a range of views in separate processes.
+ViewSamples compute_view_visibility(const TriangleMesh& mesh,
+                                    const MeshTopology& topology,
+                                    const TextureView& view,
+                                    int view_index,
+                                    const TextureOptions& options);
+
+// The candidates of every face from the samples of every view, in view
+// order (per_view[v] holds view v's); per_view is emptied as it is read.
+FaceViewCandidates gather_candidates(int num_faces, std::vector<ViewSamples>& per_view);
 
 // Rasterizes the mesh into a depth/face-id buffer per view and keeps a
 // (face, view) pair if the face points at the camera within

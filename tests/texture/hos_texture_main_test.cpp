@@ -19,24 +19,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Writes sphere photos, their PINHOLE model and the sphere mesh.
 void write_scene(const fs::path& root) {
-  fs::create_directories(root / "workspace" / "images");
-  SparseModel model;
-  model.cameras[1] = Camera::pinhole(1, 320, 240, 300.0, 300.0, 160.0, 120.0);
-  for (int i = 0; i < 6; ++i) {
-    std::string name = "view";
-    name += std::to_string(i) + ".png";
-    TextureView view = testing::make_view(name, 60.0 * i, i % 2 ? 30.0 : -30.0, 3.5);
-    testing::render_sphere(view, 1.0);
-    ASSERT_TRUE(cv::imwrite((root / "workspace" / "images" / name).string(), view.image));
-    ImageRecord record = view.pose;
-    record.id = i + 1;
-    record.camera_id = 1;
-    record.name = name;
-    model.images[record.id] = record;
-  }
-  write_colmap_model(model, root / "workspace" / "sparse", ColmapFormat::kText);
+  testing::write_sphere_workspace(root / "workspace", 6);
   write_mesh_ply(root / "mesh.ply", synth::icosphere(3, 1.0));
 }
 

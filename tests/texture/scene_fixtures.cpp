@@ -4,8 +4,33 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <opencv2/imgcodecs.hpp>
+#include <stdexcept>
+
+#include "core/colmap_io.h"
 
 namespace hos::texture::testing {
+
+void write_sphere_workspace(const std::filesystem::path& folder, int num_views) {
+  std::filesystem::create_directories(folder / "images");
+  SparseModel model;
+  model.cameras[1] = Camera::pinhole(1, 320, 240, 300.0, 300.0, 160.0, 120.0);
+  for (int i = 0; i < num_views; ++i) {
+    std::string name = "view";
+    name += std::to_string(i) + ".png";
+    TextureView view = make_view(name, 360.0 / num_views * i, i % 2 ? 30.0 : -30.0, 3.5);
+    render_sphere(view, 1.0);
+    if (!cv::imwrite((folder / "images" / name).string(), view.image)) {
+      throw std::runtime_error("cannot write " + (folder / "images" / name).string());
+    }
+    ImageRecord record = view.pose;
+    record.id = i + 1;
+    record.camera_id = 1;
+    record.name = name;
+    model.images[record.id] = record;
+  }
+  write_colmap_model(model, folder / "sparse", ColmapFormat::kText);
+}
 
 std::string view_name(int i) {
   // Appended rather than "v" + ...: GCC 12 warns (-Wrestrict) on the latter.

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <vector>
@@ -29,6 +30,11 @@ TextureView make_view(const std::string& name,
                       int width = 320,
                       int height = 240,
                       double focal = 300.0);
+
+// An undistorted workspace on disk (images/ and a text sparse/ model with
+// one PINHOLE camera): num_views photos of the unit sphere (render_sphere),
+// 320x240, around it at distance 3.5, alternately 30 degrees above and below.
+void write_sphere_workspace(const std::filesystem::path& folder, int num_views);
 
 struct Occluder {
   Eigen::Vector3d center;
