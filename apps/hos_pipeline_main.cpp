@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
                  "local | slurm: run the stages here, or as Slurm jobs (docs/scale.md)");
   app.add_option("--executor-option", options.executor_options,
                  "KEY=VALUE for the executor (slurm: partition, account, qos, constraint, time, mem_mb, cpus, "
-                 "mvs_tasks, poll_seconds, wait); repeatable");
+                 "mvs_tasks, texture_tasks, poll_seconds, wait); repeatable");
   app.add_option("--progress", flags.progress, "auto | bar | plain | json | none");
   app.add_option("--log", flags.log_file, "also write the driver's messages to this file");
   app.add_flag("--verbose", flags.verbose, "show debug messages (and the stages' commands)");

@@ -15,11 +15,10 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/subprocess.h"
-#include "mvs/mvs_options.h"
+#include "core/view_range.h"
 #include "pipeline/file_hash.h"
 #include "pipeline/stage_figures.h"
 #include "pipeline/stages.h"
-#include "recon/recon_options.h"
 
 namespace hos::pipeline {
 namespace fs = std::filesystem;
@@ -53,17 +52,6 @@ int parse_int(const std::string& key, const std::string& value, int min) {
   throw ConfigError("--executor-option " + key + "=" + value, "must be an integer >= " + std::to_string(min));
 }
 
-// Upper bound of the views: the files in the photo folder (sfm registers at
-// most these); array tasks past the registered views compute nothing.
-int count_photos(const fs::path& photos) {
-  int n = 0;
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(photos, ec)) {
-    if (entry.is_regular_file(ec) && entry.path().filename().string().rfind('.', 0) != 0) ++n;
-  }
-  return std::max(n, 1);
-}
-
 std::vector<std::string> with_common_flags(std::vector<std::string> argv,
                                            const fs::path& log,
                                            const StagePaths& paths,
@@ -73,13 +61,17 @@ std::vector<std::string> with_common_flags(std::vector<std::string> argv,
   return argv;
 }
 
+// The number of registered views is not known before sfm has run: the
+// files in the photo folder bound it (bounds.views), and array tasks past
+// the registered views compute nothing.
 std::vector<Job> plan_jobs(const DriverOptions& driver,
                            const SlurmOptions& options,
                            std::size_t first,
                            std::size_t last,
-                           const StagePaths& paths) {
+                           const StagePaths& paths,
+                           const RunBounds& bounds) {
   const auto& specs = pipeline_stages();
-  const int views = count_photos(driver.photos);
+  const int views = bounds.views;
   std::vector<Job> jobs;
   for (std::size_t s = first; s <= last; ++s) {
     const StageSpec& spec = specs[s];
@@ -88,8 +80,8 @@ std::vector<Job> plan_jobs(const DriverOptions& driver,
       Job part;
       part.name = spec.name + "-" + spec.split->part_name;
       part.stage = s;
-      part.tasks = std::min(options.mvs_tasks, views);
-      part.chunk = (views + part.tasks - 1) / part.tasks;
+      part.tasks = std::min(options.tasks_of(spec.name), views);
+      part.chunk = views_per_task(views, part.tasks);
       part.log = paths.logs / (part.name + ".@TASK@.log");
       part.argv.push_back(exe);
       const auto args = spec.split->part_arguments(paths, kViews);
@@ -138,16 +130,17 @@ fs::path task_log(const Job& job, int task) {
 std::string job_script(const Job& job,
                        const SlurmOptions& options,
                        const PipelineConfig& config,
-                       const DriverOptions& driver,
+                       const RunBounds& bounds,
                        const StagePaths& paths) {
   std::ostringstream s;
   s << "#!/bin/sh\n";
   s << "#SBATCH --job-name=hos-" << job.name << "\n";
   s << "#SBATCH --output=" << (paths.logs / (job.name + (job.tasks > 0 ? ".%a" : "") + ".slurm.out")).string() << "\n";
-  if (const int mem = job_memory_mb(job.name, config, count_photos(driver.photos), options)) {
+  if (const int mem = job_memory_mb(job.name, config, bounds.views, options.mem_mb)) {
     s << "#SBATCH --mem=" << mem << "M\n";
   }
-  if (!options.time.empty()) s << "#SBATCH --time=" << options.time << "\n";
+  const std::string time = job_time_limit(job.name, config, bounds, job.chunk, options.time);
+  if (!time.empty()) s << "#SBATCH --time=" << time << "\n";
   if (options.cpus > 0) s << "#SBATCH --cpus-per-task=" << options.cpus << "\n";
   if (!options.partition.empty()) s << "#SBATCH --partition=" << options.partition << "\n";
   if (!options.account.empty()) s << "#SBATCH --account=" << options.account << "\n";
@@ -292,7 +285,8 @@ class SlurmRun {
         config_(config),
         record_(record),
         reporter_(reporter),
-        jobs_(plan_jobs(driver, options, first, last, paths)) {
+        bounds_(run_bounds(driver.photos, config)),
+        jobs_(plan_jobs(driver, options, first, last, paths, bounds_)) {
     if (!record_.slurm.is_object()) record_.slurm = nlohmann::ordered_json::object();
     if (!record_.slurm.contains("jobs")) record_.slurm["jobs"] = nlohmann::ordered_json::object();
   }
@@ -382,7 +376,7 @@ class SlurmRun {
     fs::create_directories(paths_.root / "slurm" / "status", ec);
     write_atomically(script, [&](const fs::path& tmp) {
       std::ofstream out(tmp);
-      out << job_script(job, options_, config_, driver_, paths_);
+      out << job_script(job, options_, config_, bounds_, paths_);
       if (!out) throw OutputError(script.string(), "cannot write the job script");
     });
     for (int t : tasks) fs::remove(status_file(paths_, job, t), ec);
@@ -551,11 +545,18 @@ class SlurmRun {
   const PipelineConfig& config_;
   RunRecord& record_;
   Reporter& reporter_;
+  RunBounds bounds_;  // before jobs_, which are planned from it
   std::vector<Job> jobs_;
   std::map<std::string, std::chrono::steady_clock::time_point> missing_since_;
 };
 
 }  // namespace
+
+int SlurmOptions::tasks_of(const std::string& stage) const {
+  if (stage == "mvs") return mvs_tasks;
+  if (stage == "texture") return texture_tasks;
+  throw ConfigError("--executor-option " + stage + "_tasks", "the stage " + stage + " does not split");
+}
 
 SlurmOptions parse_slurm_options(const std::vector<std::string>& items) {
   SlurmOptions o;
@@ -579,6 +580,8 @@ SlurmOptions parse_slurm_options(const std::vector<std::string>& items) {
       o.cpus = parse_int(key, value, 0);
     } else if (key == "mvs_tasks") {
       o.mvs_tasks = parse_int(key, value, 1);
+    } else if (key == "texture_tasks") {
+      o.texture_tasks = parse_int(key, value, 1);
     } else if (key == "poll_seconds") {
       o.poll_seconds = parse_int(key, value, 0);
     } else if (key == "status_grace_seconds") {
@@ -589,33 +592,10 @@ SlurmOptions parse_slurm_options(const std::vector<std::string>& items) {
     } else {
       throw ConfigError("--executor-option " + item,
                         "unknown key; the keys are partition, account, qos, constraint, time, mem_mb, cpus, "
-                        "mvs_tasks, poll_seconds, status_grace_seconds, wait");
+                        "mvs_tasks, texture_tasks, poll_seconds, status_grace_seconds, wait");
     }
   }
   return o;
-}
-
-int job_memory_mb(const std::string& job, const PipelineConfig& config, int views, const SlurmOptions& options) {
-  if (job == "mvs-depth" || job == "mvs-fuse") {
-    const auto* typed = dynamic_cast<const TypedStageConfig<mvs::MvsOptions>*>(config.stage_config("mvs"));
-    if (typed) {
-      const mvs::MvsOptions& mvs = typed->options();
-      // The finest level at a 4:3 aspect; a depth chunk holds the reference
-      // view and its sources (grey float + colour), the planes, costs and
-      // the sources' coarse priors; fusion holds every view's maps and colour.
-      const double pixels = 0.75 * double(mvs.max_image_size) * mvs.max_image_size;
-      const double bytes = job == "mvs-depth" ? pixels * (7.0 * (1 + mvs.num_source_views) + 80.0)
-                                              : pixels * views * (4.0 + 12.0 + 4.0 + 3.0 + 8.0);
-      return static_cast<int>(std::ceil(512.0 + 1.5 * bytes / (1024.0 * 1024.0)));
-    }
-  }
-  if (job == "recon") {
-    const auto* typed = dynamic_cast<const TypedStageConfig<recon::ReconOptions>*>(config.stage_config("recon"));
-    // recon refuses a grid whose estimated peak exceeds its budget, so the
-    // budget (with room for the process itself) bounds the job.
-    if (typed && typed->options().max_memory_mb > 0) return typed->options().max_memory_mb + 512;
-  }
-  return options.mem_mb;
 }
 
 bool run_on_slurm(const DriverOptions& driver,

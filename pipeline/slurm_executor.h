@@ -1,6 +1,6 @@
 // The Slurm executor of hos-pipeline (--executor slurm): every stage of the
 // range becomes an sbatch job that starts after the one before it
-// (--dependency=afterok), the stages that split (mvs) become a job array of
+// (--dependency=afterok), the stages that split (mvs, texture) become a job array of
 // view chunks and a job that joins them. The workspace must be on a
 // filesystem every node sees. docs/scale.md describes it for users.
 //
@@ -21,6 +21,7 @@
 
 #include "core/reporter.h"
 #include "pipeline/driver.h"
+#include "pipeline/job_estimates.h"
 #include "pipeline/pipeline_config.h"
 #include "pipeline/run_record.h"
 #include "pipeline/stage_paths.h"
@@ -33,26 +34,25 @@ struct SlurmOptions {
   std::string account;       // sbatch --account
   std::string qos;           // sbatch --qos
   std::string constraint;    // sbatch --constraint
-  std::string time;          // sbatch --time of every job (no stage estimates its time)
+  std::string time;          // sbatch --time of every job (empty: each job's own estimate, job_estimates.h)
   int mem_mb = 0;            // sbatch --mem of jobs without an estimate of their own (0: not given)
   int cpus = 0;              // sbatch --cpus-per-task (0: not given)
   int mvs_tasks = 4;         // array tasks of the mvs depth maps
+  int texture_tasks = 4;     // array tasks of the texture view data
   double poll_seconds = 10;  // between squeue queries while waiting
   // A job squeue no longer lists whose status file is not (yet) visible
   // counts as failed after this long: a shared filesystem may show a file
   // written on a compute node later on the login node.
   double status_grace_seconds = 30;
   bool wait = true;  // wait for the jobs (Ctrl-C cancels them); false: submit and return
+
+  // The array tasks of a stage that splits (mvs_tasks, texture_tasks).
+  int tasks_of(const std::string& stage) const;
 };
 
 // Parses KEY=VALUE items; ConfigError naming an unknown key (and the known
 // ones) or a bad value.
 SlurmOptions parse_slurm_options(const std::vector<std::string>& items);
-
-// The memory a job asks for, in MB (0: not given): mvs depth chunks and
-// fusion from the image size the options allow, recon from its own memory
-// budget (recon.max_memory_mb) when one is set, the others SlurmOptions::mem_mb.
-int job_memory_mb(const std::string& job, const PipelineConfig& config, int views, const SlurmOptions& options);
 
 // Submits (or resumes) the stages first..last of pipeline_stages() on Slurm
 // and, with options.wait, waits for them and records each stage as done

@@ -23,6 +23,7 @@ struct StagePaths {
         refined_mesh(workspace / "refine" / "mesh.ply"),
         textured_model(workspace / "texture" / "model.glb"),
         texture_report(workspace / "texture" / "report.json"),
+        view_data(workspace / "texture" / "view_data"),
         eval(workspace / "eval") {}
 
   std::filesystem::path root;
@@ -41,6 +42,7 @@ struct StagePaths {
   std::filesystem::path refined_mesh;    // refine output: the surface the photos agree on
   std::filesystem::path textured_model;  // texture output: binary glTF
   std::filesystem::path texture_report;  // figures of the texture stage (views per face, seams)
+  std::filesystem::path view_data;       // texture split runs: the per-view data of the view chunks
   std::filesystem::path eval;            // hos-eval results (--json eval/NAME.json), shown by the report
 
   std::filesystem::path log(const std::string& stage) const { return logs / (stage + ".log"); }

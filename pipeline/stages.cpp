@@ -86,7 +86,19 @@ const std::vector<StageSpec>& pipeline_stages() {
          add_undistorted_workspace(f, p);
        },
        [](const StagePaths& p) { return fs::exists(p.textured_model); },
-       typed_config<texture::TextureOptions>("texture"), std::nullopt},
+       typed_config<texture::TextureOptions>("texture"),
+       StageSplit{"views", "atlas",
+                  [](const StagePaths& p, const std::string& views) {
+                    return std::vector<std::string>{
+                        "--workspace", p.undistorted.string(), "--mesh", p.refined_mesh.string(), "--views", views,
+                        "--view-data", p.view_data.string()};
+                  },
+                  [](const StagePaths& p) {
+                    return std::vector<std::string>{
+                        "--workspace",      p.undistorted.string(),   "--mesh",   p.refined_mesh.string(),
+                        "--from-view-data", p.view_data.string(),     "--output", p.textured_model.string(),
+                        "--report",         p.texture_report.string()};
+                  }}},
   };
   return kSpecs;
 }

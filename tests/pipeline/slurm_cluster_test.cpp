@@ -1,10 +1,11 @@
 // hos-pipeline --executor slurm on a real one-node Slurm that the test starts
 // (munged, slurmctld and slurmd from Debian's slurm-wlm and munge, with a
 // configuration generated into a temporary folder, stopped at the end): the
-// synthetic scene's .glb equals the local run's, and after one array task
-// is killed a re-run submits only that task and what follows it. Skips when
-// the daemons are not installed (scripts/install-deps.sh) or the test is not
-// root (slurmd runs jobs as their user).
+// synthetic scene's .glb equals the local run's (mvs and texture split into
+// array tasks), and after one array task is killed a re-run submits only that
+// task and what follows it. Skips when the daemons are not installed
+// (scripts/install-deps.sh) or the test is not root (slurmd runs jobs as
+// their user).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -153,7 +154,8 @@ class SlurmClusterTest : public ::testing::Test {
   fs::path scene_ = dir_.path() / "scene";
   std::unique_ptr<OneNodeSlurm> slurm_;
   static constexpr const char* kSlurm =
-      "--executor slurm --executor-option mvs_tasks=3 --executor-option poll_seconds=1";
+      "--executor slurm --executor-option mvs_tasks=3 --executor-option texture_tasks=3 "
+      "--executor-option poll_seconds=1";
 };
 
 TEST_F(SlurmClusterTest, SyntheticSceneThroughSlurmEqualsTheLocalRun) {
@@ -161,13 +163,17 @@ TEST_F(SlurmClusterTest, SyntheticSceneThroughSlurmEqualsTheLocalRun) {
   ASSERT_EQ(pipeline(exe, dir_ / "local.glb", "", "local.log"), 0) << log("local.log");
   ASSERT_EQ(pipeline(exe, dir_ / "slurm.glb", kSlurm, "slurm.log"), 0) << log("slurm.log");
   const fs::path ws = dir_ / "slurm_workspace";
-  // mvs ran as 3 array tasks of 4 views each, then the fusion.
+  // mvs and texture ran as 3 array tasks of 4 views each, then the fusion
+  // and the atlas.
   const nlohmann::json record = nlohmann::json::parse(read_text(ws / "run.json"));
-  EXPECT_EQ(record["slurm"]["jobs"]["mvs-depth"]["tasks"].size(), 3u);
-  for (int task = 0; task < 3; ++task) {
-    EXPECT_THAT(read_text(ws / "logs" / ("mvs-depth." + std::to_string(task) + ".log")), HasSubstr(": 4 of 12 views"))
-        << "task " << task;
+  for (const std::string job : {"mvs-depth", "texture-views"}) {
+    EXPECT_EQ(record["slurm"]["jobs"][job]["tasks"].size(), 3u) << job;
+    for (int task = 0; task < 3; ++task) {
+      EXPECT_THAT(read_text(ws / "logs" / (job + "." + std::to_string(task) + ".log")), HasSubstr(": 4 of 12 views"))
+          << job << " task " << task;
+    }
   }
+  EXPECT_EQ(record["slurm"]["jobs"]["texture-atlas"]["tasks"].size(), 1u);
   for (const auto& [stage, entry] : record["stages"].items()) EXPECT_EQ(entry["state"], "done") << stage;
   EXPECT_TRUE(file_bytes(ws / "mvs" / "points.ply") == file_bytes(dir_ / "local_workspace" / "mvs" / "points.ply"));
   const std::string local = file_bytes(dir_ / "local.glb");

@@ -139,6 +139,10 @@ class SlurmExecutorTest : public ::testing::Test {
   }
   nlohmann::json run_json() const { return nlohmann::json::parse(read_text(ws() / "run.json")); }
 
+  // Every job of a first submission: sfm, mvs-depth's 3 tasks, mvs-fuse,
+  // recon, refine, texture-views' 4 tasks, texture-atlas.
+  const std::vector<std::string> kAllJobs{"100", "101_0", "101_1", "101_2", "102",   "103",
+                                          "104", "105_0", "105_1", "105_2", "105_3", "106"};
   testing::TempDir dir_{"hos-slurm"};
   fs::path fake_ = dir_.path() / "fake_slurm";
   fs::path bin_ = dir_.path() / "bin";
@@ -148,10 +152,10 @@ class SlurmExecutorTest : public ::testing::Test {
   testing::MessageLog log_;
 };
 
-TEST_F(SlurmExecutorTest, SubmitsEveryStageAfterTheOneBeforeAndMvsAsAnArrayThenAFuse) {
+TEST_F(SlurmExecutorTest, SubmitsEveryStageAfterTheOneBeforeAndMvsAndTextureAsArraysThenAJoin) {
   run_pipeline(options_, log_);
   const auto calls = sbatch_calls();
-  ASSERT_EQ(calls.size(), 6u) << log_.all();
+  ASSERT_EQ(calls.size(), 7u) << log_.all();
   const fs::path scripts = ws() / "slurm";
   EXPECT_EQ(calls[0], std::string("--parsable ") + (scripts / "sfm.sh").string());
   // 10 photos in 3 tasks: 4 views a task (the last one has 2).
@@ -160,7 +164,10 @@ TEST_F(SlurmExecutorTest, SubmitsEveryStageAfterTheOneBeforeAndMvsAsAnArrayThenA
   EXPECT_EQ(calls[2], std::string("--parsable --dependency=afterok:101 ") + (scripts / "mvs-fuse.sh").string());
   EXPECT_EQ(calls[3], std::string("--parsable --dependency=afterok:102 ") + (scripts / "recon.sh").string());
   EXPECT_EQ(calls[4], std::string("--parsable --dependency=afterok:103 ") + (scripts / "refine.sh").string());
-  EXPECT_EQ(calls[5], std::string("--parsable --dependency=afterok:104 ") + (scripts / "texture.sh").string());
+  // texture_tasks is 4 by default: 3 views a task.
+  EXPECT_EQ(calls[5], std::string("--parsable --array=0,1,2,3 --dependency=afterok:104 ") +
+                          (scripts / "texture-views.sh").string());
+  EXPECT_EQ(calls[6], std::string("--parsable --dependency=afterok:105 ") + (scripts / "texture-atlas.sh").string());
 
   const std::string depth = read_text(fake_ / "script.101.sh");
   EXPECT_THAT(depth, HasSubstr("#SBATCH --job-name=hos-mvs-depth\n"));
@@ -168,14 +175,32 @@ TEST_F(SlurmExecutorTest, SubmitsEveryStageAfterTheOneBeforeAndMvsAsAnArrayThenA
   EXPECT_THAT(depth, HasSubstr("#SBATCH --account=lab\n"));
   EXPECT_THAT(depth, HasSubstr("#SBATCH --mem="));
   EXPECT_THAT(depth, HasSubstr("first=$((task * 4))"));
+  EXPECT_THAT(read_text(fake_ / "script.105.sh"), HasSubstr("first=$((task * 3))"));
+  EXPECT_THAT(read_text(fake_ / "script.105.sh"), HasSubstr("#SBATCH --job-name=hos-texture-views\n"));
   EXPECT_THAT(read_text(fake_ / "script.100.sh"), Not(HasSubstr("--mem=")));  // sfm has no estimate
+  // Time from the stages' estimates: 10 photos of sfm are well under the
+  // 10 minutes every request gets at least; texture cannot estimate
+  // without a photo it can read (these are not photos).
+  EXPECT_THAT(read_text(fake_ / "script.100.sh"), HasSubstr("#SBATCH --time=00:10:00\n"));
+  EXPECT_THAT(depth, HasSubstr("#SBATCH --time="));
+  EXPECT_THAT(read_text(fake_ / "script.105.sh"), Not(HasSubstr("--time=")));
 
   const nlohmann::json record = run_json();
   EXPECT_EQ(record["slurm"]["jobs"]["sfm"]["tasks"]["0"], "100");
   EXPECT_EQ(record["slurm"]["jobs"]["mvs-depth"]["tasks"]["2"], "101_2");
-  EXPECT_EQ(record["slurm"]["jobs"]["texture"]["tasks"]["0"], "105");
+  EXPECT_EQ(record["slurm"]["jobs"]["texture-views"]["tasks"]["3"], "105_3");
+  EXPECT_EQ(record["slurm"]["jobs"]["texture-atlas"]["tasks"]["0"], "106");
   EXPECT_EQ(record["stages"]["mvs"]["state"], "submitted");
   EXPECT_THAT(read_text(ws() / "report.html"), HasSubstr("sfm</b>: it was submitted to Slurm and had not finished"));
+}
+
+TEST_F(SlurmExecutorTest, TimeOptionOverridesEveryEstimate) {
+  options_.executor_options.push_back("time=1-12:00:00");
+  run_pipeline(options_, log_);
+  for (int id = 100; id <= 106; ++id) {
+    EXPECT_THAT(read_text(fake_ / ("script." + std::to_string(id) + ".sh")), HasSubstr("#SBATCH --time=1-12:00:00\n"))
+        << id;
+  }
 }
 
 TEST_F(SlurmExecutorTest, ArrayTaskScriptRunsItsViewChunkAndRecordsItsExitCode) {
@@ -192,6 +217,30 @@ TEST_F(SlurmExecutorTest, ArrayTaskScriptRunsItsViewChunkAndRecordsItsExitCode) 
   EXPECT_THAT(read_text(ws() / "slurm" / "status" / "mvs-depth.1.exit"), ::testing::MatchesRegex("0 [0-9]+\n"));
 }
 
+TEST_F(SlurmExecutorTest, TextureTaskScriptsComputeTheirViewChunkAndTheJoinReadsTheFolder) {
+  run_pipeline(options_, log_);
+  for (const std::string job : {"texture-views", "texture-atlas"}) {
+    ProcessOptions process;
+    process.argv = {"/bin/sh", (ws() / "slurm" / (job + ".sh")).string()};
+    process.environment = {{"SLURM_ARRAY_TASK_ID", "2"}};
+    ASSERT_TRUE(run_process(process).ok()) << job;
+  }
+  const auto calls = lines_of(fake_ / "stage_calls");
+  ASSERT_EQ(calls.size(), 2u);
+  const std::string workspace_and_mesh = std::string("hos-texture --workspace ") +
+                                         (ws() / "sfm" / "undistorted").string() + " --mesh " +
+                                         (ws() / "refine" / "mesh.ply").string();
+  const std::string view_data = (ws() / "texture" / "view_data").string();
+  EXPECT_THAT(calls[0], HasSubstr(workspace_and_mesh + " --views 6-8 --view-data " + view_data + " "));
+  EXPECT_THAT(calls[0], HasSubstr(std::string("--log ") + (ws() / "logs" / "texture-views.2.log").string()));
+  EXPECT_THAT(calls[0], Not(HasSubstr("--output")));
+  EXPECT_THAT(calls[1], HasSubstr(workspace_and_mesh + " --from-view-data " + view_data + " --output " +
+                                  (ws() / "texture" / "model.glb").string()));
+  EXPECT_THAT(calls[1], HasSubstr(std::string("--log ") + (ws() / "logs" / "texture.log").string()));
+  EXPECT_TRUE(fs::exists(ws() / "slurm" / "status" / "texture-views.2.exit"));
+  EXPECT_TRUE(fs::exists(ws() / "slurm" / "status" / "texture-atlas.exit"));
+}
+
 TEST_F(SlurmExecutorTest, ReRunSubmitsOnlyTheFailedArrayTaskAndWhatFollowsIt) {
   run_pipeline(options_, log_);
   write_sfm_outputs();
@@ -203,45 +252,78 @@ TEST_F(SlurmExecutorTest, ReRunSubmitsOnlyTheFailedArrayTaskAndWhatFollowsIt) {
   // The fuse was cancelled when task 1 failed; nothing is active.
   run_pipeline(options_, log_);
   const auto calls = sbatch_calls();
-  ASSERT_EQ(calls.size(), 11u) << log_.all();
-  EXPECT_EQ(calls[6], std::string("--parsable --array=1 ") + (ws() / "slurm" / "mvs-depth.sh").string());
-  EXPECT_THAT(calls[7], HasSubstr("--dependency=afterok:106 "));
-  EXPECT_THAT(calls[7], HasSubstr("mvs-fuse.sh"));
-  EXPECT_THAT(calls[10], HasSubstr("texture.sh"));
+  ASSERT_EQ(calls.size(), 13u) << log_.all();
+  EXPECT_EQ(calls[7], std::string("--parsable --array=1 ") + (ws() / "slurm" / "mvs-depth.sh").string());
+  EXPECT_THAT(calls[8], HasSubstr("--dependency=afterok:107 "));
+  EXPECT_THAT(calls[8], HasSubstr("mvs-fuse.sh"));
+  // Every texture task again: its input (the mesh) will change.
+  EXPECT_THAT(calls[11], HasSubstr("--array=0,1,2,3 "));
+  EXPECT_THAT(calls[11], HasSubstr("texture-views.sh"));
+  EXPECT_THAT(calls[12], HasSubstr("texture-atlas.sh"));
   EXPECT_THAT(log_.all(), HasSubstr("CANCELLED by 0"));
   const nlohmann::json record = run_json();
   EXPECT_EQ(record["stages"]["sfm"]["state"], "done");
   EXPECT_EQ(record["slurm"]["jobs"]["sfm"]["tasks"]["0"], "100");
   EXPECT_EQ(record["slurm"]["jobs"]["mvs-depth"]["tasks"]["0"], "101_0");
-  EXPECT_EQ(record["slurm"]["jobs"]["mvs-depth"]["tasks"]["1"], "106_1");
+  EXPECT_EQ(record["slurm"]["jobs"]["mvs-depth"]["tasks"]["1"], "107_1");
   EXPECT_EQ(record["slurm"]["jobs"]["mvs-depth"]["tasks"]["2"], "101_2");
+}
+
+TEST_F(SlurmExecutorTest, ReRunAfterAFailedTextureTaskSubmitsOnlyThatTaskAndTheJoin) {
+  run_pipeline(options_, log_);
+  write_sfm_outputs();
+  for (const char* file : {"mvs/points.ply", "recon/mesh.ply", "refine/mesh.ply"}) {
+    fs::create_directories((ws() / file).parent_path());
+    std::ofstream(ws() / file) << "result " << file;
+  }
+  for (const char* job : {"sfm", "mvs-depth.0", "mvs-depth.1", "mvs-depth.2", "mvs-fuse", "recon", "refine",
+                          "texture-views.0", "texture-views.1", "texture-views.3"}) {
+    set_status(job, 0);
+  }
+  set_status("texture-views.2", 3);  // its input was bad; the join never started (afterok)
+  run_pipeline(options_, log_);
+  const auto calls = sbatch_calls();
+  ASSERT_EQ(calls.size(), 9u) << log_.all();
+  EXPECT_EQ(calls[7], std::string("--parsable --array=2 ") + (ws() / "slurm" / "texture-views.sh").string());
+  EXPECT_EQ(calls[8],
+            std::string("--parsable --dependency=afterok:107 ") + (ws() / "slurm" / "texture-atlas.sh").string());
+  EXPECT_THAT(log_.all(), HasSubstr("texture-views task 2 (job 105_2) exit code 3; submitting it again"));
+  const nlohmann::json record = run_json();
+  for (const char* stage : {"sfm", "mvs", "recon", "refine"}) EXPECT_EQ(record["stages"][stage]["state"], "done");
+  const auto& tasks = record["slurm"]["jobs"]["texture-views"]["tasks"];
+  EXPECT_EQ(tasks["0"], "105_0");
+  EXPECT_EQ(tasks["2"], "107_2");
+  EXPECT_EQ(tasks["3"], "105_3");
+  EXPECT_EQ(record["slurm"]["jobs"]["texture-atlas"]["tasks"]["0"], "108");
 }
 
 TEST_F(SlurmExecutorTest, ReRunKeepsPendingAndRunningJobs) {
   run_pipeline(options_, log_);
-  set_active({"100", "101_0", "101_1", "101_2", "102", "103", "104", "105"});
+  set_active(kAllJobs);
   run_pipeline(options_, log_);
-  EXPECT_EQ(sbatch_calls().size(), 6u) << log_.all();
+  EXPECT_EQ(sbatch_calls().size(), 7u) << log_.all();
   EXPECT_FALSE(fs::exists(fake_ / "scancel.log"));
 }
 
 TEST_F(SlurmExecutorTest, ChangedOptionCancelsTheStagesJobsAndSubmitsThemAgain) {
   run_pipeline(options_, log_);
-  set_active({"100", "101_0", "101_1", "101_2", "102", "103", "104", "105"});
+  set_active(kAllJobs);
   options_.assignments = {"recon.lambda=0.5"};
   run_pipeline(options_, log_);
   const auto calls = sbatch_calls();
-  ASSERT_EQ(calls.size(), 9u) << log_.all();
-  EXPECT_EQ(calls[6], std::string("--parsable --dependency=afterok:102 ") + (ws() / "slurm" / "recon.sh").string());
-  EXPECT_EQ(lines_of(fake_ / "scancel.log"), (std::vector<std::string>{"103", "104", "105"}));
+  ASSERT_EQ(calls.size(), 11u) << log_.all();
+  EXPECT_EQ(calls[7], std::string("--parsable --dependency=afterok:102 ") + (ws() / "slurm" / "recon.sh").string());
+  EXPECT_EQ(lines_of(fake_ / "scancel.log"),
+            (std::vector<std::string>{"103", "104", "105_0 105_1 105_2 105_3", "106"}));
 }
 
 TEST_F(SlurmExecutorTest, InterruptCancelsEverySubmittedJob) {
   options_.executor_options = {"mvs_tasks=3", "poll_seconds=0"};
-  set_active({"100", "101_0", "101_1", "101_2", "102", "103", "104", "105"});
+  set_active(kAllJobs);
   CancellingReporter cancelling;
   EXPECT_THROW(run_pipeline(options_, cancelling), Cancelled);
-  EXPECT_EQ(lines_of(fake_ / "scancel.log"), (std::vector<std::string>{"100 101_0 101_1 101_2 102 103 104 105"}));
+  EXPECT_EQ(lines_of(fake_ / "scancel.log"),
+            (std::vector<std::string>{"100 101_0 101_1 101_2 102 103 104 105_0 105_1 105_2 105_3 106"}));
 }
 
 TEST_F(SlurmExecutorTest, FailedTaskFailsTheRunWithItsCauseAndLogAndCancelsTheJobsAfterIt) {
@@ -250,14 +332,14 @@ TEST_F(SlurmExecutorTest, FailedTaskFailsTheRunWithItsCauseAndLogAndCancelsTheJo
   // task 0 have finished, task 1 rejected its input and task 2 still runs:
   // it goes on (a re-run keeps its maps), the jobs after the array stop.
   on_squeue_call(2, {"sfm=0", "mvs-depth.0=0", "mvs-depth.1=3"}, true);
-  set_active({"101_2", "102", "103", "104", "105"});
+  set_active({"101_2", "102", "103", "104", "105_0", "105_1", "105_2", "105_3", "106"});
   try {
     run_pipeline(options_, log_);
     FAIL() << "a failed array task did not fail the run";
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr((ws() / "logs" / "mvs-depth.1.log").string()));
   }
-  EXPECT_EQ(lines_of(fake_ / "scancel.log"), (std::vector<std::string>{"102 103 104 105"}));
+  EXPECT_EQ(lines_of(fake_ / "scancel.log"), (std::vector<std::string>{"102 103 104 105_0 105_1 105_2 105_3 106"}));
   EXPECT_EQ(run_json()["stages"]["mvs"]["state"], "failed");
   EXPECT_EQ(run_json()["stages"]["sfm"]["state"], "done");
 }
@@ -265,10 +347,11 @@ TEST_F(SlurmExecutorTest, FailedTaskFailsTheRunWithItsCauseAndLogAndCancelsTheJo
 TEST_F(SlurmExecutorTest, WaitsUntilEveryJobCompletedAndCopiesTheResult) {
   options_.executor_options = {"mvs_tasks=3", "poll_seconds=0"};
   // Status files hold the exit code and the wall seconds.
-  on_squeue_call(2,
-                 {"sfm=0 1", "mvs-depth.0=0 5", "mvs-depth.1=0 9", "mvs-depth.2=0 4", "mvs-fuse=0 2", "recon=0 3",
-                  "refine=0 1", "texture=0 7"},
-                 true);
+  on_squeue_call(
+      2,
+      {"sfm=0 1", "mvs-depth.0=0 5", "mvs-depth.1=0 9", "mvs-depth.2=0 4", "mvs-fuse=0 2", "recon=0 3", "refine=0 1",
+       "texture-views.0=0 3", "texture-views.1=0 2", "texture-views.2=0 4", "texture-views.3=0 1", "texture-atlas=0 3"},
+      true);
   for (const char* file : {"mvs/points.ply", "recon/mesh.ply", "refine/mesh.ply", "texture/model.glb"}) {
     fs::create_directories((ws() / file).parent_path());
     std::ofstream(ws() / file) << "result " << file;
@@ -281,15 +364,16 @@ TEST_F(SlurmExecutorTest, WaitsUntilEveryJobCompletedAndCopiesTheResult) {
   EXPECT_EQ(run_json()["stages"]["texture"]["wall_seconds"], 7.0);
 }
 
-// The texture job has left the queue, but its status file shows up only at
+// The texture join has left the queue, but its status file shows up only at
 // the next poll (a shared filesystem's cache): not a failure within the grace.
 TEST_F(SlurmExecutorTest, StatusFileSeenLateWithinTheGraceIsNotAFailure) {
   options_.executor_options = {"mvs_tasks=3", "poll_seconds=0", "status_grace_seconds=60"};
   on_squeue_call(
       2,
-      {"sfm=0 1", "mvs-depth.0=0 1", "mvs-depth.1=0 1", "mvs-depth.2=0 1", "mvs-fuse=0 1", "recon=0 1", "refine=0 1"},
+      {"sfm=0 1", "mvs-depth.0=0 1", "mvs-depth.1=0 1", "mvs-depth.2=0 1", "mvs-fuse=0 1", "recon=0 1", "refine=0 1",
+       "texture-views.0=0 1", "texture-views.1=0 1", "texture-views.2=0 1", "texture-views.3=0 1"},
       true);
-  on_squeue_call(3, {"texture=0 1"}, false);
+  on_squeue_call(3, {"texture-atlas=0 1"}, false);
   for (const char* file : {"mvs/points.ply", "recon/mesh.ply", "refine/mesh.ply", "texture/model.glb"}) {
     fs::create_directories((ws() / file).parent_path());
     std::ofstream(ws() / file) << "result " << file;
@@ -315,24 +399,13 @@ TEST_F(SlurmExecutorTest, UnknownExecutorOrExecutorOptionsOfTheLocalOneAreConfig
 
 TEST(SlurmOptions, UnknownKeyAndBadValuesAreConfigErrors) {
   EXPECT_EQ(parse_slurm_options({"partition=long", "mvs_tasks=8"}).mvs_tasks, 8);
+  EXPECT_EQ(parse_slurm_options({"texture_tasks=6"}).tasks_of("texture"), 6);
+  EXPECT_EQ(parse_slurm_options({}).tasks_of("texture"), 4);
+  EXPECT_THROW(parse_slurm_options({"texture_tasks=0"}), ConfigError);
   EXPECT_THROW(parse_slurm_options({"partion=long"}), ConfigError);
   EXPECT_THROW(parse_slurm_options({"mvs_tasks=0"}), ConfigError);
   EXPECT_THROW(parse_slurm_options({"wait=maybe"}), ConfigError);
   EXPECT_THROW(parse_slurm_options({"partition"}), ConfigError);
-}
-
-TEST(SlurmOptions, MemoryRequestsComeFromTheStagesOwnEstimates) {
-  PipelineConfig config;
-  const SlurmOptions options = parse_slurm_options({"mem_mb=3000"});
-  const int depth = job_memory_mb("mvs-depth", config, 100, options);
-  EXPECT_GT(depth, 512);
-  config.apply_assignment("mvs.max_image_size=4096");
-  EXPECT_GT(job_memory_mb("mvs-depth", config, 100, options), 2 * depth - 512);
-  EXPECT_GT(job_memory_mb("mvs-fuse", config, 200, options), job_memory_mb("mvs-fuse", config, 100, options));
-  EXPECT_EQ(job_memory_mb("recon", config, 100, options), 3000);  // no budget set: the default request
-  config.apply_assignment("recon.max_memory_mb=8000");
-  EXPECT_EQ(job_memory_mb("recon", config, 100, options), 8512);
-  EXPECT_EQ(job_memory_mb("sfm", config, 100, options), 3000);
 }
 
 }  // namespace
