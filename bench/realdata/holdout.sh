@@ -34,9 +34,11 @@
 # --points-from L  start at recon with the points of run L (made with --keep;
 #             its mvs time is reported): compares recon settings or builds
 #             without rerunning mvs
+# --set sfm.K=V  applies to both SfM runs, which are made once per WORK: a
+#             WORK holds one set of sfm values (another set is refused)
 # Prints one markdown row per camera; figures also in WORK/runs/L/summary.json.
 set -euo pipefail
-usage() { sed -n '19,31p' "$0" | sed 's/^# *//' >&2; exit 2; }
+usage() { sed -n '19,33p' "$0" | sed 's/^# *//' >&2; exit 2; }
 [ $# -ge 3 ] || usage
 data="$(cd "$1" && pwd)" bin="$(cd "$2" && pwd)" work="$3"
 shift 3
@@ -76,7 +78,11 @@ if [ "$photos" -gt 0 ] && [ "$photos" -lt "${#all[@]}" ]; then
   [ $(( first + photos )) -le "${#all[@]}" ] || first=$(( ${#all[@]} - photos ))
   all=("${all[@]:$first:$photos}")
 fi
-signature="$(printf '%s\n' "${all[@]}" "holdout $holdout" "shared sfm $shared")"
+# The --set values of one stage (each stage refuses another stage's keys).
+stage_sets() { local i; for ((i = 1; i < ${#sets[@]}; i += 2)); do
+  case "${sets[$i]}" in "$1".*) printf '%s\0' --set "${sets[$i]}" ;; esac; done; }
+for stage in sfm mvs recon refine texture; do mapfile -d '' -t "sets_$stage" < <(stage_sets "$stage"); done
+signature="$(printf '%s\n' "${all[@]}" "holdout $holdout" "shared sfm $shared" "sfm ${sets_sfm[*]:-}")"
 if [ -f "$work/photos.txt" ] && [ "$(cat "$work/photos.txt")" != "$signature" ]; then
   echo "$work: made for another photo set or held-out photo (see $work/photos.txt); use another WORK" >&2
   exit 2
@@ -96,7 +102,7 @@ sfm() {
      [ ! -f "$work/sfm-$1/sfm/undistorted/sparse/images.txt" ]; then
     echo "sfm of $1 photos (once per WORK) ..." >&2
     "$bin/hos-sfm" --images "$work/photos-$1" --workspace "$work/sfm-$1" --progress none \
-      --log "$work/sfm-$1.log" >/dev/null
+      --log "$work/sfm-$1.log" "${sets_sfm[@]}" >/dev/null
   fi
 }
 sfm all
@@ -130,10 +136,6 @@ run="$work/runs/$label"
 rm -rf "$run"
 mkdir -p "$run"
 undistorted="$work/sfm-train/sfm/undistorted"
-# The --set values of one stage (each stage refuses another stage's keys).
-stage_sets() { local i; for ((i = 1; i < ${#sets[@]}; i += 2)); do
-  case "${sets[$i]}" in "$1".*) printf '%s\0' --set "${sets[$i]}" ;; esac; done; }
-for stage in mvs recon refine texture; do mapfile -d '' -t "sets_$stage" < <(stage_sets "$stage"); done
 # Wall s, CPU s (user + sys: steadier than wall on a shared machine), peak KB.
 timed() { /usr/bin/time -f "%e %U %S %M" -o "$run/$1.time" "${@:2}"; }
 if [ -n "$mesh_from" ]; then
