@@ -11,12 +11,13 @@ namespace hos::mvs {
 
 struct MvsOptions {
   std::string backend = "cpu";  // cpu | colmap (COLMAP's CUDA PatchMatch, only when available)
-  // Multi-scale matching: full PatchMatch at coarse_image_size, then levels
-  // of twice the size up to max_image_size, refined from the level below.
-  // One level by default: on the Strecha hold-out photos, levels up to 2048
-  // scored 0.3-0.5 dB lower at 3-4x the CPU time (docs/benchmarks-mvs.md).
-  int max_image_size = 640;     // longest image side of the finest level
-  int coarse_image_size = 640;  // longest side of the full PatchMatch level; >= max_image_size: one level
+  // Matching size. One level at 1024 px by default: on the Strecha hold-out
+  // photos it scored 0.4-0.7 dB above 640 px at 2.6x the CPU time, and finer
+  // levels refined from a coarse one scored below one level at their size
+  // (docs/benchmarks-mvs.md). A max_image_size above coarse_image_size adds
+  // levels of twice the size up to it, refined from the level below.
+  int max_image_size = 1024;     // longest image side of the finest level
+  int coarse_image_size = 1024;  // longest side of the full PatchMatch level; >= max_image_size: one level
   int num_source_views = 4;     // source views per reference view
   int best_k = 2;               // photo-consistency: mean of the best K source costs (occlusions)
   int window_radius = 4;        // matching window half size in pixels
