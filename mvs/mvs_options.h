@@ -18,12 +18,12 @@ struct MvsOptions {
   // levels of twice the size up to it, refined from the level below.
   int max_image_size = 1024;     // longest image side of the finest level
   int coarse_image_size = 1024;  // longest side of the full PatchMatch level; >= max_image_size: one level
-  int num_source_views = 4;     // source views per reference view
-  int best_k = 2;               // photo-consistency: mean of the best K source costs (occlusions)
-  int window_radius = 4;        // matching window half size in pixels
-  int window_step = 2;          // sample every step-th pixel of the window
-  int iterations = 4;           // coarse level sweeps (red-black, both colours)
-  int refine_iterations = 1;    // sweeps per finer level (they start from a converged plane)
+  int num_source_views = 4;      // source views per reference view
+  int best_k = 2;                // photo-consistency: mean of the best K source costs (occlusions)
+  int window_radius = 4;         // matching window half size in pixels
+  int window_step = 2;           // sample every step-th pixel of the window
+  int iterations = 4;            // coarse level sweeps (red-black, both colours)
+  int refine_iterations = 1;     // sweeps per finer level (they start from a converged plane)
   // Finer level: pixels whose upsampled plane costs at most this skip the sweeps (most of a smooth
   // surface).
   double refine_settled_cost = 0.15;
