@@ -6,6 +6,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/fnv1a.h"
 
 namespace hos::texture {
 namespace {
@@ -15,22 +16,6 @@ constexpr char kViewDataTag[8] = {'H', 'O', 'S', 'T', 'V', 'I', 'E', 'W'};
 // One sample on disk: the face, then the seven floats of FaceViewSample
 // (its view is the file's).
 constexpr std::size_t kSampleFloats = 7;
-
-class Fnv1a {
- public:
-  template <typename T>
-  void add(const T& value) {
-    const auto* bytes = reinterpret_cast<const unsigned char*>(&value);
-    for (std::size_t i = 0; i < sizeof(T); ++i) {
-      hash_ ^= bytes[i];
-      hash_ *= 1099511628211ull;
-    }
-  }
-  std::uint64_t value() const { return hash_; }
-
- private:
-  std::uint64_t hash_ = 14695981039346656037ull;
-};
 
 template <typename T>
 void write_value(std::ofstream& out, const T& value) {
