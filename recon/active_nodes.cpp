@@ -133,4 +133,14 @@ ActiveNodes band_around_samples(const GridGeometry& g, const std::vector<Eigen::
   return ActiveNodes::from_runs(g, dilated(sample_cell_corners(g, points), voxels));
 }
 
+double sample_trilinear(const GridGeometry& g, const StoredField& f, const Eigen::Vector3d& x) {
+  if (f.nodes->is_all()) return sample_trilinear(g, f.values, x);
+  double v = 0.0;
+  for_each_trilinear_corner(g, x, [&](int i, int j, int k, double w) {
+    const std::int64_t base = f.nodes->row_base(j, k, i);
+    if (base != ActiveNodes::kNotStored) v += w * f.values[base + i];
+  });
+  return v;
+}
+
 }  // namespace hos::recon

@@ -121,6 +121,10 @@ struct StoredField {
   std::vector<double> values;
 };
 
+// Trilinear interpolation of f on grid g at a world point; nodes that are not
+// stored (and ghost nodes) count as zero.
+double sample_trilinear(const GridGeometry& g, const StoredField& f, const Eigen::Vector3d& x);
+
 // The nodes within `voxels` nodes (per axis) of the corners of every cell that
 // holds a sample.
 ActiveNodes band_around_samples(const GridGeometry& g, const std::vector<Eigen::Vector3f>& points, int voxels);

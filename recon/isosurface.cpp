@@ -588,7 +588,7 @@ class SlabSweep {
 
   // Writes the positions and gradient normals of node slab z's crossings
   // (numbered by index_slab just before).
-  void write_slab(int z, TriangleMesh& mesh) {
+  void write_slab(int z, TriangleMesh& mesh, std::vector<GridEdge>* edges) {
     const GridGeometry& g = g_;
     const std::uint8_t* rows_in_use = load(z).row_active.data();
     for (int y = -1; y <= d_.y(); ++y) {
@@ -605,6 +605,7 @@ class SlabSweep {
           Eigen::Vector3d normal = (1.0 - t) * gradient(n0) + t * gradient(n1);
           if (!(normal.norm() > 0.0)) normal = (g1 > g0 ? 1.0 : -1.0) * Eigen::Vector3d::Unit(a);
           mesh.normals[v] = normal.normalized().cast<float>();
+          if (edges) (*edges)[v] = GridEdge{n0, a};
         }
       }
     }
@@ -716,7 +717,11 @@ class SlabSweep {
 
 namespace {
 
-TriangleMesh extract(const GridGeometry& geometry, const NodeSource& source, double isovalue) {
+// edges (optional) receives every vertex's grid edge.
+TriangleMesh extract(const GridGeometry& geometry,
+                     const NodeSource& source,
+                     double isovalue,
+                     std::vector<GridEdge>* edges = nullptr) {
   const Eigen::Vector3i d = geometry.dims;
   TriangleMesh mesh;
   if ((d.array() <= 0).any()) return mesh;
@@ -742,6 +747,7 @@ TriangleMesh extract(const GridGeometry& geometry, const NodeSource& source, dou
   for (std::size_t z = 1; z < first.size(); ++z) first[z] += first[z - 1];
   mesh.vertices.resize(first.back());
   mesh.normals.resize(first.back());
+  if (edges) edges->assign(first.back(), GridEdge{});
 
   // Pass 2: vertices of each chunk's node slabs, faces of its cell slabs.
   std::vector<ChunkOutput> out(chunks);
@@ -752,9 +758,9 @@ TriangleMesh extract(const GridGeometry& geometry, const NodeSource& source, dou
     for (int c = 0; c < chunks; ++c) {
       sweep.index_slab(chunk_begin(c), first[chunk_begin(c) + 1]);
       for (int k = chunk_begin(c); k < chunk_end(c); ++k) {
-        sweep.write_slab(k, mesh);
+        sweep.write_slab(k, mesh, edges);
         sweep.index_slab(k + 1, first[k + 2]);
-        if (k + 1 == d.z()) sweep.write_slab(k + 1, mesh);
+        if (k + 1 == d.z()) sweep.write_slab(k + 1, mesh, edges);
         sweep.mesh_cells(k, out[c]);
       }
     }
@@ -771,6 +777,7 @@ TriangleMesh extract(const GridGeometry& geometry, const NodeSource& source, dou
     }
     mesh.vertices.insert(mesh.vertices.end(), part.interior.begin(), part.interior.end());
     mesh.normals.insert(mesh.normals.end(), part.interior_normals.begin(), part.interior_normals.end());
+    if (edges) edges->resize(mesh.vertices.size(), GridEdge{});
   }
   return mesh;
 }
@@ -785,6 +792,21 @@ TriangleMesh extract_isosurface(const GridGeometry& g, const StoredField& f, dou
   if (f.nodes->is_all()) return extract(g, NodeSource{f.values, nullptr}, isovalue);
   TriangleMesh mesh = extract(g, NodeSource{f.values, f.nodes.get()}, isovalue);
   remove_unreferenced_vertices(mesh);
+  return mesh;
+}
+
+TriangleMesh extract_isosurface(const GridGeometry& g,
+                                const StoredField& f,
+                                double isovalue,
+                                std::vector<GridEdge>& vertex_edges) {
+  TriangleMesh mesh =
+      extract(g, NodeSource{f.values, f.nodes->is_all() ? nullptr : f.nodes.get()}, isovalue, &vertex_edges);
+  const std::vector<int> remap = remove_unreferenced_vertices(mesh);
+  std::vector<GridEdge> kept(mesh.vertices.size());
+  for (std::size_t i = 0; i < remap.size(); ++i) {
+    if (remap[i] >= 0) kept[remap[i]] = vertex_edges[i];
+  }
+  vertex_edges.swap(kept);
   return mesh;
 }
 

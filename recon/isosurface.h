@@ -38,4 +38,20 @@ TriangleMesh extract_isosurface(const ScalarGrid& f, double isovalue);
 // On a layout of every node, the same as above.
 TriangleMesh extract_isosurface(const GridGeometry& g, const StoredField& f, double isovalue);
 
+// The grid edge an isosurface vertex lies on: from `node` to its neighbour
+// along +axis; axis -1 for a vertex added inside a cell.
+struct GridEdge {
+  Eigen::Vector3i node = Eigen::Vector3i::Zero();
+  int axis = -1;
+};
+
+// The same, and for every vertex its grid edge (vertex_edges, #V): meshes
+// extracted from adjacent sub-grids of one lattice are joined by them
+// (tiled_reconstruction.h), since positions computed from two sub-grids'
+// origins may differ in the last bit.
+TriangleMesh extract_isosurface(const GridGeometry& g,
+                                const StoredField& f,
+                                double isovalue,
+                                std::vector<GridEdge>& vertex_edges);
+
 }  // namespace hos::recon

@@ -215,27 +215,6 @@ LevelSolution solve_with_bands(EnergyOperator& op,
   return {StoredField{std::make_shared<const ActiveNodes>(ActiveNodes::all(g)), std::move(dense)}, band->count()};
 }
 
-// Unit orientations (weighted by confidence) in the unit frame, so that every
-// step after is independent of the input's units and position; dropped
-// points are counted and reported.
-OrientedSamples usable_samples(const PointCloud& input,
-                               const ReconOptions& options,
-                               ReconStats& stats,
-                               Reporter& reporter) {
-  OrientedSamples samples = prepare_samples(input, options.use_confidence, "input points");
-  stats.num_samples_dropped = samples.dropped_without_normal + samples.dropped_far;
-  if (samples.dropped_without_normal > 0) {
-    reporter.warn(
-        format_message("recon: ", samples.dropped_without_normal, " points without a usable normal were ignored"));
-  }
-  if (samples.dropped_far > 0) {
-    reporter.warn(format_message("recon: ", samples.dropped_far,
-                                 " far outlier points (more than the object's extent away from it) were ignored"));
-  }
-  stats.num_samples = samples.points.size();
-  return samples;
-}
-
 // The right-hand side of A f = -div F for the orientation field F (sec. 4.1),
 // on every node or, with band_only, near the samples.
 StoredField orientation_rhs(const GridGeometry& grid,
@@ -374,37 +353,25 @@ StoredField solve_quadratic(const GridGeometry& grid,
   return std::move(f.x);
 }
 
-// Eq. 12 on a function stored on a band (the samples' cells are active).
+// Eq. 12 on a function on every node or on a band (the samples' cells are active).
 double mean_at_samples(const GridGeometry& g, const StoredField& f, const std::vector<Eigen::Vector3f>& points) {
   double sum = 0.0;
-  for (const auto& p : points) {
-    for_each_trilinear_corner(g, p.cast<double>(), [&](int i, int j, int k, double w) {
-      const std::int64_t base = f.nodes->row_base(j, k, i);
-      if (base != ActiveNodes::kNotStored) sum += w * f.values[base + i];
-    });
-  }
+  for (const auto& p : points) sum += sample_trilinear(g, f, p.cast<double>());
   return sum / static_cast<double>(points.size());
 }
 
-// Isovalue: mean of f at the samples (eq. 12), then the isosurface (sec. 4.4),
-// trimmed away from the samples; f on every node (f.values) or on a band.
-void extract_surface(const ScalarGrid& f,
-                     const StoredField& band_f,
+// The isosurface (sec. 4.4) at f's isovalue, trimmed away from the samples.
+void extract_surface(const GridGeometry& grid,
+                     const ImplicitFunction& fn,
                      const std::vector<Eigen::Vector3f>& points,
                      const ReconOptions& options,
                      ReconResult& result) {
   ReconStats& stats = result.stats;
-  if (band_f.nodes) {
-    stats.isovalue = mean_at_samples(f.geometry, band_f, points);
-    result.mesh = extract_isosurface(f.geometry, band_f, stats.isovalue);
-  } else {
-    stats.isovalue = mean_at_samples(f, points);
-    result.mesh = extract_isosurface(f, stats.isovalue);
-  }
+  result.mesh = extract_isosurface(grid, fn.f, fn.isovalue);
   stats.faces_before_trim = result.mesh.faces.size();
   if (options.trim.enabled) {
-    const TrimReport trim = trim_far_from_samples(
-        result.mesh, points, options.trim.distance_voxels * f.geometry.spacing, options.trim.min_component_fraction);
+    const TrimReport trim = trim_far_from_samples(result.mesh, points, options.trim.distance_voxels * grid.spacing,
+                                                  options.trim.min_component_fraction);
     stats.faces_trimmed = trim.faces_removed_far + trim.faces_removed_small;
   }
 }
@@ -416,6 +383,7 @@ void extract_surface(const ScalarGrid& f,
 // matter of their spacing.
 void choose_resolution_from_density(const BoundingBox& box,
                                     const std::vector<Eigen::Vector3f>& points,
+                                    bool clamp_to_budget,
                                     ReconOptions& options,
                                     ReconStats& stats,
                                     Reporter& reporter) {
@@ -431,7 +399,7 @@ void choose_resolution_from_density(const BoundingBox& box,
   options.resolution = refined;
   scale_trim(refined);
   const std::size_t budget = memory_budget_bytes(options);
-  if (estimate_peak_bytes(make_domain(box, options), points, options) > budget) {
+  if (clamp_to_budget && estimate_peak_bytes(make_domain(box, options), points, options) > budget) {
     // The largest grid within the budget; when none fits, check_memory_budget refuses the run.
     const int fitting = largest_resolution_within(box, points, options, budget);
     if (fitting > 0) {
@@ -469,19 +437,40 @@ void check_reconstructable(const PointCloud& points, const std::string& source) 
   throw InputError(source, "every normal is zero or not finite: the points carry no orientation");
 }
 
+// Unit orientations (weighted by confidence) in the unit frame, so that every
+// step after is independent of the input's units and position; dropped
+// points are counted and reported.
+OrientedSamples usable_samples(const PointCloud& input,
+                               const ReconOptions& options,
+                               ReconStats& stats,
+                               Reporter& reporter) {
+  OrientedSamples samples = prepare_samples(input, options.use_confidence, "input points");
+  stats.num_samples_dropped = samples.dropped_without_normal + samples.dropped_far;
+  if (samples.dropped_without_normal > 0) {
+    reporter.warn(
+        format_message("recon: ", samples.dropped_without_normal, " points without a usable normal were ignored"));
+  }
+  if (samples.dropped_far > 0) {
+    reporter.warn(format_message("recon: ", samples.dropped_far,
+                                 " far outlier points (more than the object's extent away from it) were ignored"));
+  }
+  stats.num_samples = samples.points.size();
+  return samples;
+}
+
+int domain_levels(double longest_nodes) {
+  int levels = 5;
+  for (; longest_nodes > 600.0 && levels < 12; longest_nodes /= 2.0) ++levels;
+  return levels;
+}
+
 GridGeometry make_domain(const BoundingBox& box, const ReconOptions& options, int levels) {
   const Eigen::Vector3d extent = box.extent().cast<double>();
   const double longest = extent.maxCoeff();
   const Eigen::Vector3d side = extent.array() + 2.0 * options.margin * longest;
   GridGeometry g;
   g.spacing = options.voxel_size > 0.0 ? options.voxel_size : side.maxCoeff() / options.resolution;
-  if (levels <= 0) {
-    levels = 5;
-    for (double longest_nodes = side.maxCoeff() / g.spacing; longest_nodes > 600.0 && levels < 12;
-         longest_nodes /= 2.0) {
-      ++levels;
-    }
-  }
+  if (levels <= 0) levels = domain_levels(side.maxCoeff() / g.spacing);
   for (int a = 0; a < 3; ++a) {
     // At least a few nodes across every axis, also for flat point sets; at
     // most kMaxDomainNodes, counted in double so that a tiny voxel size
@@ -513,30 +502,33 @@ bool keeps_only_band(const GridGeometry& grid, const ReconOptions& o) {
          o.trim.distance_voxels + 2.0 <= o.solver.band_only_voxels && grid.num_nodes() > above;
 }
 
-ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& options, Reporter& reporter) {
-  options.validate();
-  check_reconstructable(input, "input points");
-#ifdef _OPENMP
-  if (options.threads > 0) omp_set_num_threads(options.threads);
-#endif
-  ReconResult result;
-  ReconStats& stats = result.stats;
-  const OrientedSamples samples = usable_samples(input, options, stats, reporter);
-  const std::vector<Eigen::Vector3f>& points = samples.points;
-  ReconOptions unit_options = options;  // in the unit frame, with the grid chosen below
+RunGrid choose_run_grid(const OrientedSamples& samples,
+                        const ReconOptions& options,
+                        bool clamp_to_budget,
+                        ReconStats& stats,
+                        Reporter& reporter) {
+  RunGrid run{GridGeometry{}, options};
+  ReconOptions& unit_options = run.options;
   unit_options.voxel_size = options.voxel_size / samples.frame.scale;
+  const BoundingBox box = bounding_box(samples.points);
+  if (unit_options.voxel_size <= 0.0 && unit_options.resolution == 0) {
+    choose_resolution_from_density(box, samples.points, clamp_to_budget, unit_options, stats, reporter);
+  }
+  run.grid = make_domain(box, unit_options);
+  stats.grid_dims = run.grid.dims;
+  stats.resolution = unit_options.voxel_size > 0.0 ? 0 : unit_options.resolution;
+  stats.voxel_size = run.grid.spacing * samples.frame.scale;
+  return run;
+}
 
+ImplicitFunction solve_implicit_function(const OrientedSamples& samples,
+                                         const GridGeometry& grid,
+                                         const ReconOptions& unit_options,
+                                         ReconStats& stats,
+                                         Reporter& reporter) {
+  const std::vector<Eigen::Vector3f>& points = samples.points;
   const auto t_field = Clock::now();
   reporter.begin("orientation field", 0);
-  const BoundingBox box = bounding_box(points);
-  if (unit_options.voxel_size <= 0.0 && unit_options.resolution == 0) {
-    choose_resolution_from_density(box, points, unit_options, stats, reporter);
-  }
-  check_memory_budget(box, points, unit_options);  // before anything grid-sized exists
-  const GridGeometry grid = make_domain(box, unit_options);
-  stats.grid_dims = grid.dims;
-  stats.resolution = unit_options.voxel_size > 0.0 ? 0 : unit_options.resolution;
-  stats.voxel_size = grid.spacing * samples.frame.scale;
   reporter.info(format_message("recon: grid ", grid.dims.x(), "x", grid.dims.y(), "x", grid.dims.z(), ", voxel ",
                                grid.spacing, ", ", points.size(), " samples"));
   const bool band_only = keeps_only_band(grid, unit_options);
@@ -547,37 +539,54 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
   // Energy minimisation (sec. 3.4, 4.2, 4.3).
   const auto t_solve = Clock::now();
   reporter.begin("solve", 0);
-  ScalarGrid& f = result.function;
-  f.geometry = grid;   // values: the solves below size them (no grid-sized fill here)
-  StoredField band_f;  // with band_only: f on the fine band (f.values stays empty)
-  if (options.energy == SmoothnessEnergy::kTotalVariation) {
+  ImplicitFunction fn;
+  if (unit_options.energy == SmoothnessEnergy::kTotalVariation) {
+    ScalarGrid f(grid);
     solve_total_variation(grid, rhs.values, unit_options, f, stats, reporter);
+    fn.f = StoredField{std::make_shared<const ActiveNodes>(ActiveNodes::all(grid)), std::move(f.values)};
   } else {
-    StoredField solution = solve_quadratic(grid, std::move(rhs), points, unit_options, band_only, stats, reporter);
-    if (solution.nodes->is_all()) {
-      f.values = std::move(solution.values);
-    } else {
-      band_f = std::move(solution);
-    }
+    fn.f = solve_quadratic(grid, std::move(rhs), points, unit_options, band_only, stats, reporter);
   }
-  for (double v : band_f.nodes ? band_f.values : f.values) {
+  for (double v : fn.f.values) {
     if (!std::isfinite(v)) throw NumericalError("recon", "the implicit function is not finite");
   }
   reporter.end();
   stats.seconds_solve = seconds_since(t_solve);
+  fn.isovalue = mean_at_samples(grid, fn.f, points);
+  stats.isovalue = fn.isovalue;
+  return fn;
+}
+
+ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& options, Reporter& reporter) {
+  options.validate();
+  check_reconstructable(input, "input points");
+#ifdef _OPENMP
+  if (options.threads > 0) omp_set_num_threads(options.threads);
+#endif
+  ReconResult result;
+  ReconStats& stats = result.stats;
+  const OrientedSamples samples = usable_samples(input, options, stats, reporter);
+  const RunGrid run = choose_run_grid(samples, options, /*clamp_to_budget=*/true, stats, reporter);
+  check_memory_budget(bounding_box(samples.points), samples.points, run.options);  // before anything grid-sized
+  const GridGeometry& grid = run.grid;
+  const bool band_only = keeps_only_band(grid, run.options);
+  ImplicitFunction fn = solve_implicit_function(samples, grid, run.options, stats, reporter);
 
   if (band_only) release_freed_memory();
   const auto t_mesh = Clock::now();
   reporter.begin("isosurface", 0);
-  extract_surface(f, band_f, points, unit_options, result);
+  extract_surface(grid, fn, samples.points, run.options, result);
   reporter.end();
   stats.seconds_mesh = seconds_since(t_mesh);
   if (result.mesh.faces.empty()) {
     throw NumericalError("recon", "the isosurface is empty (the orientations may be inconsistent)");
   }
   to_world(samples.frame, result.mesh);
+  ScalarGrid& f = result.function;
+  f.geometry = grid;
   f.geometry.origin = samples.frame.to_world(f.geometry.origin);
   f.geometry.spacing *= samples.frame.scale;
+  if (fn.f.nodes->is_all()) f.values = std::move(fn.f.values);
   reporter.info(format_message("recon: isovalue ", stats.isovalue, ", ", result.mesh.num_vertices(), " vertices, ",
                                result.mesh.num_faces(), " faces (", stats.faces_trimmed, " trimmed)"));
   return result;

@@ -8,8 +8,10 @@
 
 #include "core/reporter.h"
 #include "core/types.h"
+#include "recon/active_nodes.h"
 #include "recon/grid.h"
 #include "recon/recon_options.h"
+#include "recon/sample_frame.h"
 
 namespace hos::recon {
 
@@ -52,6 +54,49 @@ void check_reconstructable(const PointCloud& points, const std::string& source);
 // NumericalError if the solve fails, Cancelled on request.
 ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& options, Reporter& reporter);
 
+// The samples reconstruct_surface works on (prepare_samples), the dropped
+// ones counted in stats and reported.
+OrientedSamples usable_samples(const PointCloud& input,
+                               const ReconOptions& options,
+                               ReconStats& stats,
+                               Reporter& reporter);
+
+// A run's grid and the options as its solve applies them, both in the unit
+// frame of the samples: voxel_size and resolution as chosen, and with a grid
+// from the samples' density the trim distance (and band_only_voxels) scaled.
+struct RunGrid {
+  GridGeometry grid;
+  ReconOptions options;
+};
+
+// The grid of a run on samples (unit frame, usable_samples): from
+// recon.voxel_size, recon.resolution, or with resolution 0 from the samples'
+// density, then no finer than the memory budget allows when clamp_to_budget
+// (a tiled run keeps the density's grid and cuts it into tiles instead).
+// Sets stats' grid figures; reports the choice. Checks no budget otherwise.
+RunGrid choose_run_grid(const OrientedSamples& samples,
+                        const ReconOptions& options,
+                        bool clamp_to_budget,
+                        ReconStats& stats,
+                        Reporter& reporter);
+
+// A solved implicit function f and its isovalue.
+struct ImplicitFunction {
+  // On every node of the grid, or (keeps_only_band) on the band's stored nodes.
+  StoredField f;
+  double isovalue = 0.0;  // eq. 12: the mean of f at the samples
+};
+
+// The orientation field, energy minimisation and isovalue of
+// reconstruct_surface on `grid`, for samples and options in the unit frame
+// (usable_samples, choose_run_grid); the solver's figures and times go to
+// stats. Allocates the grid without a memory check (check_memory_budget).
+ImplicitFunction solve_implicit_function(const OrientedSamples& samples,
+                                         const GridGeometry& grid,
+                                         const ReconOptions& unit_options,
+                                         ReconStats& stats,
+                                         Reporter& reporter);
+
 // Nodes per axis beyond which a domain is not made larger: far more than
 // any machine holds, small enough that node counts stay exact in int64.
 inline constexpr int kMaxDomainNodes = 1 << 20;
@@ -62,6 +107,10 @@ inline constexpr int kMaxDomainNodes = 1 << 20;
 // the whole grid a banded solve starts on (band_only_start_level) still has
 // its multigrid levels.
 GridGeometry make_domain(const BoundingBox& box, const ReconOptions& options, int levels = 0);
+
+// The multigrid levels make_domain gives a grid whose longest side has this
+// many nodes: 5, and one more per doubling beyond 600 (at most 12).
+int domain_levels(double longest_nodes);
 
 // Does a run on this grid keep no grid-sized array (recon.solver.
 // band_storage_above_mnodes)? That needs a banded solve of a quadratic

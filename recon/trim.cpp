@@ -58,7 +58,7 @@ int find_root(std::vector<int>& parent, int x) {
 
 }  // namespace
 
-void remove_unreferenced_vertices(TriangleMesh& mesh) {
+std::vector<int> remove_unreferenced_vertices(TriangleMesh& mesh) {
   std::vector<int> remap(mesh.vertices.size(), -1);
   int next = 0;
   for (const auto& f : mesh.faces) {
@@ -79,6 +79,7 @@ void remove_unreferenced_vertices(TriangleMesh& mesh) {
   compact(mesh.colors);
   for (auto& [name, values] : mesh.vertex_scalars) compact(values);
   for (auto& f : mesh.faces) f = Eigen::Vector3i(remap[f[0]], remap[f[1]], remap[f[2]]);
+  return remap;
 }
 
 TrimReport trim_far_from_samples(TriangleMesh& mesh,

@@ -26,6 +26,7 @@ TrimReport trim_far_from_samples(TriangleMesh& mesh,
                                  double min_component_fraction);
 
 // Drops vertices no face uses, renumbering faces (keeps per-vertex attributes).
-void remove_unreferenced_vertices(TriangleMesh& mesh);
+// Returns each old vertex's new index (-1: dropped), #old V.
+std::vector<int> remove_unreferenced_vertices(TriangleMesh& mesh);
 
 }  // namespace hos::recon
