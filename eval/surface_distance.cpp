@@ -176,4 +176,17 @@ SurfaceComparison compare_surfaces(const TriangleMesh& result,
   return out;
 }
 
+ZoneDistances distances_by_zone(const TriangleMesh& from,
+                                const TriangleMesh& to,
+                                std::size_t n,
+                                std::uint64_t seed,
+                                const std::function<bool(const Eigen::Vector3f&)>& in_zone,
+                                Reporter& reporter) {
+  const std::vector<Eigen::Vector3f> samples = sample_surface_uniform(from, n, seed);
+  const std::vector<double> d = distances_to_mesh(samples, to, reporter);
+  std::vector<double> zone, rest;
+  for (std::size_t i = 0; i < samples.size(); ++i) (in_zone(samples[i]) ? zone : rest).push_back(d[i]);
+  return {summarize_distances(std::move(zone)), summarize_distances(std::move(rest))};
+}
+
 }  // namespace hos::eval

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "core/reporter.h"
@@ -64,5 +65,18 @@ SurfaceComparison compare_surfaces(const TriangleMesh& result,
 std::vector<double> distances_to_mesh(const std::vector<Eigen::Vector3f>& points,
                                       const TriangleMesh& mesh,
                                       Reporter& reporter);
+
+// Distances from n samples of `from` (sample_surface_uniform, seed) to `to`,
+// split by where the sample lies: in_zone's samples, then the others (e.g.
+// near the seams of a tiled reconstruction against the rest).
+struct ZoneDistances {
+  DistanceStats in_zone, rest;
+};
+ZoneDistances distances_by_zone(const TriangleMesh& from,
+                                const TriangleMesh& to,
+                                std::size_t n,
+                                std::uint64_t seed,
+                                const std::function<bool(const Eigen::Vector3f&)>& in_zone,
+                                Reporter& reporter);
 
 }  // namespace hos::eval
