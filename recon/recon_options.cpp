@@ -65,6 +65,13 @@ void register_options(OptionSet& set, ReconOptions& o) {
   set.add("threads", o.threads, "OpenMP threads (0 = all cores)", 0, 1024);
   set.add("max_memory_mb", o.max_memory_mb,
           "memory budget (MB): larger grids are refused before allocating (0 = 3/4 of the RAM)", 0, 1 << 30);
+  set.add("tiles", o.tiles,
+          "tiles the grid is cut into (0 = as many as the memory budget needs, 1 = never tile, N = N tiles)", 0, 4096);
+  set.add("tile_overlap_voxels", o.tile_overlap_voxels,
+          "voxels a tile reaches into its neighbours' cores, where their functions are blended", 1, 1 << 16);
+  set.add_enum("tile_blend", o.tile_blend, {{"smooth", TileBlend::kSmooth}, {"switch", TileBlend::kSwitch}},
+               "how tiles meet: smooth (C1 weights across the overlaps) or switch (hard, at the cores' faces; "
+               "for comparisons)");
   set.add_flag("--energy", "energy");
   set.add_flag("--lambda", "lambda");
   set.add_flag("--resolution", "resolution");

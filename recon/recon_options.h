@@ -54,6 +54,12 @@ struct SolverOptions {
   int band_only_voxels = 4;
 };
 
+// How the tiles of a tiled run meet (tiled_reconstruction.h).
+enum class TileBlend {
+  kSmooth,  // partition-of-unity weights, C1, across the overlaps
+  kSwitch,  // each node from the tile whose core holds it (for comparisons)
+};
+
 struct TrimOptions {
   bool enabled = true;
   // Faces whose vertices all lie farther than this many voxels from every
@@ -101,6 +107,18 @@ struct ReconOptions {
   // Memory budget in MB; a grid whose estimated peak exceeds it is refused
   // before anything is allocated (see memory_budget.h). 0 = 3/4 of the RAM.
   int max_memory_mb = 0;
+  // Tiled reconstruction (tiled_reconstruction.h, docs/scale.md): the grid cut
+  // into tiles solved one at a time and blended. 0 = only when the whole
+  // grid's estimated peak exceeds the memory budget, into as few tiles as fit
+  // (the density's grid is then kept, not made coarser); 1 = never (such a
+  // grid is refused, or a density's grid made coarser); N >= 2: N tiles.
+  int tiles = 0;
+  // Voxels each tile reaches past its core into its neighbours' on every side
+  // that has one, its function blended with theirs there. The bunny in 8
+  // tiles (docs/scale.md): with 16 the seams were as close to the whole run
+  // as the rest; at 2 their mean distance was 2.6 times the rest's.
+  int tile_overlap_voxels = 16;
+  TileBlend tile_blend = TileBlend::kSmooth;
 
   // Throws ConfigError naming the offending option.
   void validate() const;

@@ -26,6 +26,11 @@ nlohmann::ordered_json recon_report_json(const ReconResult& result) {
   j["seconds_field"] = s.seconds_field;
   j["seconds_solve"] = s.seconds_solve;
   j["seconds_mesh"] = s.seconds_mesh;
+  if (s.tiles > 1) {
+    j["tiles"] = s.tiles;
+    j["largest_tile_nodes"] = s.largest_tile_nodes;
+    j["largest_join_nodes"] = s.largest_join_nodes;
+  }
   return j;
 }
 

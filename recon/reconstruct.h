@@ -35,6 +35,11 @@ struct ReconStats {
   std::size_t faces_before_trim = 0;
   std::size_t faces_trimmed = 0;
   double seconds_field = 0.0, seconds_solve = 0.0, seconds_mesh = 0.0;
+  // Tiled runs (tiled_reconstruction.h): the tiles, the largest tile's solve
+  // grid and the largest core (grown by one node) the join held, in nodes.
+  int tiles = 1;
+  std::int64_t largest_tile_nodes = 0;
+  std::int64_t largest_join_nodes = 0;
 };
 
 struct ReconResult {
