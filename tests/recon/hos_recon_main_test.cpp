@@ -7,6 +7,7 @@
 
 #include "core/exit_codes.h"
 #include "core/ply_io.h"
+#include "recon/tiled_reconstruction.h"
 #include "synth/shapes.h"
 #include "tests/recon/shape_samples.h"
 #include "tests/support/test_support.h"
@@ -72,10 +73,11 @@ TEST(HosRecon, BadInputsGetAClearMessageAndExitCode) {
   EXPECT_EQ(run_recon("--input " + (dir / "one.ply").string() + out + " --set recon.lamda=1", dir), kExitUsage);
   EXPECT_NE(log_of(dir).find("lambda"), std::string::npos) << "closest valid key";
 
-  // A grid beyond the memory budget is refused up front, naming what fits.
+  // With tiling off, a grid beyond the memory budget is refused up front,
+  // naming what fits.
   write_point_cloud_ply(dir / "sphere.ply", synth::sample_sphere(2000, 1.0, 0.0, 2));
   EXPECT_EQ(run_recon("--input " + (dir / "sphere.ply").string() + " --output " + (dir / "big.ply").string() +
-                          " --resolution 1024 --max-memory 200",
+                          " --resolution 1024 --max-memory 200 --set recon.tiles=1",
                       dir),
             kExitUsage);
   EXPECT_NE(log_of(dir).find("largest resolution that fits"), std::string::npos) << log_of(dir);
@@ -109,6 +111,62 @@ TEST(HosRecon, UnusableConfidencesAreCountedInAWarning) {
       << log_of(dir);
   EXPECT_NE(log_of(dir).find("'confidence' is NaN, infinite or negative at 2 points"), std::string::npos)
       << log_of(dir);
+}
+
+std::string file_bytes(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(HosRecon, TilesSolvedAsSeparateProcessesJoinToTheSameBytesAsOneProcess) {
+  hos::testing::TempDir dir;
+  write_point_cloud_ply(dir / "sphere.ply", synth::sample_sphere(20000, 1.0, 0.002, 8));
+  const std::string input = "--input " + (dir / "sphere.ply").string() + " --resolution 48 --set recon.tiles=4 ";
+  ASSERT_EQ(run_recon(input + "--output " + (dir / "one.ply").string(), dir), kExitSuccess) << log_of(dir);
+  EXPECT_NE(log_of(dir).find("grid in 4 tiles (recon.tiles)"), std::string::npos) << log_of(dir);
+  EXPECT_FALSE(std::filesystem::exists(dir / "one.ply.tiles")) << "the default tile folder is removed";
+  const std::string tiles = (dir / "tiles").string();
+  for (int k = 3; k >= 0; --k) {
+    ASSERT_EQ(run_recon(input + "--tile " + std::to_string(k) + " --tile-dir " + tiles, dir), kExitSuccess)
+        << log_of(dir);
+  }
+  ASSERT_EQ(run_recon(input + "--join-tiles " + tiles + " --output " + (dir / "split.ply").string(), dir), kExitSuccess)
+      << log_of(dir);
+  const std::string one = file_bytes(dir / "one.ply");
+  EXPECT_GT(one.size(), 10000u);
+  EXPECT_TRUE(one == file_bytes(dir / "split.ply")) << "the split run's mesh differs from one process's";
+  EXPECT_TRUE(testing::analyze_topology(read_mesh_ply(dir / "split.ply")).watertight());
+
+  // A tile that is not in the plan is a usage error; a damaged tile file bad input naming it.
+  EXPECT_EQ(run_recon(input + "--tile 4 --tile-dir " + tiles, dir), kExitUsage);
+  const std::filesystem::path tile2 = dir / "tiles" / "tile-0002.htf";
+  std::filesystem::resize_file(tile2, std::filesystem::file_size(tile2) / 2);
+  EXPECT_EQ(run_recon(input + "--join-tiles " + tiles + " --output " + (dir / "bad.ply").string(), dir), kExitBadInput);
+  EXPECT_NE(log_of(dir).find(tile2.string() + ": truncated"), std::string::npos) << log_of(dir);
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad.ply"));
+}
+
+TEST(HosRecon, AGridOverTheMemoryBudgetIsReconstructedInTilesAndTheLogSaysSo) {
+  hos::testing::TempDir dir;
+  // Dense enough that the whole run is watertight at 128.
+  const PointCloud points = synth::sample_sphere(60000, 1.0, 0.0, 4);
+  write_point_cloud_ply(dir / "sphere.ply", points);
+  ReconOptions options;
+  options.resolution = 128;
+  options.tile_overlap_voxels = 8;
+  const std::size_t whole = prepare_tiled_run(points, options, null_reporter()).plan.whole_estimated_peak_bytes;
+  const int budget_mb = static_cast<int>(whole / (1024 * 1024) / 2);
+  ASSERT_EQ(
+      run_recon("--input " + (dir / "sphere.ply").string() + " --output " + (dir / "mesh.ply").string() +
+                    " --resolution 128 --set recon.tile_overlap_voxels=8 --max-memory " + std::to_string(budget_mb),
+                dir),
+      kExitSuccess)
+      << log_of(dir);
+  EXPECT_NE(log_of(dir).find("exceeds the budget of " + std::to_string(budget_mb) + " MB"), std::string::npos)
+      << log_of(dir);
+  const TriangleMesh mesh = read_mesh_ply(dir / "mesh.ply");
+  EXPECT_TRUE(testing::analyze_topology(mesh).watertight());
+  for (const auto& v : mesh.vertices) EXPECT_NEAR(v.norm(), 1.0, 0.01);
 }
 
 }  // namespace
