@@ -126,9 +126,10 @@ TEST(HosRecon, TilesSolvedAsSeparateProcessesJoinToTheSameBytesAsOneProcess) {
   EXPECT_NE(log_of(dir).find("grid in 4 tiles (recon.tiles)"), std::string::npos) << log_of(dir);
   EXPECT_FALSE(std::filesystem::exists(dir / "one.ply.tiles")) << "the default tile folder is removed";
   const std::string tiles = (dir / "tiles").string();
-  for (int k = 3; k >= 0; --k) {
-    ASSERT_EQ(run_recon(input + "--tile " + std::to_string(k) + " --tile-dir " + tiles, dir), kExitSuccess)
-        << log_of(dir);
+  for (int k = 3; k >= 0; --k) {  // in any order
+    std::string args = input;
+    args += "--tile " + std::to_string(k) + " --tile-dir " + tiles;
+    ASSERT_EQ(run_recon(args, dir), kExitSuccess) << log_of(dir);
   }
   ASSERT_EQ(run_recon(input + "--join-tiles " + tiles + " --output " + (dir / "split.ply").string(), dir), kExitSuccess)
       << log_of(dir);
