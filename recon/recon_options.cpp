@@ -64,7 +64,9 @@ void register_options(OptionSet& set, ReconOptions& o) {
           "drop pieces smaller than this fraction of the largest", 0.0, 1.0);
   set.add("threads", o.threads, "OpenMP threads (0 = all cores)", 0, 1024);
   set.add("max_memory_mb", o.max_memory_mb,
-          "memory budget (MB): larger grids are refused before allocating (0 = 3/4 of the RAM)", 0, 1 << 30);
+          "memory budget (MB): a larger grid is cut into tiles, or with tiles 1 refused, before allocating (0 = 3/4 "
+          "of the RAM)",
+          0, 1 << 30);
   set.add("tiles", o.tiles,
           "tiles the grid is cut into (0 = as many as the memory budget needs, 1 = never tile, N = N tiles)", 0, 4096);
   set.add("tile_overlap_voxels", o.tile_overlap_voxels,

@@ -104,8 +104,9 @@ struct ReconOptions {
   SolverOptions solver;
   TrimOptions trim;
   int threads = 0;  // OpenMP threads; 0 = all cores
-  // Memory budget in MB; a grid whose estimated peak exceeds it is refused
-  // before anything is allocated (see memory_budget.h). 0 = 3/4 of the RAM.
+  // Memory budget in MB; a grid whose estimated peak exceeds it is cut into
+  // tiles (tiles 0) or refused (tiles 1) before anything is allocated (see
+  // memory_budget.h). 0 = 3/4 of the RAM.
   int max_memory_mb = 0;
   // Tiled reconstruction (tiled_reconstruction.h, docs/scale.md): the grid cut
   // into tiles solved one at a time and blended. 0 = only when the whole
