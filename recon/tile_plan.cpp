@@ -171,20 +171,27 @@ TilePlan plan_tiles(const std::vector<Eigen::Vector3f>& points,
     if (tiles > 0) return static_cast<int>(plan.tiles.size()) >= tiles;
     return plan.tiles[largest(plan.tiles)].estimated_peak_bytes <= budget_bytes;
   };
+  const auto refuse = [&](std::size_t at) {
+    return ConfigError(
+        "recon.tiles",
+        format_message("the ", lattice.dims.x(), "x", lattice.dims.y(), "x", lattice.dims.z(),
+                       " grid cannot be cut into ",
+                       tiles > 0 ? format_message(tiles, " tiles") : std::string("tiles that fit the budget"),
+                       ": tile ", at, " (", plan.tiles[at].core.hi.x() - plan.tiles[at].core.lo.x() + 1, "x",
+                       plan.tiles[at].core.hi.y() - plan.tiles[at].core.lo.y() + 1, "x",
+                       plan.tiles[at].core.hi.z() - plan.tiles[at].core.lo.z() + 1, " nodes, about ",
+                       megabytes(plan.tiles[at].estimated_peak_bytes),
+                       " MB) is as small as tiles get; give a "
+                       "coarser grid (recon.resolution, recon.voxel_size) or a larger recon.max_memory_mb"));
+  };
+  // A grid that even kMaxTiles tiles of the budget at one byte a node cannot
+  // hold is refused before any estimate (whose byte counts would overflow).
+  const double nodes = double(lattice.dims.x()) * lattice.dims.y() * lattice.dims.z();
+  if (nodes > double(kMaxTiles) * double(budget_bytes)) throw refuse(0);
   while (!done()) {
     const std::size_t at = largest(plan.tiles);
     if (static_cast<int>(plan.tiles.size()) >= kMaxTiles || !split(plan.tiles, at, points, lattice, unit_options)) {
-      throw ConfigError(
-          "recon.tiles",
-          format_message("the ", lattice.dims.x(), "x", lattice.dims.y(), "x", lattice.dims.z(),
-                         " grid cannot be cut into ",
-                         tiles > 0 ? format_message(tiles, " tiles") : std::string("tiles that fit the budget"),
-                         ": tile ", at, " (", plan.tiles[at].core.hi.x() - plan.tiles[at].core.lo.x() + 1, "x",
-                         plan.tiles[at].core.hi.y() - plan.tiles[at].core.lo.y() + 1, "x",
-                         plan.tiles[at].core.hi.z() - plan.tiles[at].core.lo.z() + 1, " nodes, about ",
-                         megabytes(plan.tiles[at].estimated_peak_bytes),
-                         " MB) is as small as tiles get; give a "
-                         "coarser grid (recon.resolution, recon.voxel_size) or a larger recon.max_memory_mb"));
+      throw refuse(at);
     }
   }
   return plan;
