@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "core/atomic_file.h"
+#include "core/binary_values.h"
 #include "core/error.h"
 #include "core/reporter.h"
 
@@ -11,16 +12,6 @@ namespace hos::recon {
 namespace {
 
 constexpr char kTag[8] = {'H', 'O', 'S', 'T', 'I', 'L', 'E', 'F'};
-
-template <typename T>
-void write_value(std::ofstream& out, const T& value) {
-  out.write(reinterpret_cast<const char*>(&value), sizeof(T));
-}
-
-template <typename T>
-bool read_value(std::ifstream& in, T& value) {
-  return static_cast<bool>(in.read(reinterpret_cast<char*>(&value), sizeof(T)));
-}
 
 std::string box_text(const NodeBox& b) {
   return format_message(b.lo.x(), ",", b.lo.y(), ",", b.lo.z(), " .. ", b.hi.x(), ",", b.hi.y(), ",", b.hi.z());

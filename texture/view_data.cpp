@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "core/atomic_file.h"
+#include "core/binary_values.h"
 #include "core/error.h"
 #include "core/fnv1a.h"
 
@@ -16,16 +17,6 @@ constexpr char kViewDataTag[8] = {'H', 'O', 'S', 'T', 'V', 'I', 'E', 'W'};
 // One sample on disk: the face, then the seven floats of FaceViewSample
 // (its view is the file's).
 constexpr std::size_t kSampleFloats = 7;
-
-template <typename T>
-void write_value(std::ofstream& out, const T& value) {
-  out.write(reinterpret_cast<const char*>(&value), sizeof(T));
-}
-
-template <typename T>
-bool read_value(std::ifstream& in, T& value) {
-  return static_cast<bool>(in.read(reinterpret_cast<char*>(&value), sizeof(T)));
-}
 
 }  // namespace
 
