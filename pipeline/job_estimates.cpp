@@ -40,21 +40,15 @@ constexpr double kTextureMeasuredMp = 1.23;
 constexpr double kTextureMeasuredFaces = 1e6;
 constexpr double kTextureAtlasCpuSecondsPerFaceView = 1.75e-6;
 
-template <typename Options>
-const Options* options_of(const PipelineConfig& config, const char* stage) {
-  const auto* typed = dynamic_cast<const TypedStageConfig<Options>*>(config.stage_config(stage));
-  return typed ? &typed->options() : nullptr;
-}
-
 // Megapixels of a 4:3 image whose longest side is size.
 double megapixels_at(int size) { return 0.75 * double(size) * size / 1e6; }
 
 // The faces texture works on: its decimation bound, else refine's face
 // budget; 0 when neither bounds them (refine off, no decimation).
 double texture_faces(const PipelineConfig& config) {
-  const auto* texture = options_of<texture::TextureOptions>(config, "texture");
+  const auto* texture = stage_options<texture::TextureOptions>(config, "texture");
   if (texture && texture->max_faces > 0) return texture->max_faces;
-  const auto* refine = options_of<refine::RefineOptions>(config, "refine");
+  const auto* refine = stage_options<refine::RefineOptions>(config, "refine");
   return refine && refine->enabled ? refine->max_faces : 0.0;
 }
 
@@ -82,7 +76,7 @@ RunBounds run_bounds(const fs::path& photos, const PipelineConfig& config) {
     const cv::Mat reduced = cv::imread(largest.string(), cv::IMREAD_REDUCED_GRAYSCALE_8);
     if (!reduced.empty()) bounds.photo_megapixels = 64.0 * reduced.total() / 1e6;
   }
-  const auto* sfm = options_of<sfm::SfmOptions>(config, "sfm");
+  const auto* sfm = stage_options<sfm::SfmOptions>(config, "sfm");
   if (sfm && sfm->max_image_size > 0) {
     const double cap = megapixels_at(sfm->max_image_size);
     bounds.photo_megapixels = bounds.photo_megapixels > 0 ? std::min(bounds.photo_megapixels, cap) : cap;
@@ -92,7 +86,7 @@ RunBounds run_bounds(const fs::path& photos, const PipelineConfig& config) {
 
 int job_memory_mb(const std::string& job, const PipelineConfig& config, int views, int default_mb) {
   if (job == "mvs-depth" || job == "mvs-fuse") {
-    if (const auto* mvs = options_of<mvs::MvsOptions>(config, "mvs")) {
+    if (const auto* mvs = stage_options<mvs::MvsOptions>(config, "mvs")) {
       // The finest level at a 4:3 aspect; a depth chunk holds the reference
       // view and its sources (grey float + colour), the planes, costs and
       // the sources' coarse priors; fusion holds every view's maps and colour.
@@ -105,7 +99,7 @@ int job_memory_mb(const std::string& job, const PipelineConfig& config, int view
   if (job == "recon") {
     // recon refuses a grid whose estimated peak exceeds its budget, so the
     // budget (with room for the process itself) bounds the job.
-    const auto* recon = options_of<recon::ReconOptions>(config, "recon");
+    const auto* recon = stage_options<recon::ReconOptions>(config, "recon");
     if (recon && recon->max_memory_mb > 0) return recon->max_memory_mb + 512;
   }
   return default_mb;
@@ -116,7 +110,7 @@ double job_cpu_seconds(const std::string& job, const PipelineConfig& config, con
   const double chunk = std::clamp(double(chunk_views), 1.0, views);
   if (job == "sfm") return views * kSfmCpuSecondsPerPhoto;
   if (job == "mvs-depth" || job == "mvs-fuse") {
-    const auto* mvs = options_of<mvs::MvsOptions>(config, "mvs");
+    const auto* mvs = stage_options<mvs::MvsOptions>(config, "mvs");
     if (!mvs) return 0;
     double fine_mp = megapixels_at(mvs->max_image_size);
     if (bounds.photo_megapixels > 0) fine_mp = std::min(fine_mp, bounds.photo_megapixels);
@@ -129,13 +123,13 @@ double job_cpu_seconds(const std::string& job, const PipelineConfig& config, con
     return (chunk * fine_mp + coarse_views * coarse_mp) * kMvsCpuSecondsPerViewMp;
   }
   if (job == "recon") {
-    const auto* recon = options_of<recon::ReconOptions>(config, "recon");
+    const auto* recon = stage_options<recon::ReconOptions>(config, "recon");
     if (!recon || recon->resolution <= 0) return 0;  // the grid follows the points' density: unknown before
     return kReconCpuSecondsAtGrid1024 * std::pow(recon->resolution / 1024.0, 3);
   }
   if (bounds.photo_megapixels <= 0) return 0;
   if (job == "refine") {
-    const auto* refine = options_of<refine::RefineOptions>(config, "refine");
+    const auto* refine = stage_options<refine::RefineOptions>(config, "refine");
     if (!refine || !refine->enabled) return 0;
     const double faces_factor = std::max(1.0, refine->max_faces / kRefineMeasuredFaces);
     return views * bounds.photo_megapixels * kRefineCpuSecondsPerViewMp * faces_factor;

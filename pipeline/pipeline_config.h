@@ -45,6 +45,14 @@ class PipelineConfig {
   std::map<std::string, std::unique_ptr<StageConfig>> stages_;
 };
 
+// The options struct of stage (e.g. recon::ReconOptions for "recon"); null
+// when the stage's library is not built.
+template <typename Options>
+const Options* stage_options(const PipelineConfig& config, const std::string& stage) {
+  const auto* typed = dynamic_cast<const TypedStageConfig<Options>*>(config.stage_config(stage));
+  return typed ? &typed->options() : nullptr;
+}
+
 // config/default.yaml: every option of every built stage with its default,
 // allowed values and a one-line comment. Generated, never edited by hand.
 std::string default_config_text();
