@@ -52,6 +52,9 @@ double texture_faces(const PipelineConfig& config) {
   return refine && refine->enabled ? refine->max_faces : 0.0;
 }
 
+// recon as one job, or a tiled recon's tile tasks and join.
+bool is_recon_job(const std::string& job) { return job == "recon" || job == "recon-tiles" || job == "recon-join"; }
+
 }  // namespace
 
 RunBounds run_bounds(const fs::path& photos, const PipelineConfig& config) {
@@ -96,9 +99,12 @@ int job_memory_mb(const std::string& job, const PipelineConfig& config, int view
       return static_cast<int>(std::ceil(512.0 + 1.5 * bytes / (1024.0 * 1024.0)));
     }
   }
-  if (job == "recon") {
+  if (is_recon_job(job)) {
     // recon refuses a grid whose estimated peak exceeds its budget, so the
-    // budget (with room for the process itself) bounds the job.
+    // budget (with room for the process itself) bounds the job. A tile's
+    // plan estimate is the larger of its solve's and its core's join's, and
+    // a tile over the budget is refused too: the same bound holds for each
+    // tile task and the join.
     const auto* recon = stage_options<recon::ReconOptions>(config, "recon");
     if (recon && recon->max_memory_mb > 0) return recon->max_memory_mb + 512;
   }
@@ -122,7 +128,10 @@ double job_cpu_seconds(const std::string& job, const PipelineConfig& config, con
     const double coarse_mp = std::min(fine_mp, megapixels_at(mvs->coarse_image_size));
     return (chunk * fine_mp + coarse_views * coarse_mp) * kMvsCpuSecondsPerViewMp;
   }
-  if (job == "recon") {
+  if (is_recon_job(job)) {
+    // A tile's grid is cut at the samples' median, not at an even share of
+    // the nodes, so it may span most of the whole grid: the whole grid's
+    // time bounds each tile, and the join (blending and meshing, no solve).
     const auto* recon = stage_options<recon::ReconOptions>(config, "recon");
     if (!recon || recon->resolution <= 0) return 0;  // the grid follows the points' density: unknown before
     return kReconCpuSecondsAtGrid1024 * std::pow(recon->resolution / 1024.0, 3);

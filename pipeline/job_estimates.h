@@ -23,12 +23,13 @@ struct RunBounds {
 RunBounds run_bounds(const std::filesystem::path& photos, const PipelineConfig& config);
 
 // The memory a job asks for, in MB (0: not given): mvs depth chunks and
-// fusion from the image size the options allow, recon from its own memory
-// budget (recon.max_memory_mb) when one is set, the others default_mb.
+// fusion from the image size the options allow, recon (also each tile task
+// and the join of a tiled recon) from its own memory budget
+// (recon.max_memory_mb) when one is set, the others default_mb.
 int job_memory_mb(const std::string& job, const PipelineConfig& config, int views, int default_mb);
 
-// The CPU seconds a job (sfm, mvs-depth, mvs-fuse, recon, refine,
-// texture-views, texture-atlas) needs by its stage's own estimate, i.e. its
+// The CPU seconds a job (sfm, mvs-depth, mvs-fuse, recon, recon-tiles,
+// recon-join, refine, texture-views, texture-atlas) needs by its stage's own estimate, i.e. its
 // wall time on one core; chunk_views is an array task's share of the views.
 // 0 when the stage cannot estimate it from what is known before the run.
 // docs/scale.md gives the model and the measured figure of each.

@@ -25,6 +25,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kViews = "@VIEWS@";  // stands for the task's "$first-$last" in a script
+constexpr const char* kTask = "@TASK@";    // stands for the task's "$task" in a script
 
 // One sbatch submission: a stage, or one part of a stage that splits.
 struct Job {
@@ -33,7 +34,7 @@ struct Job {
   std::vector<std::string> argv;
   fs::path log;
   int tasks = 0;  // job array size; 0: a single job
-  int chunk = 0;  // views per array task
+  int chunk = 0;  // views per array task; 0: a task is its index (a tile)
 };
 
 std::string shell_quote(const std::string& s) {
@@ -61,55 +62,72 @@ std::vector<std::string> with_common_flags(std::vector<std::string> argv,
   return argv;
 }
 
-// The number of registered views is not known before sfm has run: the
-// files in the photo folder bound it (bounds.views), and array tasks past
-// the registered views compute nothing.
+std::string part_job_name(const StageSpec& spec) { return spec.name + "-" + spec.split->part_name; }
+std::string join_job_name(const StageSpec& spec) { return spec.name + "-" + spec.split->join_name; }
+
+// The array tasks of a stage's parts; 0 when it runs as one job. The number
+// of registered views is not known before sfm has run: the files in the
+// photo folder bound it (bounds.views), and tasks past the registered views
+// compute nothing.
+int array_tasks(const StageSpec& spec, const SlurmOptions& options, const PipelineConfig& config, int views) {
+  if (!spec.split) return 0;
+  if (spec.split->fixed_parts) {
+    const int parts = spec.split->fixed_parts(config);
+    return parts >= 2 ? parts : 0;
+  }
+  return std::min(options.tasks_of(spec.name), views);
+}
+
+Job stage_job(const std::string& name,
+              std::size_t stage,
+              const std::vector<std::string>& args,
+              const fs::path& log,
+              const StagePaths& paths,
+              const DriverOptions& driver) {
+  Job job;
+  job.name = name;
+  job.stage = stage;
+  job.log = log;
+  job.argv.push_back((driver.bin_dir / pipeline_stages()[stage].executable).string());
+  job.argv.insert(job.argv.end(), args.begin(), args.end());
+  job.argv = with_common_flags(job.argv, job.log, paths, driver);
+  return job;
+}
+
 std::vector<Job> plan_jobs(const DriverOptions& driver,
                            const SlurmOptions& options,
                            std::size_t first,
                            std::size_t last,
                            const StagePaths& paths,
+                           const PipelineConfig& config,
                            const RunBounds& bounds) {
   const auto& specs = pipeline_stages();
-  const int views = bounds.views;
   std::vector<Job> jobs;
   for (std::size_t s = first; s <= last; ++s) {
     const StageSpec& spec = specs[s];
-    const std::string exe = (driver.bin_dir / spec.executable).string();
-    if (spec.split) {
-      Job part;
-      part.name = spec.name + "-" + spec.split->part_name;
-      part.stage = s;
-      part.tasks = std::min(options.tasks_of(spec.name), views);
-      part.chunk = views_per_task(views, part.tasks);
-      part.log = paths.logs / (part.name + ".@TASK@.log");
-      part.argv.push_back(exe);
-      const auto args = spec.split->part_arguments(paths, kViews);
-      part.argv.insert(part.argv.end(), args.begin(), args.end());
-      part.argv = with_common_flags(part.argv, part.log, paths, driver);
-      jobs.push_back(part);
-      Job join;
-      join.name = spec.name + "-" + spec.split->join_name;
-      join.stage = s;
-      join.log = paths.log(spec.name);
-      join.argv.push_back(exe);
-      const auto join_args = spec.split->join_arguments(paths);
-      join.argv.insert(join.argv.end(), join_args.begin(), join_args.end());
-      join.argv = with_common_flags(join.argv, join.log, paths, driver);
-      jobs.push_back(join);
-    } else {
-      Job job;
-      job.name = spec.name;
-      job.stage = s;
-      job.log = paths.log(spec.name);
-      job.argv.push_back(exe);
-      const auto args = spec.arguments(driver, paths);
-      job.argv.insert(job.argv.end(), args.begin(), args.end());
-      job.argv = with_common_flags(job.argv, job.log, paths, driver);
-      jobs.push_back(job);
+    const int tasks = array_tasks(spec, options, config, bounds.views);
+    if (tasks == 0) {
+      jobs.push_back(stage_job(spec.name, s, spec.arguments(driver, paths), paths.log(spec.name), paths, driver));
+      continue;
     }
+    const bool over_views = !spec.split->fixed_parts;
+    const std::string name = part_job_name(spec);
+    Job part = stage_job(name, s, spec.split->part_arguments(paths, over_views ? kViews : kTask),
+                         paths.logs / (name + "." + kTask + ".log"), paths, driver);
+    part.tasks = tasks;
+    part.chunk = over_views ? views_per_task(bounds.views, tasks) : 0;
+    jobs.push_back(part);
+    jobs.push_back(
+        stage_job(join_job_name(spec), s, spec.split->join_arguments(paths), paths.log(spec.name), paths, driver));
   }
   return jobs;
+}
+
+// Replaces the first kTask in text by replacement.
+std::string with_task(std::string text, const std::string& replacement) {
+  const auto at = text.find(kTask);
+  if (at != std::string::npos) text.replace(at, std::string(kTask).size(), replacement);
+  return text;
 }
 
 fs::path status_file(const StagePaths& paths, const Job& job, int task) {
@@ -117,12 +135,7 @@ fs::path status_file(const StagePaths& paths, const Job& job, int task) {
          (job.name + (job.tasks > 0 ? "." + std::to_string(task) : std::string()) + ".exit");
 }
 
-fs::path task_log(const Job& job, int task) {
-  std::string log = job.log.string();
-  const auto at = log.find("@TASK@");
-  if (at != std::string::npos) log.replace(at, 6, std::to_string(task));
-  return log;
-}
+fs::path task_log(const Job& job, int task) { return with_task(job.log.string(), std::to_string(task)); }
 
 // The job script: #SBATCH lines for what does not change between
 // submissions; the dependency and the array's task list go on sbatch's
@@ -147,13 +160,10 @@ std::string job_script(const Job& job,
   if (!options.qos.empty()) s << "#SBATCH --qos=" << options.qos << "\n";
   if (!options.constraint.empty()) s << "#SBATCH --constraint=" << options.constraint << "\n";
   s << "task=\"${SLURM_ARRAY_TASK_ID:-0}\"\nstart=$(date +%s)\n";
-  if (job.tasks > 0) s << "first=$((task * " << job.chunk << "))\nlast=$((first + " << job.chunk - 1 << "))\n";
+  if (job.chunk > 0) s << "first=$((task * " << job.chunk << "))\nlast=$((first + " << job.chunk - 1 << "))\n";
   for (std::size_t i = 0; i < job.argv.size(); ++i) {
-    std::string arg = shell_quote(job.argv[i]);
-    if (job.argv[i] == kViews) arg = "\"$first-$last\"";
-    const auto at = arg.find("@TASK@");
-    if (at != std::string::npos) arg.replace(at, 6, "'\"$task\"'");
-    s << (i ? " " : "") << arg;
+    const std::string arg = job.argv[i] == kViews ? "\"$first-$last\"" : shell_quote(job.argv[i]);
+    s << (i ? " " : "") << with_task(arg, "'\"$task\"'");
   }
   const fs::path status = status_file(paths, job, 0);
   std::string status_text = shell_quote(status.string());
@@ -286,7 +296,7 @@ class SlurmRun {
         record_(record),
         reporter_(reporter),
         bounds_(run_bounds(driver.photos, config)),
-        jobs_(plan_jobs(driver, options, first, last, paths, bounds_)) {
+        jobs_(plan_jobs(driver, options, first, last, paths, config, bounds_)) {
     if (!record_.slurm.is_object()) record_.slurm = nlohmann::ordered_json::object();
     if (!record_.slurm.contains("jobs")) record_.slurm["jobs"] = nlohmann::ordered_json::object();
   }
@@ -403,6 +413,26 @@ class SlurmRun {
     return id;
   }
 
+  // The recorded jobs of a stage that the plan no longer has (recon.tiles
+  // changed between one job and an array): their active tasks are cancelled
+  // and their entries dropped, so that nothing of them runs on.
+  void drop_unplanned_jobs(std::size_t stage, const std::set<std::string>& active) {
+    const StageSpec& spec = pipeline_stages()[stage];
+    std::vector<std::string> names{spec.name};
+    if (spec.split) names.insert(names.end(), {part_job_name(spec), join_job_name(spec)});
+    nlohmann::ordered_json& recorded = record_.slurm["jobs"];
+    for (const std::string& name : names) {
+      const bool planned = std::any_of(jobs_.begin(), jobs_.end(), [&](const Job& job) { return job.name == name; });
+      if (planned || !recorded.contains(name)) continue;
+      std::vector<std::string> stale;
+      for (const auto& [task, id] : recorded_tasks(recorded[name])) {
+        if (active.count(id)) stale.push_back(id);
+      }
+      cancel_jobs(stale, reporter_);
+      recorded.erase(name);
+    }
+  }
+
   // Submits what is not done, pending or running, in stage order; what
   // follows a submission is submitted again too (its input will change).
   void submit() {
@@ -415,6 +445,7 @@ class SlurmRun {
         reporter_.info(spec.name + ": up to date, skipped");
         continue;
       }
+      drop_unplanned_jobs(s, active);
       const std::string hash = config_hash(s);
       bool all_completed = true;
       for (const Job& job : jobs_) {

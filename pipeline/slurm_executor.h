@@ -1,8 +1,9 @@
 // The Slurm executor of hos-pipeline (--executor slurm): every stage of the
 // range becomes an sbatch job that starts after the one before it
-// (--dependency=afterok), the stages that split (mvs, texture) become a job array of
-// view chunks and a job that joins them. The workspace must be on a
-// filesystem every node sees. docs/scale.md describes it for users.
+// (--dependency=afterok), the stages that split become a job array and a
+// job that joins its tasks: mvs and texture in chunks of the views, recon
+// one task per tile when recon.tiles asks for tiles. The workspace must be
+// on a filesystem every node sees. docs/scale.md describes it for users.
 //
 // Each job script ends by writing its exit code to
 // WS/slurm/status/<job>[.<task>].exit. That file says a job finished and how;

@@ -20,6 +20,7 @@ struct StagePaths {
         depth_maps(workspace / "mvs" / "depth_maps"),
         mesh(workspace / "recon" / "mesh.ply"),
         recon_report(workspace / "recon" / "report.json"),
+        recon_tiles(workspace / "recon" / "tiles"),
         refined_mesh(workspace / "refine" / "mesh.ply"),
         textured_model(workspace / "texture" / "model.glb"),
         texture_report(workspace / "texture" / "report.json"),
@@ -39,6 +40,7 @@ struct StagePaths {
   std::filesystem::path depth_maps;      // mvs split runs: the depth maps of the view chunks
   std::filesystem::path mesh;            // recon output: surface
   std::filesystem::path recon_report;    // figures of the recon stage (solver residuals)
+  std::filesystem::path recon_tiles;     // recon split runs: the tiles' functions
   std::filesystem::path refined_mesh;    // refine output: the surface the photos agree on
   std::filesystem::path textured_model;  // texture output: binary glTF
   std::filesystem::path texture_report;  // figures of the texture stage (views per face, seams)

@@ -55,7 +55,8 @@ const std::vector<StageSpec>& pipeline_stages() {
                     return std::vector<std::string>{
                         "--workspace", p.undistorted.string(), "--fuse",   p.depth_maps.string(),
                         "--output",    p.points.string(),      "--report", p.mvs_report.string()};
-                  }}},
+                  },
+                  /*fixed_parts=*/nullptr}},
       {"recon", "hos-recon",
        [](const DriverOptions&, const StagePaths& p) {
          return std::vector<std::string>{"--input",       p.points.string(), "--output",
@@ -63,7 +64,23 @@ const std::vector<StageSpec>& pipeline_stages() {
        },
        [](Fingerprint& f, const DriverOptions&, const StagePaths& p) { f.add_file_contents(p.points); },
        [](const StagePaths& p) { return fs::exists(p.mesh); }, typed_config<recon::ReconOptions>("recon"),
-       std::nullopt},
+       // Only recon.tiles fixes the tiles before the points exist; with 0
+       // the plan follows the points and the budget, and the one job tiles
+       // in turn when it must.
+       StageSplit{"tiles", "join",
+                  [](const StagePaths& p, const std::string& tile) {
+                    return std::vector<std::string>{"--input", p.points.string(), "--tile",
+                                                    tile,      "--tile-dir",      p.recon_tiles.string()};
+                  },
+                  [](const StagePaths& p) {
+                    return std::vector<std::string>{
+                        "--input",  p.points.string(), "--join-tiles", p.recon_tiles.string(),
+                        "--output", p.mesh.string(),   "--report",     p.recon_report.string()};
+                  },
+                  [](const PipelineConfig& config) {
+                    const auto* recon = stage_options<recon::ReconOptions>(config, "recon");
+                    return recon ? recon->tiles : 0;
+                  }}},
       {"refine", "hos-refine",
        [](const DriverOptions&, const StagePaths& p) {
          return std::vector<std::string>{"--workspace", p.undistorted.string(), "--mesh", p.mesh.string(),
@@ -98,7 +115,8 @@ const std::vector<StageSpec>& pipeline_stages() {
                         "--workspace",      p.undistorted.string(),   "--mesh",   p.refined_mesh.string(),
                         "--from-view-data", p.view_data.string(),     "--output", p.textured_model.string(),
                         "--report",         p.texture_report.string()};
-                  }}},
+                  },
+                  /*fixed_parts=*/nullptr}},
   };
   return kSpecs;
 }

@@ -12,20 +12,27 @@
 
 #include "pipeline/driver.h"
 #include "pipeline/file_hash.h"
+#include "pipeline/pipeline_config.h"
 #include "pipeline/stage_config.h"
 #include "pipeline/stage_paths.h"
 
 namespace hos::pipeline {
 
-// A stage whose per-view work can run as parallel parts (a job array on a
-// cluster), then one step that joins the parts.
+// A stage whose work can run as parallel parts (a job array on a cluster),
+// then one step that joins the parts: chunks of the views (mvs, texture), or
+// the tiles of a tiled reconstruction (recon).
 struct StageSplit {
   std::string part_name;  // "depth": the parts are the jobs "mvs-depth"
   std::string join_name;  // "fuse"
-  // Arguments of the part computing the views `views` ("FIRST-LAST").
-  std::function<std::vector<std::string>(const StagePaths&, const std::string& views)> part_arguments;
+  // Arguments of one part: `part` is the views "FIRST-LAST" it computes, or
+  // with fixed_parts its index.
+  std::function<std::vector<std::string>(const StagePaths&, const std::string& part)> part_arguments;
   // Arguments of the join, which writes the stage's result.
   std::function<std::vector<std::string>(const StagePaths&)> join_arguments;
+  // Set when the stage's own options fix the parts (recon: one per tile of
+  // recon.tiles): their number, below 2 when the stage runs whole. Unset:
+  // the views are chunked into as many parts as the executor asks for.
+  std::function<int(const PipelineConfig&)> fixed_parts;
 };
 
 struct StageSpec {

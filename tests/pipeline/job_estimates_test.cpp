@@ -81,6 +81,11 @@ TEST(JobEstimates, CpuTimeGrowsWithViewsPixelsFacesAndGrid) {
   grid1024.apply_assignment("recon.resolution=1024");
   EXPECT_GT(job_cpu_seconds("recon", grid1024, small, 1), job_cpu_seconds("recon", grid512, small, 1));
   EXPECT_GT(job_cpu_seconds("recon", grid512, small, 1), 0.0);
+  // A tile may span most of the grid: each tile task and the join get the
+  // whole grid's time.
+  for (const char* job : {"recon-tiles", "recon-join"}) {
+    EXPECT_EQ(job_cpu_seconds(job, grid512, small, 0), job_cpu_seconds("recon", grid512, small, 1)) << job;
+  }
 }
 
 TEST(JobEstimates, NoEstimateWithoutWhatItNeeds) {
@@ -140,6 +145,10 @@ TEST(JobEstimates, MemoryRequestsComeFromTheStagesOwnEstimates) {
   EXPECT_EQ(job_memory_mb("recon", config, 100, 3000), 3000);  // no budget set: the default request
   config.apply_assignment("recon.max_memory_mb=8000");
   EXPECT_EQ(job_memory_mb("recon", config, 100, 3000), 8512);
+  // hos-recon refuses a tile (solve or join) over the budget: each tile
+  // task and the join ask for it too, not for the whole grid's estimate.
+  EXPECT_EQ(job_memory_mb("recon-tiles", config, 100, 3000), 8512);
+  EXPECT_EQ(job_memory_mb("recon-join", config, 100, 3000), 8512);
   EXPECT_EQ(job_memory_mb("sfm", config, 100, 3000), 3000);
 }
 

@@ -297,6 +297,108 @@ TEST_F(SlurmExecutorTest, ReRunAfterAFailedTextureTaskSubmitsOnlyThatTaskAndTheJ
   EXPECT_EQ(record["slurm"]["jobs"]["texture-atlas"]["tasks"]["0"], "108");
 }
 
+// recon.tiles: 3 makes recon a 3-task array (one tile each) and a join after
+// it, each asking for recon's budget; the stages after wait for the join.
+TEST_F(SlurmExecutorTest, TiledReconIsAnArrayOfOneTaskPerTileThenAJoin) {
+  options_.assignments = {"recon.tiles=3", "recon.max_memory_mb=2000"};
+  run_pipeline(options_, log_);
+  const auto calls = sbatch_calls();
+  ASSERT_EQ(calls.size(), 8u) << log_.all();
+  const fs::path scripts = ws() / "slurm";
+  EXPECT_EQ(calls[3],
+            std::string("--parsable --array=0,1,2 --dependency=afterok:102 ") + (scripts / "recon-tiles.sh").string());
+  EXPECT_EQ(calls[4], std::string("--parsable --dependency=afterok:103 ") + (scripts / "recon-join.sh").string());
+  EXPECT_EQ(calls[5], std::string("--parsable --dependency=afterok:104 ") + (scripts / "refine.sh").string());
+  for (const int id : {103, 104}) {
+    const std::string script = read_text(fake_ / ("script." + std::to_string(id) + ".sh"));
+    EXPECT_THAT(script, HasSubstr("#SBATCH --mem=2512M\n")) << id;
+    EXPECT_THAT(script, Not(HasSubstr("first="))) << id;  // tiles, not views
+  }
+  EXPECT_THAT(read_text(fake_ / "script.103.sh"), HasSubstr("#SBATCH --job-name=hos-recon-tiles\n"));
+
+  for (const std::string job : {"recon-tiles", "recon-join"}) {
+    ProcessOptions process;
+    process.argv = {"/bin/sh", (scripts / (job + ".sh")).string()};
+    process.environment = {{"SLURM_ARRAY_TASK_ID", "2"}};
+    ASSERT_TRUE(run_process(process).ok()) << job;
+  }
+  const auto stage_calls = lines_of(fake_ / "stage_calls");
+  ASSERT_EQ(stage_calls.size(), 2u);
+  const std::string input = std::string("hos-recon --input ") + (ws() / "mvs" / "points.ply").string();
+  const std::string tiles = (ws() / "recon" / "tiles").string();
+  EXPECT_THAT(stage_calls[0], HasSubstr(input + " --tile 2 --tile-dir " + tiles + " "));
+  EXPECT_THAT(stage_calls[0], HasSubstr(std::string("--log ") + (ws() / "logs" / "recon-tiles.2.log").string()));
+  EXPECT_THAT(stage_calls[0], Not(HasSubstr("--output")));
+  EXPECT_THAT(stage_calls[1], HasSubstr(input + " --join-tiles " + tiles + " --output " +
+                                        (ws() / "recon" / "mesh.ply").string() + " --report "));
+  EXPECT_THAT(stage_calls[1], HasSubstr(std::string("--log ") + (ws() / "logs" / "recon.log").string()));
+  EXPECT_TRUE(fs::exists(ws() / "slurm" / "status" / "recon-tiles.2.exit"));
+  EXPECT_TRUE(fs::exists(ws() / "slurm" / "status" / "recon-join.exit"));
+
+  const nlohmann::json record = run_json();
+  EXPECT_EQ(record["slurm"]["jobs"]["recon-tiles"]["tasks"]["2"], "103_2");
+  EXPECT_EQ(record["slurm"]["jobs"]["recon-join"]["tasks"]["0"], "104");
+  EXPECT_FALSE(record["slurm"]["jobs"].contains("recon"));
+}
+
+// recon.tiles 1 never tiles, 0 tiles only when the points' grid exceeds the
+// budget, which is not known before mvs: one job either way.
+TEST_F(SlurmExecutorTest, ReconWithoutATileCountIsOneJob) {
+  for (const char* tiles : {"recon.tiles=0", "recon.tiles=1"}) {
+    options_.assignments = {tiles};
+    run_pipeline(options_, log_);
+    const auto calls = sbatch_calls();
+    ASSERT_EQ(calls.size() % 7, 0u) << tiles << log_.all();
+    EXPECT_THAT(calls[calls.size() - 4], HasSubstr((ws() / "slurm" / "recon.sh").string())) << tiles;
+  }
+}
+
+TEST_F(SlurmExecutorTest, ReRunAfterAFailedTileSubmitsOnlyThatTileAndTheJoinAndWhatFollows) {
+  options_.assignments = {"recon.tiles=3"};
+  run_pipeline(options_, log_);
+  write_sfm_outputs();
+  fs::create_directories(ws() / "mvs");
+  std::ofstream(ws() / "mvs" / "points.ply") << "points";
+  for (const char* job :
+       {"sfm", "mvs-depth.0", "mvs-depth.1", "mvs-depth.2", "mvs-fuse", "recon-tiles.0", "recon-tiles.2"}) {
+    set_status(job, 0);
+  }
+  set_status("recon-tiles.1", 2);  // the join never started (afterok)
+  run_pipeline(options_, log_);
+  const auto calls = sbatch_calls();
+  ASSERT_EQ(calls.size(), 13u) << log_.all();
+  EXPECT_EQ(calls[8], std::string("--parsable --array=1 ") + (ws() / "slurm" / "recon-tiles.sh").string());
+  EXPECT_EQ(calls[9],
+            std::string("--parsable --dependency=afterok:108 ") + (ws() / "slurm" / "recon-join.sh").string());
+  EXPECT_EQ(calls[10], std::string("--parsable --dependency=afterok:109 ") + (ws() / "slurm" / "refine.sh").string());
+  EXPECT_THAT(log_.all(), HasSubstr("recon-tiles task 1 (job 103_1) exit code 2; submitting it again"));
+  const nlohmann::json record = run_json();
+  EXPECT_EQ(record["stages"]["mvs"]["state"], "done");
+  const auto& tasks = record["slurm"]["jobs"]["recon-tiles"]["tasks"];
+  EXPECT_EQ(tasks["0"], "103_0");
+  EXPECT_EQ(tasks["1"], "108_1");
+  EXPECT_EQ(tasks["2"], "103_2");
+  EXPECT_EQ(record["slurm"]["jobs"]["recon-join"]["tasks"]["0"], "109");
+}
+
+// From one recon job to tiles: the pending one job would still run (and
+// write the mesh) unless cancelled with the jobs after it.
+TEST_F(SlurmExecutorTest, ChangedTileCountCancelsTheReconJobsOfTheOtherLayout) {
+  run_pipeline(options_, log_);
+  set_active(kAllJobs);
+  options_.assignments = {"recon.tiles=2"};
+  run_pipeline(options_, log_);
+  const auto calls = sbatch_calls();
+  ASSERT_EQ(calls.size(), 12u) << log_.all();
+  EXPECT_EQ(calls[7], std::string("--parsable --array=0,1 --dependency=afterok:102 ") +
+                          (ws() / "slurm" / "recon-tiles.sh").string());
+  EXPECT_EQ(calls[8],
+            std::string("--parsable --dependency=afterok:107 ") + (ws() / "slurm" / "recon-join.sh").string());
+  EXPECT_EQ(lines_of(fake_ / "scancel.log"),
+            (std::vector<std::string>{"103", "104", "105_0 105_1 105_2 105_3", "106"}));
+  EXPECT_FALSE(run_json()["slurm"]["jobs"].contains("recon"));
+}
+
 TEST_F(SlurmExecutorTest, ReRunKeepsPendingAndRunningJobs) {
   run_pipeline(options_, log_);
   set_active(kAllJobs);
