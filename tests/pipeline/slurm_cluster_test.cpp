@@ -2,10 +2,10 @@
 // (munged, slurmctld and slurmd from Debian's slurm-wlm and munge, with a
 // configuration generated into a temporary folder, stopped at the end): the
 // synthetic scene's .glb equals the local run's (mvs and texture split into
-// array tasks), and after one array task is killed a re-run submits only that
-// task and what follows it. Skips when the daemons are not installed
-// (scripts/install-deps.sh) or the test is not root (slurmd runs jobs as
-// their user).
+// array tasks of views, recon into one task per tile), and after one array
+// task is killed a re-run submits only that task and what follows it. Skips
+// when the daemons are not installed (scripts/install-deps.sh) or the test
+// is not root (slurmd runs jobs as their user).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -160,11 +160,14 @@ class SlurmClusterTest : public ::testing::Test {
 
 TEST_F(SlurmClusterTest, SyntheticSceneThroughSlurmEqualsTheLocalRun) {
   const fs::path exe = hos::testing::executable("hos-pipeline");
-  ASSERT_EQ(pipeline(exe, dir_ / "local.glb", "", "local.log"), 0) << log("local.log");
-  ASSERT_EQ(pipeline(exe, dir_ / "slurm.glb", kSlurm, "slurm.log"), 0) << log("slurm.log");
-  const fs::path ws = dir_ / "slurm_workspace";
+  // Both runs reconstruct in 2 tiles: locally one after the other in one
+  // process, on Slurm as a 2-task array and a join.
+  const std::string tiles = "--set recon.tiles=2 ";
+  ASSERT_EQ(pipeline(exe, dir_ / "local.glb", tiles, "local.log"), 0) << log("local.log");
+  ASSERT_EQ(pipeline(exe, dir_ / "slurm.glb", tiles + kSlurm, "slurm.log"), 0) << log("slurm.log");
+  const fs::path ws = dir_ / "slurm_workspace", local_ws = dir_ / "local_workspace";
   // mvs and texture ran as 3 array tasks of 4 views each, then the fusion
-  // and the atlas.
+  // and the atlas; recon as one task per tile, then the join.
   const nlohmann::json record = nlohmann::json::parse(read_text(ws / "run.json"));
   for (const std::string job : {"mvs-depth", "texture-views"}) {
     EXPECT_EQ(record["slurm"]["jobs"][job]["tasks"].size(), 3u) << job;
@@ -173,9 +176,22 @@ TEST_F(SlurmClusterTest, SyntheticSceneThroughSlurmEqualsTheLocalRun) {
           << job << " task " << task;
     }
   }
-  EXPECT_EQ(record["slurm"]["jobs"]["texture-atlas"]["tasks"].size(), 1u);
+  ASSERT_TRUE(record["slurm"]["jobs"].contains("recon-tiles")) << "recon was not submitted as an array of tiles";
+  EXPECT_EQ(record["slurm"]["jobs"]["recon-tiles"]["tasks"].size(), 2u);
+  for (int task = 0; task < 2; ++task) {
+    EXPECT_THAT(read_text(ws / "logs" / ("recon-tiles." + std::to_string(task) + ".log")),
+                HasSubstr("recon: tile " + std::to_string(task) + " of 2: "))
+        << "recon tile " << task;
+  }
+  EXPECT_THAT(read_text(ws / "logs" / "recon.log"), HasSubstr("recon: joined 2 tiles"));
+  EXPECT_THAT(read_text(local_ws / "logs" / "recon.log"), HasSubstr("grid in 2 tiles (recon.tiles)"));
+  EXPECT_FALSE(record["slurm"]["jobs"].contains("recon"));
+  for (const char* job : {"recon-join", "texture-atlas"}) {
+    EXPECT_EQ(record["slurm"]["jobs"][job]["tasks"].size(), 1u) << job;
+  }
   for (const auto& [stage, entry] : record["stages"].items()) EXPECT_EQ(entry["state"], "done") << stage;
-  EXPECT_TRUE(file_bytes(ws / "mvs" / "points.ply") == file_bytes(dir_ / "local_workspace" / "mvs" / "points.ply"));
+  EXPECT_TRUE(file_bytes(ws / "mvs" / "points.ply") == file_bytes(local_ws / "mvs" / "points.ply"));
+  EXPECT_TRUE(file_bytes(ws / "recon" / "mesh.ply") == file_bytes(local_ws / "recon" / "mesh.ply"));
   const std::string local = file_bytes(dir_ / "local.glb");
   ASSERT_FALSE(local.empty());
   EXPECT_TRUE(file_bytes(dir_ / "slurm.glb") == local) << "the Slurm run's .glb differs from the local run's";
