@@ -101,10 +101,11 @@ int job_memory_mb(const std::string& job, const PipelineConfig& config, int view
   }
   if (is_recon_job(job)) {
     // recon refuses a grid whose estimated peak exceeds its budget, so the
-    // budget (with room for the process itself) bounds the job. A tile's
-    // plan estimate is the larger of its solve's and its core's join's, and
-    // a tile over the budget is refused too: the same bound holds for each
-    // tile task and the join.
+    // budget (with room for the process itself) bounds the job. The tiles'
+    // count is known before the points, their sizes are not: the budget
+    // bounds each tile task too (hos-recon --tile refuses a tile whose
+    // solve's estimate exceeds it), and the join, which holds one core at a
+    // time, asks for the same.
     const auto* recon = stage_options<recon::ReconOptions>(config, "recon");
     if (recon && recon->max_memory_mb > 0) return recon->max_memory_mb + 512;
   }

@@ -145,8 +145,8 @@ TEST(JobEstimates, MemoryRequestsComeFromTheStagesOwnEstimates) {
   EXPECT_EQ(job_memory_mb("recon", config, 100, 3000), 3000);  // no budget set: the default request
   config.apply_assignment("recon.max_memory_mb=8000");
   EXPECT_EQ(job_memory_mb("recon", config, 100, 3000), 8512);
-  // hos-recon refuses a tile (solve or join) over the budget: each tile
-  // task and the join ask for it too, not for the whole grid's estimate.
+  // hos-recon refuses a tile whose solve exceeds the budget: each tile
+  // task, and the join, ask for the budget, not for the whole grid's estimate.
   EXPECT_EQ(job_memory_mb("recon-tiles", config, 100, 3000), 8512);
   EXPECT_EQ(job_memory_mb("recon-join", config, 100, 3000), 8512);
   EXPECT_EQ(job_memory_mb("sfm", config, 100, 3000), 3000);
