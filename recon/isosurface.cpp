@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -554,60 +555,80 @@ class SlabSweep {
     Slab& s = slabs_[(z + 2) % 2];
     s.z = z;
     int n = base;
-    std::size_t at = 0;
     const double* p0 = plane(z);
     const double* p1 = plane(z + 1);
     const std::uint8_t* a0 = active_plane(z);
     const std::uint8_t* a1 = active_plane(z + 1);
-    const std::uint8_t* rows_in_use = load(z).row_active.data();
-    for (int y = -1; y <= d_.y(); ++y) {
-      if (!rows_in_use[y + 2]) {  // no active node: no crossing starts in this row
-        std::fill(s.index.begin() + at, s.index.begin() + at + std::size_t(3) * (d_.x() + 2), -1);
-        at += std::size_t(3) * (d_.x() + 2);
-        continue;
-      }
+    // The crossings of node (x, y) of the slab, in the order they are numbered.
+    const auto index_node = [&](int x, int y, std::size_t at) {
       const double* row = p0 + std::size_t(y + 2) * px_ + 2;
       const double* above = p1 + std::size_t(y + 2) * px_ + 2;
       const std::uint8_t* act = a0 + std::size_t(y + 2) * px_ + 2;
       const std::uint8_t* act_above = a1 + std::size_t(y + 2) * px_ + 2;
-      for (int x = -1; x <= d_.x(); ++x) {
-        const bool in = row[x] - iso_ < 0.0;
-        const bool cross[3] = {x < d_.x() && act[x] && act[x + 1] && (row[x + 1] - iso_ < 0.0) != in,
-                               y < d_.y() && act[x] && act[x + px_] && (row[x + px_] - iso_ < 0.0) != in,
-                               z < d_.z() && act[x] && act_above[x] && (above[x] - iso_ < 0.0) != in};
-        for (int a = 0; a < 3; ++a, ++at) s.index[at] = cross[a] ? n++ : -1;
+      const bool in = row[x] - iso_ < 0.0;
+      const bool cross[3] = {x < d_.x() && act[x] && act[x + 1] && (row[x + 1] - iso_ < 0.0) != in,
+                             y < d_.y() && act[x] && act[x + px_] && (row[x + px_] - iso_ < 0.0) != in,
+                             z < d_.z() && act[x] && act_above[x] && (above[x] - iso_ < 0.0) != in};
+      for (int a = 0; a < 3; ++a) s.index[at + a] = cross[a] ? n++ : -1;
+    };
+    if (source_.band) {
+      // A crossing starts only at an active node: the active runs are
+      // visited, and what the slab's last use wrote is reset first.
+      for (const RowRange& w : s.written) {
+        std::fill(s.index.begin() + slab_at(w.lo, w.y), s.index.begin() + slab_at(w.hi, w.y), -1);
       }
+      s.written.clear();
+      for (int y = 0; y < d_.y(); ++y) {
+        const std::span<const NodeRun> runs = active_runs(y, z);
+        if (runs.empty()) continue;
+        for (const NodeRun& run : runs) {
+          for (int x = run.begin; x < run.end; ++x) index_node(x, y, slab_at(x, y));
+        }
+        s.written.push_back({y, runs.front().begin, runs.back().end});
+      }
+      return n - base;
+    }
+    for (int y = -1; y <= d_.y(); ++y) {
+      for (int x = -1; x <= d_.x(); ++x) index_node(x, y, slab_at(x, y));
     }
     return n - base;
   }
 
   int vertex(int x, int y, int z, int axis) const {
     const Slab& s = slabs_[(z + 2) % 2];
-    return s.index[(std::size_t(y + 1) * (d_.x() + 2) + (x + 1)) * 3 + axis];
+    return s.index[slab_at(x, y) + axis];
   }
 
   // Writes the positions and gradient normals of node slab z's crossings
   // (numbered by index_slab just before).
   void write_slab(int z, TriangleMesh& mesh, std::vector<GridEdge>* edges) {
     const GridGeometry& g = g_;
-    const std::uint8_t* rows_in_use = load(z).row_active.data();
-    for (int y = -1; y <= d_.y(); ++y) {
-      if (!rows_in_use[y + 2]) continue;
-      for (int x = -1; x <= d_.x(); ++x) {
-        for (int a = 0; a < 3; ++a) {
-          const int v = vertex(x, y, z, a);
-          if (v < 0) continue;
-          const Eigen::Vector3i n0(x, y, z);
-          const Eigen::Vector3i n1 = n0 + Eigen::Vector3i::Unit(a);
-          const double g0 = value(x, y, z), g1 = value(n1.x(), n1.y(), n1.z());
-          const double t = crossing_fraction(g0, g1);
-          mesh.vertices[v] = (g.position(x, y, z) + t * g.spacing * Eigen::Vector3d::Unit(a)).cast<float>();
-          Eigen::Vector3d normal = (1.0 - t) * gradient(n0) + t * gradient(n1);
-          if (!(normal.norm() > 0.0)) normal = (g1 > g0 ? 1.0 : -1.0) * Eigen::Vector3d::Unit(a);
-          mesh.normals[v] = normal.normalized().cast<float>();
-          if (edges) (*edges)[v] = GridEdge{n0, a};
+    const auto write_node = [&](int x, int y) {
+      for (int a = 0; a < 3; ++a) {
+        const int v = vertex(x, y, z, a);
+        if (v < 0) continue;
+        const Eigen::Vector3i n0(x, y, z);
+        const Eigen::Vector3i n1 = n0 + Eigen::Vector3i::Unit(a);
+        const double g0 = value(x, y, z), g1 = value(n1.x(), n1.y(), n1.z());
+        const double t = crossing_fraction(g0, g1);
+        mesh.vertices[v] = (g.position(x, y, z) + t * g.spacing * Eigen::Vector3d::Unit(a)).cast<float>();
+        Eigen::Vector3d normal = (1.0 - t) * gradient(n0) + t * gradient(n1);
+        if (!(normal.norm() > 0.0)) normal = (g1 > g0 ? 1.0 : -1.0) * Eigen::Vector3d::Unit(a);
+        mesh.normals[v] = normal.normalized().cast<float>();
+        if (edges) (*edges)[v] = GridEdge{n0, a};
+      }
+    };
+    load(z);
+    if (source_.band) {
+      for (int y = 0; y < d_.y(); ++y) {
+        for (const NodeRun& run : active_runs(y, z)) {
+          for (int x = run.begin; x < run.end; ++x) write_node(x, y);
         }
       }
+      return;
+    }
+    for (int y = -1; y <= d_.y(); ++y) {
+      for (int x = -1; x <= d_.x(); ++x) write_node(x, y);
     }
   }
 
@@ -628,70 +649,109 @@ class SlabSweep {
         rows[c] = planes[c >> 1] + std::size_t(y + 2 + (c & 1)) * px_ + 2;
         active_rows[c] = actives[c >> 1] + std::size_t(y + 2 + (c & 1)) * px_ + 2;
       }
-      for (int x = -1; x < d_.x(); ++x) {
-        if (source_.band) {
-          bool all = true;
-          for (int c = 0; c < 4 && all; ++c) all = active_rows[c][x] && active_rows[c][x + 1];
-          if (!all) continue;
-        }
+      const auto mesh_cell = [&](int x) {
         int config = 0;
         for (int c = 0; c < 8; ++c) {
           g[c] = rows[c >> 1][x + (c & 1)] - iso_;
           config |= int(g[c] < 0.0) << c;
         }
-        if (config == 0 || config == 255) continue;
+        if (config == 0 || config == 255) return;
         for (int e = 0; e < 12; ++e) {
           const int c0 = edge_lower_corner(e);
           vertex[e] = this->vertex(x + bit(c0, 0), y + bit(c0, 1), k + bit(c0, 2), e / 4);
         }
         CellMesher(t, g, config, vertex, g_.position(x, y, k), g_.spacing, out).run();
+      };
+      if (!source_.band) {
+        for (int x = -1; x < d_.x(); ++x) mesh_cell(x);
+        continue;
+      }
+      // A cell is meshed when its eight corners are active: its lower corner
+      // lies in an active run of row (y, k), with its x neighbour.
+      for (const NodeRun& run : active_runs(y, k)) {
+        for (int x = run.begin; x + 1 < run.end; ++x) {
+          bool all = true;
+          for (int c = 0; c < 4 && all; ++c) all = active_rows[c][x] && active_rows[c][x + 1];
+          if (all) mesh_cell(x);
+        }
       }
     }
   }
 
  private:
+  // The nodes lo <= x < hi of row y of a plane or slab that a band's load
+  // wrote, reset by the next.
+  struct RowRange {
+    int y, lo, hi;
+  };
   struct Plane {
     int z = std::numeric_limits<int>::min();
     std::vector<double> values;            // nodes -2 .. dims, x fastest
     std::vector<std::uint8_t> active;      // the same nodes: may the node be used?
     std::vector<std::uint8_t> row_active;  // per row y + 2: has it an active node?
+    std::vector<RowRange> written;         // band: the stored nodes' rows
   };
   struct Slab {
     int z = std::numeric_limits<int>::min();
-    std::vector<int> index;  // vertex per (node, axis), -1 without a crossing
+    std::vector<int> index;         // vertex per (node, axis), -1 without a crossing
+    std::vector<RowRange> written;  // band: the rows indexed
   };
+
+  // Index in Slab::index of node (x, y)'s first axis.
+  std::size_t slab_at(int x, int y) const { return (std::size_t(y + 1) * (d_.x() + 2) + (x + 1)) * 3; }
+
+  // The band's active runs of row y of plane z (none outside the grid).
+  std::span<const NodeRun> active_runs(int y, int z) const {
+    if (y < 0 || z < 0 || y >= d_.y() || z >= d_.z()) return {};
+    const RowRuns& set = source_.band->active_set();
+    const std::int64_t row = std::int64_t{z} * d_.y() + y;
+    return {set.runs.data() + set.row_begin[row], set.runs.data() + set.row_begin[row + 1]};
+  }
 
   Plane& load(int z) {
     Plane& p = planes_[(z + 4) % 4];  // z >= -2: four consecutive slabs never collide
     if (p.z == z) return p;
     p.z = z;
-    std::fill(p.values.begin(), p.values.end(), 0.0);
     if (source_.band) {
-      std::fill(p.active.begin(), p.active.end(), 0);
-      std::fill(p.row_active.begin(), p.row_active.end(), 0);
-    }
-    if (z < 0 || z >= d_.z()) return p;
-    if (!source_.band) {
-      for (int y = 0; y < d_.y(); ++y) {
-        const double* row = &source_.values[g_.index(0, y, z)];
-        std::copy(row, row + d_.x(), &p.values[std::size_t(y + 2) * px_ + 2]);
-      }
+      load_band(z, p);
       return p;
     }
-    const ActiveNodes& band = *source_.band;
+    std::fill(p.values.begin(), p.values.end(), 0.0);
+    if (z < 0 || z >= d_.z()) return p;
     for (int y = 0; y < d_.y(); ++y) {
-      band.gather_row(source_.values.data(), y, z, 0, d_.x(), &p.values[std::size_t(y + 2) * px_ + 2]);
-    }
-    const RowRuns& set = band.active_set();
-    for (int y = 0; y < d_.y(); ++y) {
-      const std::int64_t row = std::int64_t{z} * d_.y() + y;
-      p.row_active[y + 2] = set.row_begin[row] < set.row_begin[row + 1];
-      for (std::int64_t r = set.row_begin[row]; r < set.row_begin[row + 1]; ++r) {
-        std::fill(&p.active[std::size_t(y + 2) * px_ + 2 + set.runs[r].begin],
-                  &p.active[std::size_t(y + 2) * px_ + 2 + set.runs[r].end], 1);
-      }
+      const double* row = &source_.values[g_.index(0, y, z)];
+      std::copy(row, row + d_.x(), &p.values[std::size_t(y + 2) * px_ + 2]);
     }
     return p;
+  }
+
+  // A band's plane: its stored values (zero elsewhere) and active nodes.
+  // Only the rows the plane's last use wrote are cleared: a band stores a
+  // few percent of a large grid's nodes, and clearing whole planes cost more
+  // than meshing them.
+  void load_band(int z, Plane& p) {
+    for (const RowRange& w : p.written) {
+      const std::size_t at = std::size_t(w.y + 2) * px_ + 2;
+      std::fill(p.values.begin() + at + w.lo, p.values.begin() + at + w.hi, 0.0);
+      std::fill(p.active.begin() + at + w.lo, p.active.begin() + at + w.hi, 0);
+    }
+    p.written.clear();
+    std::fill(p.row_active.begin(), p.row_active.end(), 0);
+    if (z < 0 || z >= d_.z()) return;
+    const ActiveNodes& band = *source_.band;
+    for (int y = 0; y < d_.y(); ++y) {
+      const std::size_t at = std::size_t(y + 2) * px_ + 2;
+      int lo = d_.x(), hi = 0;
+      band.for_each_stored_run(std::int64_t{z} * d_.y() + y, [&](int a, int b, std::int64_t base) {
+        std::copy(source_.values.begin() + base + a, source_.values.begin() + base + b, p.values.begin() + at + a);
+        lo = std::min(lo, a);
+        hi = std::max(hi, b);
+      });
+      if (lo < hi) p.written.push_back({y, lo, hi});
+      const std::span<const NodeRun> runs = active_runs(y, z);
+      p.row_active[y + 2] = !runs.empty();
+      for (const NodeRun& run : runs) std::fill(p.active.begin() + at + run.begin, p.active.begin() + at + run.end, 1);
+    }
   }
   const double* plane(int z) { return load(z).values.data(); }
   const std::uint8_t* active_plane(int z) { return load(z).active.data(); }
