@@ -65,6 +65,13 @@ class ActiveNodes {
   // stored (or outside the grid). For an active span's node i and rows within
   // kHalo, the run covers i' in [begin - kHalo, end + kHalo) inside the grid.
   std::int64_t row_base(int j, int k, int i) const;
+  // The stored run of row (j, k) that holds node i: nodes lo <= i' < hi,
+  // node i' at base + i'; empty (lo = hi) if node i is not stored.
+  struct StoredWindow {
+    int lo = 0, hi = 0;
+    std::int64_t base = 0;
+  };
+  StoredWindow stored_window(int j, int k, int i) const;
   // out[t] = the value of node (lo + t, j, k), zero where it is not stored;
   // values holds the layout's values from storage index `first` on (a window
   // of the array, e.g. one plane).
@@ -153,6 +160,17 @@ inline std::int64_t ActiveNodes::row_base(int j, int k, int i) const {
     if (i < stored_[r].hi) return stored_[r].base;
   }
   return kNotStored;
+}
+
+inline ActiveNodes::StoredWindow ActiveNodes::stored_window(int j, int k, int i) const {
+  if (j < 0 || k < 0 || j >= dims_.y() || k >= dims_.z() || i < 0 || i >= dims_.x()) return {};
+  const std::int64_t row = std::int64_t{k} * dims_.y() + j;
+  if (is_all()) return {0, dims_.x(), row * dims_.x()};
+  for (std::int64_t r = row_runs_[row]; r < row_runs_[row + 1]; ++r) {
+    if (i < stored_[r].lo) break;
+    if (i < stored_[r].hi) return {stored_[r].lo, stored_[r].hi, stored_[r].base};
+  }
+  return {};
 }
 
 template <typename T>

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "recon/grid_transfer.h"
@@ -97,14 +98,24 @@ void EnergyOperator::for_each_span(const T* x, SpanFn&& span_fn) const {
 #pragma omp parallel if (worth_threads(active.count()))
   {
     std::vector<T> row_buffer(nx), l1_buffer(kWithL1 ? nx : 0);
+    std::optional<CellProducts<T>> cell_products;
+    if (screening_->kept_per_cell()) cell_products.emplace(*screening_, active, x);
 #pragma omp for schedule(static)
     for (std::int64_t s = 0; s < num_spans; ++s) {
       const NodeSpan& span = spans[s];
       const int j = span.j, k = span.k, b = span.begin, e = span.end;
-      // x of a neighbour row (or null outside the grid), indexed by i.
+      // x of a neighbour row within +-2 (or null outside the grid), indexed
+      // by i; each looked up once for the stencil and the screening term.
+      std::array<const T*, 25> x_rows_near;
+      std::uint32_t looked_up = 0;
       const auto x_row = [&](int dy, int dz) -> const T* {
-        const std::int64_t base = active.row_base(j + dy, k + dz, b);
-        return base == ActiveNodes::kNotStored ? nullptr : x + base;
+        const int q = (dy + 2) + 5 * (dz + 2);
+        if (!(looked_up >> q & 1)) {
+          const std::int64_t base = active.row_base(j + dy, k + dz, b);
+          x_rows_near[q] = base == ActiveNodes::kNotStored ? nullptr : x + base;
+          looked_up |= std::uint32_t{1} << q;
+        }
+        return x_rows_near[q];
       };
       T* __restrict row = row_buffer.data();
       std::fill(row + b, row + e, T(0));
@@ -140,7 +151,9 @@ void EnergyOperator::for_each_span(const T* x, SpanFn&& span_fn) const {
       if (!screening_->empty()) {
         std::array<const T*, 9> x_rows;
         for (int q = 0; q < 9; ++q) x_rows[q] = x_row(q % 3 - 1, q / 3 - 1);
-        screening_->add_row(std::int64_t{k} * d.y() + j, b, e, x_rows, row);
+        if (cell_products) cell_products->reach_plane(k);
+        screening_->add_row(std::int64_t{k} * d.y() + j, b, e, x_rows, cell_products ? cell_products->data() : nullptr,
+                            row);
       }
       if constexpr (kWithL1) {
         l1_row(span, l1_buffer.data());

@@ -128,10 +128,17 @@ void ScreeningTerm::store_cells(const CellSamples& cells) {
   std::int64_t num_values = 0;
   for (std::size_t q = 0; q < num_cells; ++q) {
     const auto samples = static_cast<std::int32_t>(cells.first_of_cell[q + 1] - cells.first_of_cell[q]);
-    cells_[q] = {cells.samples[cells.first_of_cell[q]].corner, samples, num_values};
+    cells_[q] = {cells.samples[cells.first_of_cell[q]].corner, samples, num_values, num_products_};
     num_values += samples > kMaxListedSamples ? 36 : 8 * samples;
+    num_products_ += samples > kMaxListedSamples ? 8 : samples;
   }
   values_.resize(static_cast<std::size_t>(num_values));
+  // Sorted by their corner clamped to [-2, dims] (sort_by_cell), a plane's
+  // cells are consecutive.
+  const int nz = geometry_.dims.z();
+  plane_cells_.assign(static_cast<std::size_t>(nz) + 4, 0);
+  for (std::size_t q = 0; q < num_cells; ++q) ++plane_cells_[std::clamp(cells_[q].corner.z(), -2, nz) + 3];
+  for (std::size_t z = 1; z < plane_cells_.size(); ++z) plane_cells_[z] += plane_cells_[z - 1];
 #pragma omp parallel for schedule(static)
   for (std::size_t q = 0; q < num_cells; ++q) {
     float* v = values_.data() + cells_[q].values;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -56,9 +57,15 @@ class ScreeningTerm {
   void add_row_sums(std::int64_t row, int begin, int end, double scale, T* y_row) const;
   // y_row[i] += (S^T S x)[node i of the row] for the touched nodes with
   // begin <= i < end; x_rows[(dy + 1) + 3 (dz + 1)][i'] is x at node
-  // (i', j + dy, k + dz), or null for a row outside the grid.
+  // (i', j + dy, k + dz), or null for a row outside the grid. Kept per cell,
+  // the term reads the cells' products with x instead (CellProducts).
   template <typename T>
-  void add_row(std::int64_t row, int begin, int end, const std::array<const T*, 9>& x_rows, T* y_row) const;
+  void add_row(std::int64_t row,
+               int begin,
+               int end,
+               const std::array<const T*, 9>& x_rows,
+               const double* cell_products,
+               T* y_row) const;
 
  private:
   // A cell that holds samples (corners as bits x, y, z). A cell of one
@@ -71,8 +78,9 @@ class ScreeningTerm {
   static constexpr std::array<double, 8> kAllOnes = {1, 1, 1, 1, 1, 1, 1, 1};
   struct Cell {
     Eigen::Vector3i corner;
-    std::int32_t samples;  // in the cell; more than kMaxListedSamples: moments
-    std::int64_t values;   // index of its first value in values_
+    std::int32_t samples;   // in the cell; more than kMaxListedSamples: moments
+    std::int64_t values;    // index of its first value in values_
+    std::int64_t products;  // index of its first product (cell_products)
   };
   // The touched nodes as runs of consecutive nodes along x (the rows a span
   // meets are found without a search); node e of the runs (in run order) is
@@ -97,6 +105,16 @@ class ScreeningTerm {
   void for_each_cell_of(const Run& run, int i, Fn&& fn) const;
   // Row c of the cell's matrix sum_s w_s w_s^T times xc (its corners' values).
   double cell_row_times(const Cell& cell, int c, const std::array<double, 8>& xc) const;
+  // The same from the cell's products with x: a listed sample's weight at c
+  // times f there, or the moments' row c.
+  double cell_row_product(const Cell& cell, int c, const double* products) const;
+  // The products of the cells of plane z (lower corners at z) with x, x in
+  // the layout of nodes; cells with a corner it does not store are skipped
+  // (no active node's row reads them).
+  template <typename T>
+  void compute_cell_products(int z, const ActiveNodes& nodes, const T* x, double* products) const;
+  template <typename T>
+  friend class CellProducts;
 
   GridGeometry geometry_;
   double weight_ = 0.0;
@@ -105,11 +123,40 @@ class ScreeningTerm {
   // Per touched node its 27 coefficients (x fastest), or empty: the cells.
   std::vector<float> coefficients_;
   std::vector<Cell> cells_;
+  std::int64_t num_products_ = 0;  // per listed sample 1, per cell of moments 8
+  // The cells of plane z (lower corner at z, clamped to [-2, dims.z]) are
+  // cells_[plane_cells_[z + 2] .. plane_cells_[z + 3]).
+  std::vector<std::int64_t> plane_cells_;
   std::vector<float> values_;
   std::vector<float> row_sums_;           // per touched node, without the weight
   std::vector<std::int32_t> first_cell_;  // per touched node, and one past the last
   std::vector<std::int32_t> cells_of_node_;
   mutable std::shared_ptr<const ScreeningTerm> coarser_;
+};
+
+// Kept per cell (ScreeningTerm::kept_per_cell), the products of the cells'
+// matrices with x that the rows of a sweep sum: each computed once per cell
+// rather than once per corner (8 times), plane by plane as one thread's sweep
+// reaches it, while x is in cache. Each thread of a sweep has its own.
+template <typename T>
+class CellProducts {
+ public:
+  CellProducts(const ScreeningTerm& term, const ActiveNodes& nodes, const T* x)
+      : term_(term), nodes_(nodes), x_(x), products_(new double[term.num_products_]) {}
+  // Computes the products node plane k reads (cell planes k - 1 and k)
+  // unless done; k never decreases.
+  void reach_plane(int k) {
+    for (int z = std::max(next_, k - 1); z <= k; ++z) term_.compute_cell_products(z, nodes_, x_, products_.get());
+    next_ = std::max(next_, k + 1);
+  }
+  const double* data() const { return products_.get(); }
+
+ private:
+  const ScreeningTerm& term_;
+  const ActiveNodes& nodes_;
+  const T* x_;
+  std::unique_ptr<double[]> products_;          // only the planes reached are written
+  int next_ = std::numeric_limits<int>::min();  // the planes below are done
 };
 
 // Defined here so that the operator's row sweep inlines them.
@@ -120,23 +167,15 @@ constexpr int moment_index(int a, int b) {
   return lo * 8 - lo * (lo - 1) / 2 + (hi - lo);
 }
 
-// For a node that is corner c of a cell, where its corner b lies: the row
-// (dy + 1) + 3 (dz + 1) of the 9 rows around the node, the offset along x,
-// and the entry (c, b) in Cell::moments.
-struct CellCornerTap {
-  int row, dx, moment;
-};
-constexpr std::array<std::array<CellCornerTap, 8>, 8> cell_corner_taps() {
-  std::array<std::array<CellCornerTap, 8>, 8> taps{};
-  for (int c = 0; c < 8; ++c) {
-    for (int b = 0; b < 8; ++b) {
-      const int dx = (b & 1) - (c & 1), dy = ((b >> 1) & 1) - ((c >> 1) & 1), dz = (b >> 2) - (c >> 2);
-      taps[c][b] = {(dy + 1) + 3 * (dz + 1), dx, moment_index(c, b)};
-    }
+// moment_index as a table, for the loops over a row of the matrix.
+constexpr std::array<std::array<std::uint8_t, 8>, 8> moment_index_table() {
+  std::array<std::array<std::uint8_t, 8>, 8> table{};
+  for (int a = 0; a < 8; ++a) {
+    for (int b = 0; b < 8; ++b) table[a][b] = static_cast<std::uint8_t>(moment_index(a, b));
   }
-  return taps;
+  return table;
 }
-inline constexpr std::array<std::array<CellCornerTap, 8>, 8> kCellCornerTaps = cell_corner_taps();
+inline constexpr std::array<std::array<std::uint8_t, 8>, 8> kMomentIndex = moment_index_table();
 
 template <typename Fn>
 void ScreeningTerm::for_each_cell_of(const Run& run, int i, Fn&& fn) const {
@@ -161,7 +200,7 @@ inline double ScreeningTerm::cell_row_times(const Cell& cell, int c, const std::
   const float* v = values_.data() + cell.values;
   double sum = 0.0;
   if (cell.samples > kMaxListedSamples) {
-    for (int b = 0; b < 8; ++b) sum += v[moment_index(c, b)] * xc[b];
+    for (int b = 0; b < 8; ++b) sum += v[kMomentIndex[c][b]] * xc[b];
     return sum;
   }
   for (int s = 0; s < cell.samples; ++s, v += 8) {
@@ -172,9 +211,75 @@ inline double ScreeningTerm::cell_row_times(const Cell& cell, int c, const std::
   return sum;
 }
 
+// The same sums as cell_row_times, in the same order, on products computed
+// beforehand: the two give the same bits.
+inline double ScreeningTerm::cell_row_product(const Cell& cell, int c, const double* products) const {
+  const double* p = products + cell.products;
+  if (cell.samples > kMaxListedSamples) return p[c];
+  const float* v = values_.data() + cell.values;
+  double sum = 0.0;
+  for (int s = 0; s < cell.samples; ++s, v += 8) sum += v[c] * p[s];
+  return sum;
+}
+
 template <typename T>
-void ScreeningTerm::add_row(
-    std::int64_t row, int begin, int end, const std::array<const T*, 9>& x_rows, T* y_row) const {
+void ScreeningTerm::compute_cell_products(int z, const ActiveNodes& nodes, const T* x, double* products) const {
+  const Eigen::Vector3i d = geometry_.dims;
+  // The stored runs holding the cells' four corner rows (dy, dz), kept while
+  // the next cells (sorted along rows) lie in them.
+  std::array<ActiveNodes::StoredWindow, 4> windows;
+  std::array<std::int64_t, 4> window_rows;
+  window_rows.fill(-1);
+  for (std::int64_t q = plane_cells_[z + 2]; q < plane_cells_[z + 3]; ++q) {
+    const Cell& cell = cells_[q];
+    // x at the cell's corners (bits x, y, z); zero outside the grid.
+    std::array<double, 8> xc{};
+    // Its corners inside the grid along x: i0 <= i <= i1, xc[2 r + i - corner].
+    const int i0 = std::max(cell.corner.x(), 0), i1 = std::min(cell.corner.x() + 1, d.x() - 1);
+    const int first = i0 - cell.corner.x();
+    bool stored = true;
+    for (int r = 0; r < 4 && stored; ++r) {
+      const int j = cell.corner.y() + (r & 1), k = cell.corner.z() + (r >> 1);
+      if (j < 0 || k < 0 || j >= d.y() || k >= d.z() || i0 > i1) continue;
+      const std::int64_t row = std::int64_t{k} * d.y() + j;
+      ActiveNodes::StoredWindow& w = windows[r];
+      if (window_rows[r] != row || i0 < w.lo || i0 >= w.hi) {
+        w = nodes.stored_window(j, k, i0);
+        window_rows[r] = row;
+      }
+      // A corner the layout does not store: no active node's row reads the cell.
+      stored = i0 >= w.lo && i1 < w.hi;
+      if (!stored) break;
+      xc[2 * r + first] = static_cast<double>(x[w.base + i0]);
+      if (i1 > i0) xc[2 * r + 1] = static_cast<double>(x[w.base + i1]);
+    }
+    if (!stored) continue;
+    const float* v = values_.data() + cell.values;
+    double* p = products + cell.products;
+    if (cell.samples > kMaxListedSamples) {
+      // Row c of the moments times x (cell_row_times).
+      for (int c = 0; c < 8; ++c) {
+        double sum = 0.0;
+        for (int b = 0; b < 8; ++b) sum += v[kMomentIndex[c][b]] * xc[b];
+        p[c] = sum;
+      }
+      continue;
+    }
+    for (int s = 0; s < cell.samples; ++s, v += 8) {
+      double at_sample = 0.0;  // f at the sample
+      for (int b = 0; b < 8; ++b) at_sample += v[b] * xc[b];
+      p[s] = at_sample;
+    }
+  }
+}
+
+template <typename T>
+void ScreeningTerm::add_row(std::int64_t row,
+                            int begin,
+                            int end,
+                            const std::array<const T*, 9>& x_rows,
+                            const double* cell_products,
+                            T* y_row) const {
   const Eigen::Vector3i d = geometry_.dims;
   for (std::int64_t e = row_begin_[row]; e < row_begin_[row + 1]; ++e) {
     const Run& run = runs_[e];
@@ -203,19 +308,8 @@ void ScreeningTerm::add_row(
       continue;
     }
     for (int i = std::max(run.begin, begin); i < std::min(run.end, end); ++i) {
-      const bool inside = interior && i > 0 && i < d.x() - 1;
       double sum = 0.0;
-      for_each_cell_of(run, i, [&](const Cell& cell, int c) {
-        // x at the cell's corners; corners outside the grid are zero ghosts.
-        std::array<double, 8> xc;
-        for (int b = 0; b < 8; ++b) {
-          const CellCornerTap& tap = kCellCornerTaps[c][b];
-          const T* x = x_rows[tap.row];
-          const int ii = i + tap.dx;
-          xc[b] = inside || (x && ii >= 0 && ii < d.x()) ? static_cast<double>(x[ii]) : 0.0;
-        }
-        sum += cell_row_times(cell, c, xc);
-      });
+      for_each_cell_of(run, i, [&](const Cell& cell, int c) { sum += cell_row_product(cell, c, cell_products); });
       y_row[i] += static_cast<T>(weight_ * sum);
     }
   }

@@ -130,11 +130,15 @@ TEST(ActiveNodes, BandStoresItsNodesAndTheirHaloCompactly) {
   }
 }
 
-TEST(ActiveNodes, BandedOperatorComputesTheBandRowsOnly) {
+// The residual of a screened operator restricted to the band around `count`
+// samples matches the dense operator's on the band's rows and writes nothing
+// else.
+void check_banded_operator_rows(int count, bool per_cell) {
   const GridGeometry g = cube_grid(31, 0.1);
-  const auto points = std::make_shared<const std::vector<Eigen::Vector3f>>(sphere_points(g, 1.0, 5000));
+  const auto points = std::make_shared<const std::vector<Eigen::Vector3f>>(sphere_points(g, 1.0, count));
   EnergyOperator dense(g, SmoothnessEnergy::kFullHessian, 0.3);
   dense.set_screening(points, 50.0);
+  ASSERT_EQ(dense.screening().kept_per_cell(), per_cell) << count;
   EnergyOperator banded = dense;
   auto band = std::make_shared<const ActiveNodes>(band_around_samples(g, *points, 2));
   banded.set_active(band);
@@ -152,12 +156,20 @@ TEST(ActiveNodes, BandedOperatorComputesTheBandRowsOnly) {
   band->scatter_active(rb.data(), r_band.data());
   for (std::int64_t n = 0; n < g.num_nodes(); ++n) {
     if (band->contains(n)) {
-      ASSERT_NEAR(r_band[n], r_dense[n], 1e-12 * std::abs(r_dense[n]) + 1e-12) << "band row " << n;
+      ASSERT_NEAR(r_band[n], r_dense[n], 1e-12 * std::abs(r_dense[n]) + 1e-12) << count << " samples, band row " << n;
     }
   }
   std::int64_t written = 0;
   for (double v : rb) written += v != 7.0;
-  EXPECT_LE(written, band->count()) << "entries of the halo were written";
+  EXPECT_LE(written, band->count()) << count << " samples: entries of the halo were written";
+}
+
+TEST(ActiveNodes, BandedOperatorComputesTheBandRowsOnly) {
+  // The screening term in both its forms: 5000 samples keep it per touched
+  // node, 300 (about one per cell) per cell.
+  for (const auto& [count, per_cell] : {std::pair{5000, false}, std::pair{300, true}}) {
+    check_banded_operator_rows(count, per_cell);
+  }
 }
 
 TEST(ActiveNodes, TotalVariationOperatorRefusesABand) {
