@@ -215,7 +215,7 @@ void EnergyOperator::smoothing_step(const T* b, const T* x, double keep, double 
 }
 
 template <typename T>
-void EnergyOperator::scale_by_inverse_l1(const T* in, double a, T* out) const {
+void EnergyOperator::scale_by_inverse_l1(const T* in, double a, T* out, T* copy) const {
   const T s = static_cast<T>(a);
   for_each_active_span(*active_, [&](const NodeSpan& span) {
     // The span's row sums first, in out itself.
@@ -223,6 +223,7 @@ void EnergyOperator::scale_by_inverse_l1(const T* in, double a, T* out) const {
     T* row = out + start;
     l1_row(span, row);
     for (int i = span.begin; i < span.end; ++i) row[i] = s * in[start + i] / row[i];
+    if (copy) std::copy(row + span.begin, row + span.end, copy + start + span.begin);
   });
 }
 
@@ -234,8 +235,8 @@ template void EnergyOperator::jacobi<float>(const float*, const float*, float*) 
 template void EnergyOperator::jacobi<double>(const double*, const double*, double*) const;
 template void EnergyOperator::smoothing_step<float>(const float*, const float*, double, double, float*) const;
 template void EnergyOperator::smoothing_step<double>(const double*, const double*, double, double, double*) const;
-template void EnergyOperator::scale_by_inverse_l1<float>(const float*, double, float*) const;
-template void EnergyOperator::scale_by_inverse_l1<double>(const double*, double, double*) const;
+template void EnergyOperator::scale_by_inverse_l1<float>(const float*, double, float*, float*) const;
+template void EnergyOperator::scale_by_inverse_l1<double>(const double*, double, double*, double*) const;
 
 void EnergyOperator::scale_screening(double factor) {
   auto scaled = std::make_shared<ScreeningTerm>(*screening_);

@@ -62,9 +62,10 @@ class EnergyOperator {
   // (step must not alias x or b; with keep 0 it is only written).
   template <typename T>
   void smoothing_step(const T* b, const T* x, double keep, double a, T* step) const;
-  // out = a * in / l1, no operator application (out must not alias in).
+  // out = a * in / l1, no operator application (out must not alias in);
+  // copy, unless null, receives the same values in the same pass.
   template <typename T>
-  void scale_by_inverse_l1(const T* in, double a, T* out) const;
+  void scale_by_inverse_l1(const T* in, double a, T* out, T* copy = nullptr) const;
   // The l1 row sums themselves, for the active nodes of an array in the
   // layout of active().
   template <typename T>
