@@ -30,7 +30,9 @@ struct CellSamples;  // the samples sorted by the cell holding them (screening_t
 // 8 corners, one of more the 36 distinct entries of sum_s w_s w_s^T. For the
 // bunny's 362 k samples at grid 1024 the finest level's cells take 41 MB
 // where its coefficients would take 238 MB. Either way the operator stays a row-local
-// sweep: a touched node's row reads x only within its 27 neighbours.
+// sweep: a touched node's row reads x only within its 27 neighbours. Kept per
+// cell, each cell's matrix times x is computed once per sweep, as the sweep
+// reaches the cell's plane (CellProducts), and the nodes' rows sum those.
 class ScreeningTerm {
  public:
   ScreeningTerm() = default;
