@@ -1,7 +1,6 @@
 #include "mvs/run_mvs.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdint>
 #include <fstream>
 #include <functional>
@@ -9,6 +8,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "mvs/fusion.h"
 #include "mvs/patch_match.h"
 #include "mvs/view_selection.h"
@@ -19,9 +19,6 @@
 
 namespace hos::mvs {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // Depth range of a view from the sparse points in front of it (2nd-98th
 // percentile, widened), so PatchMatch samples where the scene is.

@@ -1,12 +1,12 @@
 #include "recon/reconstruct.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <memory>
 
 #include "core/error.h"
 #include "core/huge_pages.h"
+#include "core/stopwatch.h"
 #include "recon/active_nodes.h"
 #include "recon/energy_operator.h"
 #include "recon/grid_transfer.h"
@@ -24,9 +24,6 @@
 
 namespace hos::recon {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // The reference length that makes lambda resolution independent (see ReconOptions).
 double reference_length(const GridGeometry& g) { return g.spacing * static_cast<double>(g.dims.maxCoeff() + 1) / 50.0; }
@@ -416,6 +413,14 @@ void choose_resolution_from_density(const BoundingBox& box,
 
 }  // namespace
 
+void begin_run(const PointCloud& input, const ReconOptions& options) {
+  options.validate();
+  check_reconstructable(input, "input points");
+#ifdef _OPENMP
+  if (options.threads > 0) omp_set_num_threads(options.threads);
+#endif
+}
+
 void check_reconstructable(const PointCloud& points, const std::string& source) {
   points.check_consistent();
   if (points.size() < 4) {
@@ -558,11 +563,7 @@ ImplicitFunction solve_implicit_function(const OrientedSamples& samples,
 }
 
 ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& options, Reporter& reporter) {
-  options.validate();
-  check_reconstructable(input, "input points");
-#ifdef _OPENMP
-  if (options.threads > 0) omp_set_num_threads(options.threads);
-#endif
+  begin_run(input, options);
   ReconResult result;
   ReconStats& stats = result.stats;
   const OrientedSamples samples = usable_samples(input, options, stats, reporter);

@@ -55,6 +55,11 @@ struct ReconResult {
 // or below numerical resolution.
 void check_reconstructable(const PointCloud& points, const std::string& source);
 
+// The start of every run on input points (whole or tiled): the options
+// validated, the points checked (check_reconstructable) and options.threads
+// applied.
+void begin_run(const PointCloud& input, const ReconOptions& options);
+
 // Throws ConfigError for bad options, InputError for unusable points,
 // NumericalError if the solve fails, Cancelled on request.
 ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& options, Reporter& reporter);

@@ -1,7 +1,6 @@
 #include "recon/tiled_reconstruction.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -10,20 +9,14 @@
 #include "core/error.h"
 #include "core/fnv1a.h"
 #include "core/option_set.h"
+#include "core/stopwatch.h"
 #include "recon/isosurface.h"
 #include "recon/memory_budget.h"
 #include "recon/tile_function_file.h"
 #include "recon/trim.h"
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 namespace hos::recon {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 constexpr float kNoValue = std::numeric_limits<float>::quiet_NaN();
 
@@ -243,11 +236,7 @@ double voxels_to_seam(const TiledRun& run, const Eigen::Vector3f& world) {
 }
 
 TiledRun prepare_tiled_run(const PointCloud& input, const ReconOptions& options, Reporter& reporter) {
-  options.validate();
-  check_reconstructable(input, "input points");
-#ifdef _OPENMP
-  if (options.threads > 0) omp_set_num_threads(options.threads);
-#endif
+  begin_run(input, options);
   TiledRun run;
   run.samples = usable_samples(input, options, run.stats, reporter);
   const RunGrid whole = choose_run_grid(run.samples, options, /*clamp_to_budget=*/false, run.stats, reporter);

@@ -1,7 +1,6 @@
 #include "sfm/sfm.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -13,6 +12,7 @@
 #include "core/colmap_io.h"
 #include "core/error.h"
 #include "core/sparse_model.h"
+#include "core/stopwatch.h"
 #include "core/undistorted_workspace.h"
 #include "sfm/colmap_runner.h"
 #include "sfm/colmap_steps.h"
@@ -22,10 +22,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr std::size_t kMaxListed = 20;  // names listed in messages
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
-
 std::string list_names(const std::vector<std::string>& names) {
   std::string out;
   for (std::size_t i = 0; i < names.size() && i < kMaxListed; ++i) out += (i ? ", " : "") + names[i];

@@ -17,16 +17,13 @@
 
 #include "core/ply_io.h"
 #include "core/reporter.h"
+#include "core/stopwatch.h"
 #include "eval/surface_distance.h"
 #include "recon/reconstruct.h"
 #include "recon/tiled_reconstruction.h"
 
 namespace {
 using namespace hos;
-
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 void print_row(const std::string& variant, const std::string& direction, const eval::ZoneDistances& z, double voxel) {
   const auto f = [&](double v) {
@@ -58,7 +55,7 @@ int main(int argc, char** argv) {
   const PointCloud points = read_point_cloud_ply(input);
   recon::ReconOptions whole_options = options;
   whole_options.tiles = 1;
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = Clock::now();
   const recon::ReconResult whole = recon::reconstruct_surface(points, whole_options, null_reporter());
   const double whole_seconds = seconds_since(t0);
   const double voxel = whole.stats.voxel_size;
@@ -77,7 +74,7 @@ int main(int argc, char** argv) {
        {std::pair{"blended", recon::TileBlend::kSmooth}, std::pair{"switched", recon::TileBlend::kSwitch}}) {
     recon::ReconOptions tiled_options = options;
     tiled_options.tile_blend = blend;
-    t0 = std::chrono::steady_clock::now();
+    t0 = Clock::now();
     const recon::ReconResult tiled = recon::reconstruct_with_tiles(points, tiled_options, dir, null_reporter());
     const double tiled_seconds = seconds_since(t0);
     std::filesystem::remove_all(dir);
