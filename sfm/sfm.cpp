@@ -315,7 +315,7 @@ fs::path adjust_principal_point(const ColmapInfo& colmap,
                                 Reporter& reporter,
                                 SfmResult& result) {
   if (options.principal_point_max_offset <= 0) return model_dir;
-  const fs::path adjusted_dir = paths.sparse / "principal_point";
+  fs::path adjusted_dir = paths.sparse / "principal_point";
   fs::remove_all(adjusted_dir);
   fs::create_directories(adjusted_dir);
   const ColmapStepResult run = run_colmap_step(colmap, principal_point_step(model_dir, adjusted_dir), reporter);
