@@ -23,12 +23,11 @@ enum class SmoothnessEnergy {
 };
 
 struct SolverOptions {
-  // Relative residual ||b - Ax|| / ||b|| to reach; tighter moves the surface
-  // by no measurable amount but costs iterations. 1e-4 against 1e-5: the
-  // bunny's mean distance to its reference 6.14e-5 against 6.18e-5 at grid
-  // 256 (fine-grid iterations 5 against 9) and 4.83e-5 against 4.84e-5 at
-  // 1024 (9 against 13); the Strecha hold-outs' PSNR within 0.02 dB.
-  double tolerance = 1e-4;
+  // Relative residual ||b - Ax|| / ||b|| to reach. The level set moves by
+  // 0.001-0.003 voxel on average (p90) between 1e-3 and 1e-4, and the
+  // bunny's distance to its reference changes by under 0.3%, while 1e-4
+  // takes about twice the iterations (docs/recon.md, "Solver").
+  double tolerance = 1e-3;
   int max_iterations = 200;  // conjugate-gradient iterations per linear solve
   int max_levels = 0;        // multigrid levels; 0 = as many as the grid allows
   // Degree of the Chebyshev smoother (operator applications) before and
