@@ -9,9 +9,11 @@
 # the ratio of the medians per input.
 # COLMAP runs with PoissonMeshing.trim 0: its default density trim (10)
 # removed every face of these inputs; hos-recon trims by distance instead.
-#   bench/recon/run.sh [--large | --huge] [--data DIR] [--repeat N]
+#   bench/recon/run.sh [--large | --huge] [--data DIR] [--repeat N] [--baseline BIN]
 # --large adds grid 512 against depth 9; --huge also grid 1024 against depth 10.
 # --inputs "sphere6 bunny" keeps only those inputs (default: all).
+# --baseline BIN also runs BIN/hos-recon (an older build) in every repeat,
+# before this build's, so that old and new share the machine's load.
 # DIR holds stanford_bunny/ (scored against its reference surface) and,
 # optionally, stanford_dragon_stand/ (no reference: time and memory only).
 set -euo pipefail
@@ -21,6 +23,7 @@ data=""
 pairs=("256 8")
 repeat=3
 only=""
+baseline=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --large) pairs=("256 8" "512 9"); shift ;;
@@ -28,7 +31,8 @@ while [ $# -gt 0 ]; do
     --data) data="$2"; shift 2 ;;
     --repeat) repeat="$2"; shift 2 ;;
     --inputs) only="$2"; shift 2 ;;
-    *) echo "usage: $0 [--large | --huge] [--data DIR] [--repeat N] [--inputs NAMES]" >&2; exit 2 ;;
+    --baseline) baseline="$(cd "$2" && pwd)"; shift 2 ;;
+    *) echo "usage: $0 [--large | --huge] [--data DIR] [--repeat N] [--inputs NAMES] [--baseline BIN]" >&2; exit 2 ;;
   esac
 done
 work="$(mktemp -d)"
@@ -74,8 +78,30 @@ faces() { "$bin/hos-recon-bench" sphere-error --mesh "$1" | awk '{print $6}'; }
 
 # Median of numbers on stdin.
 median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
+# Ratio of the medians of two space-separated lists.
+ratio() { awk -v a="$(tr ' ' '\n' <<< "$1" | grep . | median)" -v b="$(tr ' ' '\n' <<< "$2" | grep . | median)" 'BEGIN {printf "%.2f", a / b}'; }
 # "median (all)" of a space-separated list.
 summary() { echo "$(tr ' ' '\n' <<< "$1" | grep . | median) ($(echo $1 | tr ' ' '/'))"; }
+
+methods=(hos poisson)
+[ -z "$baseline" ] || methods=(baseline hos poisson)
+# run_method METHOD INPUT GRID DEPTH: one timed run, its mesh in WORK/METHOD.ply.
+run_method() {
+  case "$1" in
+    hos) timed "$bin/hos-recon" --input "$work/$2.ply" --output "$work/hos.ply" --resolution "$3" --progress none ;;
+    baseline) timed "$baseline/hos-recon" --input "$work/$2.ply" --output "$work/baseline.ply" --resolution "$3" --progress none ;;
+    poisson) timed env QT_QPA_PLATFORM=offscreen colmap poisson_mesher --input_path "$work/$2.ply" \
+      --output_path "$work/poisson.ply" --PoissonMeshing.depth "$4" --PoissonMeshing.trim 0 ;;
+  esac
+}
+method_label() {
+  case "$1" in
+    hos) echo "hos-recon (energy 4)" ;;
+    baseline) echo "hos-recon baseline (energy 4)" ;;
+    poisson) echo "COLMAP poisson_mesher" ;;
+  esac
+}
+method_setting() { if [ "$1" = poisson ]; then echo "depth $3"; else echo "grid $2"; fi; }
 
 echo "| input | method | resolution | time (s), median (runs) | CPU (s), median (runs) | peak memory (MB) | triangles | accuracy vs truth | load |"
 echo "|---|---|---|---|---|---|---|---|---|"
@@ -86,24 +112,29 @@ for name in "${inputs[@]}"; do
     set -- $pair
     res=$1 depth=$2
     l=$(load)
-    hos_t="" hos_c="" hos_m=0 poi_t="" poi_c="" poi_m=0
+    declare -A times=() cpus=() peaks=()
     for ((r = 0; r < repeat; ++r)); do
-      read -r t c m < <(timed "$bin/hos-recon" --input "$work/$name.ply" --output "$work/hos.ply" --resolution "$res" --progress none)
-      [[ $m =~ ^[0-9]+$ ]] || m=0
-      hos_t+="$t " hos_c+="$c " hos_m=$((m > hos_m ? m : hos_m))
-      rm -f "$work/poisson.ply"
-      read -r t c m < <(timed env QT_QPA_PLATFORM=offscreen colmap poisson_mesher --input_path "$work/$name.ply" --output_path "$work/poisson.ply" --PoissonMeshing.depth "$depth" --PoissonMeshing.trim 0)
-      [[ $m =~ ^[0-9]+$ ]] || m=0
-      poi_t+="$t " poi_c+="$c " poi_m=$((m > poi_m ? m : poi_m))
+      for method in "${methods[@]}"; do
+        rm -f "$work/$method.ply"
+        read -r t c m < <(run_method "$method" "$name" "$res" "$depth")
+        [[ $m =~ ^[0-9]+$ ]] || m=0
+        times[$method]+="$t " cpus[$method]+="$c " peaks[$method]=$((m > ${peaks[$method]:-0} ? m : ${peaks[$method]:-0}))
+      done
     done
-    echo "| $name | hos-recon (energy 4) | grid $res | $(summary "$hos_t") | $(summary "$hos_c") | $hos_m | $(faces "$work/hos.ply") | $(accuracy "$work/hos.ply" "$work/$name.ply" "$name") | $l |"
+    for method in "${methods[@]}"; do
+      [ -f "$work/$method.ply" ] || continue
+      echo "| $name | $(method_label "$method") | $(method_setting "$method" "$res" "$depth") | $(summary "${times[$method]}") | $(summary "${cpus[$method]}") | ${peaks[$method]} | $(faces "$work/$method.ply") | $(accuracy "$work/$method.ply" "$work/$name.ply" "$name") | $l |"
+    done
     if [ -f "$work/poisson.ply" ]; then
-      echo "| $name | COLMAP poisson_mesher | depth $depth | $(summary "$poi_t") | $(summary "$poi_c") | $poi_m | $(faces "$work/poisson.ply") | $(accuracy "$work/poisson.ply" "$work/$name.ply" "$name") | $l |"
-      ratios+=("| $name | grid $res / depth $depth | $(awk -v a="$(tr ' ' '\n' <<< "$poi_t" | grep . | median)" -v b="$(tr ' ' '\n' <<< "$hos_t" | grep . | median)" 'BEGIN {printf "%.2f", a / b}') |")
+      ratios+=("| $name | grid $res / depth $depth | Poisson / hos-recon | $(ratio "${times[poisson]}" "${times[hos]}") |")
     fi
+    if [ -f "$work/baseline.ply" ]; then
+      ratios+=("| $name | grid $res | hos-recon / baseline | $(ratio "${times[hos]}" "${times[baseline]}") |")
+    fi
+    unset times cpus peaks
   done
 done
 echo
-echo "| input | resolutions | Poisson time / hos-recon time (medians) |"
-echo "|---|---|---|"
+echo "| input | resolutions | times | ratio of the medians |"
+echo "|---|---|---|---|"
 for row in "${ratios[@]}"; do echo "$row"; done
