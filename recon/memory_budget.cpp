@@ -53,10 +53,6 @@ std::size_t saturated_bytes(double bytes) {
   return bytes >= kMax ? static_cast<std::size_t>(kMax) : static_cast<std::size_t>(bytes);
 }
 
-std::string megabytes(std::size_t bytes) {
-  return std::to_string(static_cast<long long>(std::llround(static_cast<double>(bytes) / (1024.0 * 1024.0)))) + " MB";
-}
-
 // Would reconstruct_surface try a band on `grid` (see solve_with_bands)?
 bool band_possible(const GridGeometry& grid, const ReconOptions& options) {
   return options.energy != SmoothnessEnergy::kTotalVariation && options.solver.band_voxels > 0 && grid.can_coarsen(3);
@@ -145,6 +141,10 @@ std::size_t estimate_peak_bytes(const GridGeometry& grid,
     return saturated_bytes(banded);
   }
   return saturated_bytes(std::max(whole, banded));
+}
+
+std::string megabytes(std::size_t bytes) {
+  return std::to_string(static_cast<long long>(std::ceil(static_cast<double>(bytes) / (1024.0 * 1024.0)))) + " MB";
 }
 
 std::size_t memory_budget_bytes(const ReconOptions& options) {

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/types.h"
@@ -28,6 +29,9 @@ std::int64_t band_stored_nodes_bound(const GridGeometry& grid, const std::vector
 std::size_t estimate_peak_bytes(const GridGeometry& grid,
                                 const std::vector<Eigen::Vector3f>& points,
                                 const ReconOptions& options);
+
+// "N MB", N rounded up (for messages).
+std::string megabytes(std::size_t bytes);
 
 // recon.max_memory_mb in bytes, or, when it is 0, three quarters of the
 // machine's physical memory.

@@ -147,8 +147,6 @@ std::size_t largest(const std::vector<Tile>& tiles) {
   return at;
 }
 
-double megabytes(std::size_t bytes) { return std::ceil(static_cast<double>(bytes) / (1024.0 * 1024.0)); }
-
 }  // namespace
 
 TilePlan plan_tiles(const std::vector<Eigen::Vector3f>& points,
@@ -181,7 +179,7 @@ TilePlan plan_tiles(const std::vector<Eigen::Vector3f>& points,
                        plan.tiles[at].core.hi.y() - plan.tiles[at].core.lo.y() + 1, "x",
                        plan.tiles[at].core.hi.z() - plan.tiles[at].core.lo.z() + 1, " nodes, about ",
                        megabytes(plan.tiles[at].estimated_peak_bytes),
-                       " MB) is as small as tiles get; give a "
+                       ") is as small as tiles get; give a "
                        "coarser grid (recon.resolution, recon.voxel_size) or a larger recon.max_memory_mb"));
   };
   // A grid that even kMaxTiles tiles of the budget at one byte a node cannot
@@ -193,6 +191,16 @@ TilePlan plan_tiles(const std::vector<Eigen::Vector3f>& points,
     if (static_cast<int>(plan.tiles.size()) >= kMaxTiles || !split(plan.tiles, at, points, lattice, unit_options)) {
       throw refuse(at);
     }
+  }
+  // The tiles asked for must fit as well: a tile's solve or its core's join
+  // over the budget would be refused, or killed, only after the other tiles ran.
+  const std::size_t at = largest(plan.tiles);
+  if (plan.tiles[at].estimated_peak_bytes > budget_bytes) {
+    throw ConfigError("recon.tiles",
+                      format_message("tile ", at, " of ", plan.tiles.size(), " needs about ",
+                                     megabytes(plan.tiles[at].estimated_peak_bytes),
+                                     " to solve or to join, more than the budget of ", megabytes(budget_bytes),
+                                     " (recon.max_memory_mb); give more tiles, or 0 to let the budget choose"));
   }
   return plan;
 }

@@ -20,8 +20,6 @@ namespace {
 
 constexpr float kNoValue = std::numeric_limits<float>::quiet_NaN();
 
-double megabytes(std::size_t bytes) { return std::ceil(static_cast<double>(bytes) / (1024.0 * 1024.0)); }
-
 std::vector<Eigen::Vector3f> points_in_core(const std::vector<Eigen::Vector3f>& points,
                                             const GridGeometry& lattice,
                                             const NodeBox& core) {
@@ -265,8 +263,8 @@ TileSolveReport solve_tile(const TiledRun& run, int k, const std::filesystem::pa
   if (estimate > budget) {
     throw ConfigError("recon.tiles", format_message("tile ", k, " of ", count, " (a ", tile.grid.dims.x(), "x",
                                                     tile.grid.dims.y(), "x", tile.grid.dims.z(), " grid) needs about ",
-                                                    megabytes(estimate), " MB, more than the budget of ",
-                                                    megabytes(budget), " MB (recon.max_memory_mb); give more tiles"));
+                                                    megabytes(estimate), ", more than the budget of ",
+                                                    megabytes(budget), " (recon.max_memory_mb); give more tiles"));
   }
   reporter.info(format_message("recon: tile ", k, " of ", count, ": ", samples.points.size(), " samples, grid ",
                                tile.grid.dims.x(), "x", tile.grid.dims.y(), "x", tile.grid.dims.z(), " (",
@@ -361,10 +359,10 @@ ReconResult reconstruct_with_tiles(const PointCloud& input,
   const GridGeometry& g = plan.lattice;
   reporter.info(format_message(
       "recon: the ", g.dims.x(), "x", g.dims.y(), "x", g.dims.z(), " grid in ", count, " tiles (",
-      options.tiles > 0 ? std::string("recon.tiles")
-                        : format_message("its estimated peak of ", megabytes(plan.whole_estimated_peak_bytes),
-                                         " MB exceeds the budget of ", megabytes(memory_budget_bytes(options)),
-                                         " MB, recon.max_memory_mb"),
+      options.tiles > 0
+          ? std::string("recon.tiles")
+          : format_message("its estimated peak of ", megabytes(plan.whole_estimated_peak_bytes),
+                           " exceeds the budget of ", megabytes(memory_budget_bytes(options)), ", recon.max_memory_mb"),
       "), overlap ", options.tile_overlap_voxels, " voxels; tile functions in ", dir.string()));
   ReconStats solved;
   std::int64_t largest_tile = 0;

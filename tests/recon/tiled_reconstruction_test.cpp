@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -119,6 +120,21 @@ TEST(TilePlan, TheMemoryBudgetChoosesTheTiles) {
     EXPECT_LE(t.estimated_peak_bytes, std::size_t(o.max_memory_mb) * 1024 * 1024);
   }
   o.max_memory_mb = 1;  // below any tile's fixed part
+  EXPECT_THROW(prepare_tiled_run(points, o, null_reporter()), ConfigError);
+}
+
+TEST(TilePlan, TilesAskedForAreHeldToTheBudget) {
+  const PointCloud points = synth::sample_sphere(20000, 1.0, 0.0, 4);
+  ReconOptions o = options_at(128, 2);
+  const TiledRun two = prepare_tiled_run(points, o, null_reporter());
+  ASSERT_EQ(two.plan.tiles.size(), 2u);
+  std::size_t peak = 0;
+  for (const Tile& t : two.plan.tiles) peak = std::max(peak, t.estimated_peak_bytes);
+  const int peak_mb = static_cast<int>(peak / (1024 * 1024));
+  ASSERT_GT(peak_mb, 2);
+  o.max_memory_mb = peak_mb + 1;
+  EXPECT_EQ(prepare_tiled_run(points, o, null_reporter()).plan.tiles.size(), 2u);
+  o.max_memory_mb = peak_mb - 1;
   EXPECT_THROW(prepare_tiled_run(points, o, null_reporter()), ConfigError);
 }
 
