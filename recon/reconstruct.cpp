@@ -25,6 +25,9 @@
 namespace hos::recon {
 namespace {
 
+// Energy (2): each reweighting round cuts its starting residual this much.
+constexpr double kTotalVariationRoundReduction = 0.1;
+
 // The reference length that makes lambda resolution independent (see ReconOptions).
 double reference_length(const GridGeometry& g) { return g.spacing * static_cast<double>(g.dims.maxCoeff() + 1) / 50.0; }
 
@@ -266,6 +269,18 @@ void solve_and_report(const EnergyOperator& op,
   }
 }
 
+// ||b - A x|| / ||b||.
+double relative_residual(const EnergyOperator& op, const std::vector<double>& b, const std::vector<double>& x) {
+  std::vector<double> r(b.size());
+  op.residual(b.data(), x.data(), r.data());
+  double rr = 0.0, bb = 0.0;
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    rr += r[i] * r[i];
+    bb += b[i] * b[i];
+  }
+  return bb > 0.0 ? std::sqrt(rr / bb) : 0.0;
+}
+
 // Energy (2): iteratively reweighted least squares; each round minimises the
 // quadratic majoriser |grad f|^2 / (2 |grad f_old|) of the TV term exactly.
 void solve_total_variation(const GridGeometry& grid,
@@ -280,10 +295,17 @@ void solve_total_variation(const GridGeometry& grid,
   const double eps = 0.01 / ((1.0 + options.filter_passes) * grid.spacing);
   for (int round = 0; round < solver.tv_iterations; ++round) {
     reporter.throw_if_cancelled();
-    SolverOptions so = solver;
-    if (round + 1 < solver.tv_iterations) so.tolerance = std::max(solver.tolerance, 1e-3);
     const EnergyOperator op(grid, SmoothnessEnergy::kTotalVariation, 0.0, tv_weights(f, eps),
                             options.lambda * reference_length(grid));
+    // Each round's majoriser moves the minimum by less than the tolerance
+    // measures (the previous f starts below it), so a round must cut its own
+    // starting residual instead; with the tolerance alone every round but the
+    // last took no iteration and the result was hardly reweighted. Rounds
+    // stop once the new weights move f by a fraction of the tolerance.
+    const double start = relative_residual(op, rhs, f.values);
+    if (start < kTotalVariationRoundReduction * solver.tolerance) break;
+    SolverOptions so = solver;
+    so.tolerance = std::min(solver.tolerance, kTotalVariationRoundReduction * start);
     solve_and_report(op, rhs, f.values, so, stats, reporter);
   }
 }
