@@ -52,8 +52,11 @@ struct RefineOptions {
   double anchor_weight = 0.05;
   // Rounds stop when the mean photometric score improves by less than this.
   double min_improvement = 1e-3;
-  double max_seconds = 120.0;  // time budget; the mesh after the last finished round is kept
-  int threads = 0;             // OpenMP threads; 0 = all cores
+  // Time budget (wall seconds); the mesh after the last finished round is
+  // kept. Refine takes 36-60 s on the Strecha sets; 120 s cut a fountain run
+  // on a machine loaded 5-fold after 3 of its 6 rounds (docs/refine.md).
+  double max_seconds = 600.0;
+  int threads = 0;  // OpenMP threads; 0 = all cores
 
   // Throws ConfigError naming the offending option.
   void validate() const;
