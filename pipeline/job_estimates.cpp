@@ -23,9 +23,9 @@ constexpr double kSfmCpuSecondsPerPhoto = 8.0;
 // 185 CPU s for 10 views of 0.70 MP (docs/benchmarks-mvs.md); the whole run,
 // fusion included.
 constexpr double kMvsCpuSecondsPerViewMp = 26.5;
-// recon at grid 1024: the bunny, 40.3 CPU s (docs/benchmarks-recon.md, f84ca28);
+// recon at grid 1024: the bunny, 41.3 CPU s (docs/benchmarks-recon.md, b352fee);
 // the work grows with the grid's nodes.
-constexpr double kReconCpuSecondsAtGrid1024 = 40.3;
+constexpr double kReconCpuSecondsAtGrid1024 = 41.3;
 // refine per view per photo MP at its default face budget: Herz-Jesu-P8,
 // 42.9 CPU s for 8 photos of 6.3 MP, 300000 faces (docs/refine.md, bccbf03).
 constexpr double kRefineCpuSecondsPerViewMp = 0.85;
