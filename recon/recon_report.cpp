@@ -19,6 +19,7 @@ nlohmann::ordered_json recon_report_json(const ReconResult& result) {
   j["solver_iterations"] = s.solver_iterations;
   j["relative_residual"] = s.relative_residual;
   j["residual_history"] = s.residual_history;
+  j["solve_iterations"] = s.solve_iterations;
   j["band_nodes"] = s.band_nodes;
   j["isovalue"] = s.isovalue;
   j["faces_before_trim"] = s.faces_before_trim;

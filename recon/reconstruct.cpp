@@ -255,6 +255,7 @@ void solve_and_report(const EnergyOperator& op,
                       VectorPrecision precision = VectorPrecision::kDouble) {
   const SolveReport report = solve_linear_system(op, std::forward<B>(b), x, so, reporter, precision);
   stats.solver_iterations += report.iterations;
+  stats.solve_iterations.push_back(report.iterations);
   stats.multigrid_levels = report.levels;
   stats.relative_residual = report.relative_residual;
   stats.residual_history.insert(stats.residual_history.end(), report.residual_history.begin(),

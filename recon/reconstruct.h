@@ -30,7 +30,8 @@ struct ReconStats {
   // Relative residual after each iteration of every linear solve, in order
   // (the TV energy's reweighting rounds each start a new solve).
   std::vector<double> residual_history;
-  std::int64_t band_nodes = 0;  // fine nodes solved in the band; 0 = every node
+  std::vector<int> solve_iterations;  // CG iterations of each linear solve, in order
+  std::int64_t band_nodes = 0;        // fine nodes solved in the band; 0 = every node
   double isovalue = 0.0;
   std::size_t faces_before_trim = 0;
   std::size_t faces_trimmed = 0;

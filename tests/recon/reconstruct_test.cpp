@@ -230,6 +230,21 @@ TEST(ReconstructSurface, TotalVariationIsPiecewiseFlatterThanMembrane) {
   EXPECT_LT(sphere_error(r.mesh, 1.0).mean, 0.5 * r.stats.voxel_size);
 }
 
+TEST(ReconstructSurface, TotalVariationRoundsEachSolveUntilTheWeightsSettle) {
+  const PointCloud points = synth::sample_sphere(20000, 1.0, 0.002, 6);
+  ReconOptions tv = options_at(32, SmoothnessEnergy::kTotalVariation);
+  tv.lambda = 1.0;
+  tv.solver.tv_iterations = 30;
+  const ReconResult r = reconstruct_surface(points, tv, null_reporter());
+  const std::vector<int>& solves = r.stats.solve_iterations;
+  // The unweighted solve, then the reweighting rounds: each cuts its own
+  // starting residual (a round that takes no iteration leaves f as it was),
+  // and the rounds stop once the weights settle, well before the cap.
+  ASSERT_GE(solves.size(), 2u) << "no reweighting round ran";
+  EXPECT_LT(solves.size(), 1u + 30u);
+  for (std::size_t k = 0; k < solves.size(); ++k) EXPECT_GE(solves[k], 1) << "solve " << k;
+}
+
 TEST(ReconstructSurface, RejectsUnusablePoints) {
   PointCloud none;
   EXPECT_THROW(reconstruct_surface(none, ReconOptions{}, null_reporter()), InputError);
