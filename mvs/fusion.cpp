@@ -14,7 +14,8 @@ struct Observation {
 };
 
 // The agreeing views of one reference pixel, and how many other views cover
-// its point (in front, inside the image) without a depth there.
+// its point (in front, inside the image) without a depth there while facing
+// its surface within the veto's incidence.
 struct Agreement {
   std::vector<Observation> observations;
   int views_without_depth = 0;
@@ -48,13 +49,14 @@ namespace {
 // The fixed parts of the rules, and the views' centres.
 struct FusionRules {
   const MvsOptions& options;
-  double cos_normal, max_reproj2, cos_triangulation;
+  double cos_normal, max_reproj2, cos_triangulation, cos_veto_incidence;
   std::vector<Eigen::Vector3d> centres;
   FusionRules(const std::vector<FusionView>& views, const MvsOptions& o)
       : options(o),
         cos_normal(std::cos(o.max_normal_error_deg * M_PI / 180.0)),
         max_reproj2(o.max_reprojection_error_px * o.max_reprojection_error_px),
-        cos_triangulation(std::cos(o.min_triangulation_angle_deg * M_PI / 180.0)) {
+        cos_triangulation(std::cos(o.min_triangulation_angle_deg * M_PI / 180.0)),
+        cos_veto_incidence(std::cos(o.two_view_veto_max_incidence_deg * M_PI / 180.0)) {
     for (const auto& v : views) centres.push_back(v.R.transpose() * -v.t);
   }
 };
@@ -84,7 +86,8 @@ Agreement agreeing_pixels(const std::vector<FusionView>& views,
     const int qx = static_cast<int>(std::floor(uv.x())), qy = static_cast<int>(std::floor(uv.y()));
     if (qx < 0 || qy < 0 || qx >= src.map.depth.cols || qy >= src.map.depth.rows) continue;
     const float ds = src.map.depth.at<float>(qy, qx);
-    if (!(ds > 0)) ++agreement.views_without_depth;
+    if (!(ds > 0) && n.dot((rules.centres[s] - X).normalized()) >= rules.cos_veto_incidence)
+      ++agreement.views_without_depth;
     if (!(ds > 0) || used[s].at<uchar>(qy, qx)) continue;
     if (std::abs(xs.z() - ds) > rules.options.max_depth_error * ds) continue;
     const Eigen::Vector3d ns = normal_at(src, qx, qy);

@@ -46,6 +46,10 @@ void register_options(OptionSet& set, MvsOptions& o) {
           0.0, 2.0);
   set.add("two_view_max_views_without_depth", o.two_view_max_views_without_depth,
           "two-view points: other views covering the point that may have no depth there", 0, 1024);
+  set.add("two_view_veto_max_incidence_deg", o.two_view_veto_max_incidence_deg,
+          "two-view points: a covering view without depth counts only if it sees the point's surface at "
+          "most this far from head-on (degrees; 180 = every covering view)",
+          0.0, 180.0);
   set.add("max_depth_error", o.max_depth_error, "relative depth difference to agree", 1e-4, 0.5);
   set.add("max_normal_error_deg", o.max_normal_error_deg, "normal angle difference to agree (degrees)", 1.0, 90.0);
   set.add("max_reprojection_error_px", o.max_reprojection_error_px,

@@ -42,9 +42,15 @@ struct MvsOptions {
   // A point that only one other view confirms (sides, grazing views) is kept
   // when both pixels' cost (1 - NCC) is at most two_view_max_cost (0 = never)
   // and at most two_view_max_views_without_depth of the other views covering
-  // it have no depth there (such a view speaks against the point).
+  // it have no depth there (such a view speaks against the point). With
+  // two_view_veto_max_incidence_deg below 180, a view that sees the point's
+  // surface more grazingly does not: PatchMatch finds little depth at such
+  // angles whether the surface is there or not. At 60 the synthetic scene's
+  // undersides gain points, but real photos do not gain on balance
+  // (docs/benchmarks-mvs.md), so every covering view counts by default.
   double two_view_max_cost = 0.6;
   int two_view_max_views_without_depth = 0;
+  double two_view_veto_max_incidence_deg = 180.0;
   double max_depth_error = 0.01;  // relative depth difference to agree
   double max_normal_error_deg = 20.0;
   double max_reprojection_error_px = 1.5;  // in the pixels of the finest level

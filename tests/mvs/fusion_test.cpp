@@ -146,6 +146,30 @@ TEST(Fusion, TwoViewPointsAreDroppedWhereAnotherViewSeesNothing) {
   expect_fused(fuse_depth_maps(views, options, null_reporter()), expected_confidence({true, true, false, false}, 2));
 }
 
+TEST(Fusion, AViewSeeingTheSurfaceGrazinglyDoesNotSpeakAgainstIt) {
+  // As above, view 2 has no depth on its right half, which sees the plane's
+  // points at x in [0.2, 1.8]. Their normals are tilted by t about the y axis
+  // (towards -x): view 2 sees them at incidence between about t - 18 and t
+  // degrees (30 degrees: at most 30; 80 degrees: at least 62).
+  auto views = plane_seen_by_two_views();
+  views[2].map.depth.colRange(kWidth / 2, kWidth).setTo(0);
+  MvsOptions options = three_views_must_agree();
+  options.two_view_max_cost = 0.2;
+  options.two_view_veto_max_incidence_deg = 60.0;
+  std::map<int, int> vetoed = expected_confidence({true, true, false, false}, 2);
+  for (int u = kWidth / 2 + 2 * kShift; u < kWidth + 2 * kShift; ++u) vetoed.erase(u);
+  const auto tilt_normals = [&views](double degrees) {
+    const double t = degrees * M_PI / 180.0;
+    for (auto& v : views) v.map.normal.setTo(cv::Scalar(-std::sin(t), 0, -std::cos(t)));
+  };
+  tilt_normals(30.0);  // view 2 faces the surface: its missing depth still counts
+  const PointCloud facing = fuse_depth_maps(views, options, null_reporter());
+  EXPECT_EQ(facing.size(), vetoed.size() * kHeight);
+  tilt_normals(80.0);  // view 2 sees it grazingly: the points stay
+  const PointCloud grazing = fuse_depth_maps(views, options, null_reporter());
+  EXPECT_EQ(grazing.size(), expected_confidence({true, true, false, false}, 2).size() * kHeight);
+}
+
 TEST(Fusion, PhotoFromTheSameSpotIsNoFurtherEvidence) {
   // Views 0, 1 and a second photo from view 0's spot agree on the plane.
   auto views = plane_seen_by_two_views();
