@@ -48,14 +48,21 @@ ViewChoice choose_views(const Eigen::Vector3d& x,
 // The patch: the current surface as the reference view sees it around the
 // vertex (one point per pixel of the level, from the depth buffer), with the
 // reference's grey levels. Following the surface instead of a tangent plane
-// keeps curvature from biasing the offset.
+// keeps curvature from biasing the offset. Samples off that surface (past a
+// silhouette, across a depth edge) are left out; with fewer than
+// min_coverage of them left there is no patch.
 struct Patch {
   std::vector<Eigen::Vector3d> points;
   std::vector<float> reference;
 };
 
-std::optional<Patch> surface_patch(
-    const RefineView& ref, int level, const Eigen::Vector3d& x, int half, double step, double max_depth_jump) {
+std::optional<Patch> surface_patch(const RefineView& ref,
+                                   int level,
+                                   const Eigen::Vector3d& x,
+                                   int half,
+                                   double step,
+                                   double max_depth_jump,
+                                   double min_coverage) {
   const std::optional<Eigen::Vector3d> centre = ref.project(x, level);
   if (!centre) return std::nullopt;
   Patch patch;
@@ -65,11 +72,13 @@ std::optional<Patch> surface_patch(
       const Eigen::Vector2d pixel(std::floor(centre->x()) + 0.5 + a * step, std::floor(centre->y()) + 0.5 + b * step);
       const std::optional<Eigen::Vector3d> point = surface_point(ref, pixel, max_depth_jump);
       const std::optional<float> grey = sample(ref, level, pixel);
-      if (!point || !grey) return std::nullopt;
+      if (!point || !grey) continue;
       patch.points.push_back(*point);
       patch.reference.push_back(*grey);
     }
   }
+  const double side = 2.0 * half + 1.0;
+  if (static_cast<double>(patch.points.size()) < min_coverage * side * side) return std::nullopt;
   return patch;
 }
 
@@ -112,7 +121,7 @@ VertexTarget search_vertex(const Eigen::Vector3d& x,
   const double step = o.step_pixels * footprint;
   const int steps = o.search_steps;
   const std::optional<Patch> patch =
-      surface_patch(ref, level, x, o.patch_size / 2, o.sample_pixels, visibility_tolerance);
+      surface_patch(ref, level, x, o.patch_size / 2, o.sample_pixels, visibility_tolerance, o.min_patch_coverage);
   if (!patch) return target;
   // Step 2: the score of each offset of the patch along the normal.
   std::vector<float> scores(2 * steps + 1, -2.0f);

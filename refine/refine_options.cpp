@@ -29,6 +29,8 @@ void register_options(OptionSet& set, RefineOptions& o) {
   set.add("step_pixels", o.step_pixels, "spacing of the normal offsets, pixels of the reference view", 0.01, 100.0);
   set.add("patch_size", o.patch_size, "matching patch side in samples (odd)", 3, 15);
   set.add("sample_pixels", o.sample_pixels, "patch sample spacing, pixels of the reference view", 0.1, 20.0);
+  set.add("min_patch_coverage", o.min_patch_coverage,
+          "fraction of the patch's samples that must lie on the surface the reference view sees", 0.1, 1.0);
   set.add("max_views", o.max_views, "views compared with the reference view per vertex", 1, 64);
   set.add("min_angle_deg", o.min_angle_deg, "smallest angle between reference and compared view", 0.0, 89.0);
   set.add("max_angle_deg", o.max_angle_deg, "largest angle between reference and compared view", 1.0, 90.0);
