@@ -26,9 +26,10 @@ struct ReconStats {
   std::size_t num_samples_dropped = 0;  // without a usable orientation
   int multigrid_levels = 0;
   int solver_iterations = 0;       // summed over all linear solves
-  double relative_residual = 0.0;  // of the final linear solve
+  double relative_residual = 0.0;  // of the final linear solve (tiled: the largest of the tiles')
   // Relative residual after each iteration of every linear solve, in order
-  // (the TV energy's reweighting rounds each start a new solve).
+  // (the TV energy's reweighting rounds each start a new solve; tiled runs
+  // list the tiles' solves in tile order).
   std::vector<double> residual_history;
   std::vector<int> solve_iterations;  // CG iterations of each linear solve, in order
   std::int64_t band_nodes = 0;        // fine nodes solved in the band; 0 = every node

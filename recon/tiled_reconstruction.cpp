@@ -163,6 +163,18 @@ void weld_into(TriangleMesh& mesh,
   for (const Eigen::Vector3i& f : part.faces) mesh.faces.emplace_back(index[f[0]], index[f[1]], index[f[2]]);
 }
 
+// Adds one tile's solve figures to the run's: iterations and times summed,
+// the solves and residual histories in tile order, the residual the worst
+// tile's.
+void add_tile_solve(const ReconStats& tile, ReconStats& run) {
+  run.solver_iterations += tile.solver_iterations;
+  run.seconds_field += tile.seconds_field;
+  run.seconds_solve += tile.seconds_solve;
+  run.solve_iterations.insert(run.solve_iterations.end(), tile.solve_iterations.begin(), tile.solve_iterations.end());
+  run.residual_history.insert(run.residual_history.end(), tile.residual_history.begin(), tile.residual_history.end());
+  run.relative_residual = std::max(run.relative_residual, tile.relative_residual);
+}
+
 }  // namespace
 
 double median_gradient_magnitude(const GridGeometry& g,
@@ -370,15 +382,11 @@ ReconResult reconstruct_with_tiles(const PointCloud& input,
     reporter.throw_if_cancelled();
     const TileSolveReport r = solve_tile(run, k, dir, reporter);
     largest_tile = std::max(largest_tile, r.grid_nodes);
-    solved.solver_iterations += r.stats.solver_iterations;
-    solved.seconds_field += r.stats.seconds_field;
-    solved.seconds_solve += r.stats.seconds_solve;
+    add_tile_solve(r.stats, solved);
   }
   ReconResult result = join_tiles(run, dir, reporter);
   result.stats.largest_tile_nodes = largest_tile;
-  result.stats.solver_iterations = solved.solver_iterations;
-  result.stats.seconds_field = solved.seconds_field;
-  result.stats.seconds_solve = solved.seconds_solve;
+  add_tile_solve(solved, result.stats);
   return result;
 }
 

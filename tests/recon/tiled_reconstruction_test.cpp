@@ -236,6 +236,21 @@ TEST_F(TiledSphere, HoldsLessGridThanTheWholeRun) {
   EXPECT_LT(s.largest_join_nodes, whole / 4);
 }
 
+TEST_F(TiledSphere, ReportsEveryTilesSolves) {
+  const ReconStats& s = r().tiled.stats;
+  // Every tile holds part of the sphere, so each solved at least once.
+  ASSERT_GE(s.solve_iterations.size(), 8u);
+  int sum = 0;
+  for (int iterations : s.solve_iterations) {
+    EXPECT_GT(iterations, 0);
+    sum += iterations;
+  }
+  EXPECT_EQ(sum, s.solver_iterations);
+  EXPECT_EQ(s.residual_history.size(), static_cast<std::size_t>(sum));
+  EXPECT_GT(s.relative_residual, 0.0);
+  EXPECT_LE(s.relative_residual, 1e-5);  // the suite's tolerance
+}
+
 TEST(TiledReconstruction, BadTileFilesAreInputErrorsNamingTheFile) {
   hos::testing::TempDir dir;
   const PointCloud points = synth::sample_sphere(20000, 1.0, 0.0, 6);
