@@ -5,29 +5,55 @@
 # uncertain surface away is not measured there. Here every run is measured
 # on the same pixels; the table also gives each run's own coverage.
 #
-#   bench/realdata/compare.sh BIN WORK LABEL LABEL...
+#   bench/realdata/compare.sh BIN WORK[:WORK...] LABEL LABEL...
 #
+# Several WORK folders (colon-separated, one per held-out photo, each made by
+# holdout.sh --holdout NAME with the same labels) add a row per label with
+# the mean over the photos: one photo's figure moves by a few tenths of a dB
+# with small changes of the surface, so a mean over photos is steadier.
 # BIN holds hos-eval; the runs' renders must come from a hos-eval that saves
 # the render's mask (this commit or later).
 set -euo pipefail
 [ $# -ge 4 ] || { sed -n '8p' "$0" | sed 's/^# *//' >&2; exit 2; }
-bin="$1" work="$2"
+bin="$1"
+IFS=: read -r -a works <<<"$2"
 shift 2
 labels=("$@")
-echo "| camera | run | PSNR dB (common pixels) | SSIM (common pixels) | own coverage | common coverage |"
-echo "|---|---|---|---|---|---|"
-for camera in true registered; do
-  saved=()
-  for label in "${labels[@]}"; do
-    view=$(ls "$work/runs/$label/$camera/"*.png | head -n 1)
-    saved+=(--saved "$view")
+jsons=()
+for work in "${works[@]}"; do
+  for camera in true registered; do
+    saved=()
+    for label in "${labels[@]}"; do
+      view=$(ls "$work/runs/$label/$camera/"*.png | head -n 1)
+      saved+=(--saved "$view")
+    done
+    "$bin/hos-eval" common "${saved[@]}" --json "$work/common-$camera.json" >/dev/null
+    jsons+=("$work" "$camera")
   done
-  "$bin/hos-eval" common "${saved[@]}" --json "$work/common-$camera.json" >/dev/null
-  python3 - "$work/common-$camera.json" "$camera" "${labels[@]}" <<'PY'
-import json, sys
-path, camera, labels = sys.argv[1], sys.argv[2], sys.argv[3:]
-d = json.load(open(path))
-for label, run in zip(labels, d["runs"]):
-    print(f"| {camera} | {label} | {run['psnr']:.2f} | {run['ssim']:.3f} | {run['coverage']:.3f} | {d['common_coverage']:.3f} |")
-PY
 done
+python3 - "${#labels[@]}" "${labels[@]}" "${jsons[@]}" <<'PY'
+import json, os, sys
+count = int(sys.argv[1])
+labels, rest = sys.argv[2:2 + count], sys.argv[2 + count:]
+pairs = list(zip(rest[0::2], rest[1::2]))
+works = sorted({w for w, _ in pairs}, key=[w for w, _ in pairs].index)
+print("| camera | held out | run | PSNR dB (common pixels) | SSIM (common pixels) | own coverage | common coverage |")
+print("|---|---|---|---|---|---|---|")
+sums = {}
+for camera in ("true", "registered"):
+    for work in works:
+        d = json.load(open(os.path.join(work, f"common-{camera}.json")))
+        held_out = next((line.split(" ", 1)[1].strip() for line in open(os.path.join(work, "photos.txt"))
+                         if line.startswith("holdout ")), os.path.basename(os.path.normpath(work)))
+        for label, run in zip(labels, d["runs"]):
+            print(f"| {camera} | {held_out} | {label} | {run['psnr']:.2f} | {run['ssim']:.3f} | "
+                  f"{run['coverage']:.3f} | {d['common_coverage']:.3f} |")
+            s = sums.setdefault((camera, label), [0.0, 0.0])
+            s[0] += run["psnr"]
+            s[1] += run["ssim"]
+    if len(works) > 1:
+        for label in labels:
+            psnr, ssim = sums[(camera, label)]
+            print(f"| {camera} | mean of {len(works)} | {label} | {psnr / len(works):.2f} | "
+                  f"{ssim / len(works):.3f} | | |")
+PY

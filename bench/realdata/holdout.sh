@@ -15,6 +15,8 @@
 # with several BIN folders (or --set overrides, under different --label) on
 # the same WORK to compare them side by side; bench/realdata/compare.sh then
 # measures them on the pixels all of them cover (a run's own pixels reward holes).
+# A WORK folder holds one held-out photo; run the same labels on a second
+# WORK with --holdout NAME and compare.sh averages over both.
 #
 #   bench/realdata/holdout.sh DATA BIN WORK [--holdout NAME] [--photos N] [--label L]
 #                             [--set stage.key=value]... [--keep] [--sfm-only] [--shared-sfm]
