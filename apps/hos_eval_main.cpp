@@ -418,9 +418,11 @@ struct CommonCommand {
       r.j["runs"].push_back({{"saved", saved[i]},
                              {"coverage", share(c.covered_pixels[i])},
                              {"psnr", number(c.psnr[i])},
+                             {"psnr_exposure_matched", number(c.psnr_exposure_matched[i])},
                              {"ssim", c.ssim[i]}});
-      r.table += row(saved[i], "PSNR " + fmt(c.psnr[i], 4) + " dB  SSIM " + fmt(c.ssim[i], 4) + "  coverage " +
-                                   fmt(share(c.covered_pixels[i]), 4));
+      r.table +=
+          row(saved[i], "PSNR " + fmt(c.psnr[i], 4) + " dB (exposure matched " + fmt(c.psnr_exposure_matched[i], 4) +
+                            " dB)  SSIM " + fmt(c.ssim[i], 4) + "  coverage " + fmt(share(c.covered_pixels[i]), 4));
     }
     return r;
 #else

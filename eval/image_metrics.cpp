@@ -4,6 +4,7 @@
 #include <limits>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
+#include <vector>
 
 namespace hos::eval {
 namespace {
@@ -60,6 +61,29 @@ double masked_ssim(const cv::Mat& a, const cv::Mat& b, const cv::Mat& mask) {
   double total = 0.0;
   for (int c = 0; c < a.channels(); ++c) total += sum[c];
   return total / (static_cast<double>(cv::countNonZero(m)) * a.channels());
+}
+
+cv::Mat exposure_matched(const cv::Mat& render, const cv::Mat& photo, const cv::Mat& mask) {
+  const cv::Mat m = checked_mask(render, photo, mask);
+  std::vector<cv::Mat> r, p;
+  cv::split(render, r);
+  cv::split(photo, p);
+  for (std::size_t c = 0; c < r.size(); ++c) {
+    // Least squares of photo = gain * render + offset over the mask.
+    cv::Scalar mean_r, std_r, mean_p, std_p;
+    cv::meanStdDev(r[c], mean_r, std_r, m);
+    cv::meanStdDev(p[c], mean_p, std_p, m);
+    cv::Mat fr, fp;
+    r[c].convertTo(fr, CV_64F, 1.0, -mean_r[0]);
+    p[c].convertTo(fp, CV_64F, 1.0, -mean_p[0]);
+    const double covariance = cv::mean(fr.mul(fp), m)[0];
+    const double variance = std_r[0] * std_r[0];
+    const double gain = variance > 0.0 ? covariance / variance : 1.0;
+    r[c].convertTo(r[c], CV_8U, gain, mean_p[0] - gain * mean_r[0]);
+  }
+  cv::Mat out;
+  cv::merge(r, out);
+  return out;
 }
 
 }  // namespace hos::eval

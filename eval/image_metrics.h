@@ -17,4 +17,11 @@ double masked_psnr(const cv::Mat& a, const cv::Mat& b, const cv::Mat& mask = cv:
 // channels and masked pixels. 1 for identical images.
 double masked_ssim(const cv::Mat& a, const cv::Mat& b, const cv::Mat& mask = cv::Mat());
 
+// `render` with each channel mapped by the gain and offset that best fit it
+// to `photo` over the masked pixels (least squares), saturated to 8 bits: a
+// held-out photo's exposure and white balance are unknown to the pipeline,
+// so PSNR after this measures what remains (geometry, texture detail).
+// Throws as masked_psnr; a channel constant over the mask keeps gain 1.
+cv::Mat exposure_matched(const cv::Mat& render, const cv::Mat& photo, const cv::Mat& mask = cv::Mat());
+
 }  // namespace hos::eval

@@ -107,6 +107,7 @@ CommonComparison compare_on_common_pixels(const std::vector<std::filesystem::pat
   for (const SavedRender& run : runs) {
     out.psnr.push_back(masked_psnr(run.color, run.photo, common));
     out.ssim.push_back(masked_ssim(run.color, run.photo, common));
+    out.psnr_exposure_matched.push_back(masked_psnr(exposure_matched(run.color, run.photo, common), run.photo, common));
   }
   return out;
 }

@@ -57,6 +57,8 @@ struct CommonComparison {
   std::size_t common_pixels = 0;
   std::vector<std::size_t> covered_pixels;  // per run
   std::vector<double> psnr, ssim;           // per run, over the common pixels
+  // Per run, after exposure_matched over the common pixels.
+  std::vector<double> psnr_exposure_matched;
 };
 
 // Throws InputError when the views differ in size or their photos differ

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 
 namespace hos::eval {
 namespace {
@@ -66,6 +67,39 @@ TEST(Ssim, ConstantImagesFollowTheLuminanceTerm) {
   const cv::Mat a(32, 32, CV_8UC1, cv::Scalar(100)), b(32, 32, CV_8UC1, cv::Scalar(150));
   const double c1 = std::pow(0.01 * 255, 2);
   EXPECT_NEAR(masked_ssim(a, b), (2 * 100.0 * 150.0 + c1) / (100.0 * 100.0 + 150.0 * 150.0 + c1), 1e-9);
+}
+
+// A textured image with values in [20, 220] (no clipping under the maps below).
+cv::Mat textured_image() {
+  cv::Mat img(64, 80, CV_8UC3);
+  for (int y = 0; y < img.rows; ++y) {
+    for (int x = 0; x < img.cols; ++x) {
+      img.at<cv::Vec3b>(y, x) =
+          cv::Vec3b(20 + (x * 7 + y * 13) % 50 * 4, 20 + (x * 11 + y * 3) % 50 * 4, 20 + (x * 5 + y * 17) % 50 * 4);
+    }
+  }
+  return img;
+}
+
+TEST(ExposureMatched, UndoesAGainAndOffsetPerChannelButNotAShift) {
+  const cv::Mat photo = textured_image();
+  // A render of another exposure and white balance: per-channel gain and offset.
+  cv::Mat render;
+  cv::transform(photo, render, cv::Matx34f(0.8f, 0, 0, 20, 0, 0.9f, 0, 5, 0, 0, 1.1f, -8));
+  EXPECT_LT(masked_psnr(render, photo), 30.0);
+  // Left: rounding to 8 bits (twice), under one grey level.
+  EXPECT_GT(masked_psnr(exposure_matched(render, photo), photo), 45.0);
+  // Pixels outside the mask do not take part in the fit.
+  cv::Mat mask(photo.size(), CV_8U, cv::Scalar(255));
+  mask.colRange(0, 20).setTo(0);
+  cv::Mat spoiled = render.clone();
+  spoiled.colRange(0, 20).setTo(cv::Scalar(255, 0, 255));
+  EXPECT_GT(masked_psnr(exposure_matched(spoiled, photo, mask), photo, mask), 45.0);
+  // A render two pixels off stays wrong: no gain and offset fix structure
+  // (the fit can only pull an uncorrelated render towards the photo's mean).
+  cv::Mat shifted;
+  cv::warpAffine(photo, shifted, cv::Matx23f(1, 0, 2, 0, 1, 0), photo.size(), cv::INTER_NEAREST, cv::BORDER_REFLECT);
+  EXPECT_LT(masked_psnr(exposure_matched(shifted, photo), photo), 20.0);
 }
 
 }  // namespace

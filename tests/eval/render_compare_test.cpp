@@ -95,6 +95,11 @@ TEST(RenderCompare, RunsAreComparedOnThePixelsEveryRunCovers) {
   EXPECT_EQ(c.common_pixels, c.covered_pixels[1]);  // the small sphere lies inside the whole one
   EXPECT_TRUE(std::isinf(c.psnr[0]));
   EXPECT_LT(c.psnr[1], 30.0);
+  // The least-squares gain and offset include the identity: matching never
+  // scores worse (beyond 8-bit rounding).
+  ASSERT_EQ(c.psnr_exposure_matched.size(), 2u);
+  EXPECT_GT(c.psnr_exposure_matched[0], 50.0);
+  EXPECT_GE(c.psnr_exposure_matched[1], c.psnr[1] - 0.05);
 
   // A view of another photo is refused, naming the file.
   try {
