@@ -5,8 +5,9 @@
 // max_normal_error_deg, and whose own point projects back within
 // max_reprojection_error_px. Agreeing views count only from distinct
 // viewpoints (min_triangulation_angle_deg apart at the point); a point that
-// exactly two such views agree on survives under the two_view_* rules (no
-// other view that faces its surface may lack a depth there).
+// exactly two such views agree on survives under the two_view_* rules (the
+// other views that cover it, and face its surface within
+// two_view_veto_max_incidence_deg, must have a depth there).
 // Agreeing pixels are merged into one point (averaged position, normal and
 // colour) and marked used, so every surface point is emitted once; the number
 // of distinct agreeing viewpoints is its confidence. Density control: a
