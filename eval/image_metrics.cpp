@@ -70,9 +70,9 @@ cv::Mat exposure_matched(const cv::Mat& render, const cv::Mat& photo, const cv::
   cv::split(photo, p);
   for (std::size_t c = 0; c < r.size(); ++c) {
     // Least squares of photo = gain * render + offset over the mask.
-    cv::Scalar mean_r, std_r, mean_p, std_p;
+    cv::Scalar mean_r, std_r;
     cv::meanStdDev(r[c], mean_r, std_r, m);
-    cv::meanStdDev(p[c], mean_p, std_p, m);
+    const cv::Scalar mean_p = cv::mean(p[c], m);
     cv::Mat fr, fp;
     r[c].convertTo(fr, CV_64F, 1.0, -mean_r[0]);
     p[c].convertTo(fp, CV_64F, 1.0, -mean_p[0]);

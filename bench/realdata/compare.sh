@@ -23,7 +23,6 @@ bin="$1"
 IFS=: read -r -a works <<<"$2"
 shift 2
 labels=("$@")
-jsons=()
 for work in "${works[@]}"; do
   for camera in true registered; do
     saved=()
@@ -32,15 +31,12 @@ for work in "${works[@]}"; do
       saved+=(--saved "$view")
     done
     "$bin/hos-eval" common "${saved[@]}" --json "$work/common-$camera.json" >/dev/null
-    jsons+=("$work" "$camera")
   done
 done
-python3 - "${#labels[@]}" "${labels[@]}" "${jsons[@]}" <<'PY'
+python3 - "${#labels[@]}" "${labels[@]}" "${works[@]}" <<'PY'
 import json, os, sys
 count = int(sys.argv[1])
-labels, rest = sys.argv[2:2 + count], sys.argv[2 + count:]
-pairs = list(zip(rest[0::2], rest[1::2]))
-works = sorted({w for w, _ in pairs}, key=[w for w, _ in pairs].index)
+labels, works = sys.argv[2:2 + count], sys.argv[2 + count:]
 print("| camera | held out | run | PSNR dB (common pixels) | exposure matched | SSIM (common pixels) | own coverage "
       "| common coverage |")
 print("|---|---|---|---|---|---|---|---|")

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
 
 namespace hos::eval {
 namespace {
@@ -100,6 +101,9 @@ TEST(ExposureMatched, UndoesAGainAndOffsetPerChannelButNotAShift) {
   cv::Mat shifted;
   cv::warpAffine(photo, shifted, cv::Matx23f(1, 0, 2, 0, 1, 0), photo.size(), cv::INTER_NEAREST, cv::BORDER_REFLECT);
   EXPECT_LT(masked_psnr(exposure_matched(shifted, photo), photo), 20.0);
+  // Bad input is refused as by masked_psnr.
+  EXPECT_THROW(exposure_matched(render, cv::Mat(10, 10, CV_8UC3)), std::invalid_argument);
+  EXPECT_THROW(exposure_matched(render, photo, cv::Mat::zeros(photo.size(), CV_8U)), std::invalid_argument);
 }
 
 }  // namespace

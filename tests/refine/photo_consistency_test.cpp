@@ -2,9 +2,10 @@
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <iostream>
+#include <utility>
 
+#include "eval/surface_distance.h"
 #include "refine/mesh_geometry.h"
 #include "tests/refine/rock_fixture.h"
 
@@ -24,11 +25,7 @@ TEST(Zncc, IgnoresGainAndOffsetAndRefusesFlatPatches) {
   EXPECT_FALSE(zncc(a, flat, 0.01f).has_value());
 }
 
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
-}
+double median(std::vector<double> values) { return eval::summarize_distances(std::move(values)).median; }
 
 // The rock's true mesh pushed outwards by 1.5 pixels along its normals: every
 // target should point back by that much. A vertex whose patch runs past the
