@@ -51,14 +51,24 @@ ViewChoice choose_views(const Eigen::Vector3d& x,
 // keeps curvature from biasing the offset. Samples off that surface (past a
 // silhouette, across a depth edge) are left out; with fewer than
 // min_coverage of them left there is no patch.
+//
+// An offset moves the surface along the vertex normal, but each sample stays
+// on its reference pixel's ray (its grey level belongs to that ray):
+// `along_ray` is the move along the ray that shifts the surface by one unit
+// along the normal. Moving the samples along the normal instead would slide
+// them across the reference's texture whenever the reference sees the
+// surface obliquely, and bias the offset found.
 struct Patch {
   std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3d> along_ray;
   std::vector<float> reference;
 };
 
 std::optional<Patch> surface_patch(const RefineView& ref,
                                    int level,
                                    const Eigen::Vector3d& x,
+                                   const Eigen::Vector3d& n,
+                                   double min_cos_incidence,
                                    int half,
                                    double step,
                                    double max_depth_jump,
@@ -73,7 +83,11 @@ std::optional<Patch> surface_patch(const RefineView& ref,
       const std::optional<Eigen::Vector3d> point = surface_point(ref, pixel, max_depth_jump);
       const std::optional<float> grey = sample(ref, level, pixel);
       if (!point || !grey) continue;
+      const Eigen::Vector3d ray = (*point - ref.center).normalized();
+      // n faces the reference, so n . ray < 0; bounded away from 0 at grazing pixels.
+      const double cos_incidence = std::min(n.dot(ray), -min_cos_incidence);
       patch.points.push_back(*point);
+      patch.along_ray.push_back(ray / cos_incidence);
       patch.reference.push_back(*grey);
     }
   }
@@ -82,13 +96,12 @@ std::optional<Patch> surface_patch(const RefineView& ref,
   return patch;
 }
 
-// Grey levels of the patch moved by `shift` in another view; false when a
-// point leaves the image.
-bool sample_moved_patch(
-    const RefineView& view, int level, const Patch& patch, const Eigen::Vector3d& shift, std::vector<float>& out) {
+// Grey levels of the patch moved by `offset` along the normal in another
+// view; false when a point leaves the image.
+bool sample_moved_patch(const RefineView& view, int level, const Patch& patch, double offset, std::vector<float>& out) {
   out.clear();
-  for (const Eigen::Vector3d& point : patch.points) {
-    const std::optional<Eigen::Vector3d> p = view.project(point + shift, level);
+  for (std::size_t i = 0; i < patch.points.size(); ++i) {
+    const std::optional<Eigen::Vector3d> p = view.project(patch.points[i] + offset * patch.along_ray[i], level);
     if (!p) return false;
     const std::optional<float> g = sample(view, level, p->head<2>());
     if (!g) return false;
@@ -121,7 +134,8 @@ VertexTarget search_vertex(const Eigen::Vector3d& x,
   const double step = o.step_pixels * footprint;
   const int steps = o.search_steps;
   const std::optional<Patch> patch =
-      surface_patch(ref, level, x, o.patch_size / 2, o.sample_pixels, visibility_tolerance, o.min_patch_coverage);
+      surface_patch(ref, level, x, n, std::cos(o.max_incidence_deg * kDegToRad), o.patch_size / 2, o.sample_pixels,
+                    visibility_tolerance, o.min_patch_coverage);
   if (!patch) return target;
   // Step 2: the score of each offset of the patch along the normal.
   std::vector<float> scores(2 * steps + 1, -2.0f);
@@ -129,7 +143,7 @@ VertexTarget search_vertex(const Eigen::Vector3d& x,
   for (int k = -steps; k <= steps; ++k) {
     view_scores.clear();
     for (int j : choice.compared) {
-      if (!sample_moved_patch(views[j], level, *patch, (k * step) * n, samples)) continue;
+      if (!sample_moved_patch(views[j], level, *patch, k * step, samples)) continue;
       if (const std::optional<float> s = zncc(patch->reference, samples, kMinPatchStd)) view_scores.push_back(*s);
     }
     if (!view_scores.empty()) scores[k + steps] = robust_mean(view_scores);

@@ -27,25 +27,41 @@ TEST(Zncc, IgnoresGainAndOffsetAndRefusesFlatPatches) {
 
 double median(std::vector<double> values) { return eval::summarize_distances(std::move(values)).median; }
 
-// The rock's true mesh pushed outwards by 1.5 pixels along its normals: every
-// target should point back by that much. A vertex whose patch runs past the
-// rock's silhouette in its reference view gets a target only from a partial
-// patch.
-TEST(SearchNormalOffsets, PartialPatchesReachTheSilhouettesAndPointBackToTheSurface) {
-  testing::RockScene scene = testing::make_rock_scene(16, 1);
-  TriangleMesh mesh = scene.truth;
-  const std::vector<Eigen::Vector3f> true_normals = vertex_normals(mesh);
-  const std::vector<float> footprints = pixel_footprints(mesh, true_normals, scene.views, 75.0);
+// The rock's true mesh pushed outwards by 1.5 pixels (the median footprint)
+// along its normals, with its depth in every view: every target should point
+// back by `shift`.
+struct PushedRock {
+  testing::RockScene scene;
+  TriangleMesh mesh;
+  std::vector<Eigen::Vector3f> normals;
+  double shift = 0.0;
+  double tolerance = 0.0;  // visibility, as refine_mesh sets it
+};
+
+PushedRock pushed_rock() {
+  PushedRock rock;
+  rock.scene = testing::make_rock_scene(16, 1);
+  rock.mesh = rock.scene.truth;
+  const std::vector<Eigen::Vector3f> true_normals = vertex_normals(rock.mesh);
+  const std::vector<float> footprints = pixel_footprints(rock.mesh, true_normals, rock.scene.views, 75.0);
   std::vector<double> finite;
   for (float f : footprints) {
     if (std::isfinite(f)) finite.push_back(f);
   }
-  const double shift = 1.5 * median(finite);
-  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
-    mesh.vertices[v] += static_cast<float>(shift) * true_normals[v];
-  const std::vector<Eigen::Vector3f> normals = vertex_normals(mesh);
-  render_depths(mesh, scene.views, 0);
-  const double tolerance = 2.0 * mean_edge_length(mesh);
+  rock.shift = 1.5 * median(finite);
+  for (std::size_t v = 0; v < rock.mesh.vertices.size(); ++v)
+    rock.mesh.vertices[v] += static_cast<float>(rock.shift) * true_normals[v];
+  rock.normals = vertex_normals(rock.mesh);
+  render_depths(rock.mesh, rock.scene.views, 0);
+  rock.tolerance = 2.0 * mean_edge_length(rock.mesh);
+  return rock;
+}
+
+// A vertex whose patch runs past the rock's silhouette in its reference view
+// gets a target only from a partial patch.
+TEST(SearchNormalOffsets, PartialPatchesReachTheSilhouettesAndPointBackToTheSurface) {
+  PushedRock rock = pushed_rock();
+  const auto& [scene, mesh, normals, shift, tolerance] = rock;
   RefineOptions whole, partial;
   whole.min_patch_coverage = 1.0;
   partial.min_patch_coverage = 0.6;
@@ -68,6 +84,36 @@ TEST(SearchNormalOffsets, PartialPatchesReachTheSilhouettesAndPointBackToTheSurf
   EXPECT_LT(median(whole_errors), 0.25);
   EXPECT_LT(median(partial_errors), 0.25);
   EXPECT_LT(median(added_errors), 0.8);
+}
+
+// The pushed rock, scored where even the most frontal view sees
+// the surface obliquely (more than 45 degrees off its normal). Moving the
+// patch's samples along the normal would slide them across the reference's
+// texture there (by about the shift times the tangent of the incidence); on
+// the reference's rays they stay on the texture they were sampled from.
+TEST(SearchNormalOffsets, ObliqueReferencesStillPointBackToTheSurface) {
+  PushedRock rock = pushed_rock();
+  const auto& [scene, mesh, normals, shift, tolerance] = rock;
+  const auto targets =
+      search_normal_offsets(mesh, normals, scene.views, 0, tolerance, RefineOptions{}, null_reporter());
+  std::vector<double> oblique_errors, frontal_errors;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    if (!(targets[v].weight > 0)) continue;
+    const Eigen::Vector3d x = mesh.vertices[v].cast<double>(), n = normals[v].cast<double>();
+    double most_frontal = -1.0;
+    for (const RefineView& view : scene.views) {
+      if (sees(view, x, tolerance)) most_frontal = std::max(most_frontal, n.dot((view.center - x).normalized()));
+    }
+    const double error = std::abs(targets[v].offset + shift) / shift;
+    (most_frontal < std::cos(45.0 * M_PI / 180.0) ? oblique_errors : frontal_errors).push_back(error);
+  }
+  std::cout << "[ figures  ] median error / shift: " << median(frontal_errors) << " over " << frontal_errors.size()
+            << " vertices seen within 45 degrees of head-on, " << median(oblique_errors) << " over "
+            << oblique_errors.size() << " seen more obliquely\n";
+  // Samples moved along the normal instead: 0.42 oblique, 0.12 frontal.
+  ASSERT_GT(oblique_errors.size(), 100u);
+  EXPECT_LT(median(oblique_errors), 0.2);
+  EXPECT_LT(median(frontal_errors), 0.1);
 }
 
 }  // namespace
