@@ -41,7 +41,9 @@ double masked_psnr(const cv::Mat& a, const cv::Mat& b, const cv::Mat& mask) {
 
 double masked_ssim(const cv::Mat& a, const cv::Mat& b, const cv::Mat& mask) {
   const cv::Mat m = checked_mask(a, b, mask);
-  const double c1 = (0.01 * 255) * (0.01 * 255), c2 = (0.03 * 255) * (0.03 * 255);
+  // Per channel: a bare double added to a multi-channel matrix is ambiguous
+  // to OpenCV (it warns on every call).
+  const cv::Scalar c1 = cv::Scalar::all((0.01 * 255) * (0.01 * 255)), c2 = cv::Scalar::all((0.03 * 255) * (0.03 * 255));
   cv::Mat x, y;
   a.convertTo(x, CV_64F);
   b.convertTo(y, CV_64F);
