@@ -128,6 +128,7 @@ RefineResult refine_mesh(const TriangleMesh& input,
           search_normal_offsets(mesh, normals, views, level, 2.0 * edge, options, reporter);
       const auto [score, fraction] = score_summary(targets);
       stats.round_scores.push_back(score);
+      stats.round_levels.push_back(level);
       stats.targeted_fraction = fraction;
       // Step 3: the regularised displacements, applied without fold-overs.
       SolveStats solve;

@@ -1,5 +1,7 @@
 #include "refine/run_refine.h"
 
+#include <algorithm>
+
 #include "core/ply_io.h"
 #include "core/undistorted_workspace.h"
 
@@ -21,10 +23,15 @@ RefineStats run_refine(const std::filesystem::path& mesh_path,
   const RefineResult result = refine_mesh(mesh, mesh_path.string(), workspace, options, reporter);
   write_mesh_ply(output_path, result.mesh);
   const RefineStats& s = result.stats;
+  // Scores of different levels do not compare (a finer level's patches see
+  // finer texture): the finest level's first and last rounds do.
+  const auto finest =
+      std::find(s.round_levels.begin(), s.round_levels.end(), s.round_levels.empty() ? 0 : s.round_levels.back());
+  const std::size_t first = static_cast<std::size_t>(finest - s.round_levels.begin());
   reporter.info(format_message(
       "wrote ", output_path.string(), ": ", result.mesh.num_vertices(), " vertices, ", result.mesh.num_faces(),
       " faces (", s.split_edges, " edges split", s.face_budget_reached ? ", face budget reached" : "", "); ", s.rounds,
-      " rounds, mean ZNCC ", s.round_scores.empty() ? 0.0 : s.round_scores.front(), " -> ",
+      " rounds, mean ZNCC at the finest level ", s.round_scores.empty() ? 0.0 : s.round_scores[first], " -> ",
       s.round_scores.empty() ? 0.0 : s.round_scores.back(), ", mean displacement ", s.mean_displacement, ", ",
       s.seconds, " s", s.out_of_time ? " (time budget reached)" : ""));
   return s;

@@ -59,6 +59,17 @@ TEST(RefineMesh, SmoothedRockComesBackTowardsTheTruth) {
   for (double score : result.stats.round_scores) std::cout << " " << score;
   std::cout << "\n";
   EXPECT_GT(after.primary().f_score, before.primary().f_score + 0.1);
+  // Coarse to fine, every level used, and within a level the photos agree better round by round.
+  const RefineStats& stats = result.stats;
+  ASSERT_EQ(stats.round_levels.size(), stats.round_scores.size());
+  EXPECT_EQ(stats.round_levels.front(), options.levels - 1);
+  EXPECT_EQ(stats.round_levels.back(), 0);
+  for (std::size_t r = 1; r < stats.round_levels.size(); ++r) {
+    EXPECT_LE(stats.round_levels[r], stats.round_levels[r - 1]);
+    if (stats.round_levels[r] == stats.round_levels[r - 1]) {
+      EXPECT_GT(stats.round_scores[r], stats.round_scores[r - 1]) << "round " << r;
+    }
+  }
   EXPECT_LT(after.chamfer, 0.6 * before.chamfer);
   // The topology is the input's, so the mesh stays closed and manifold; and no face turned over.
   const eval::MeshSanity sanity = eval::check_mesh_sanity(result.mesh);
