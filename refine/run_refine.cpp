@@ -24,14 +24,15 @@ RefineStats run_refine(const std::filesystem::path& mesh_path,
   write_mesh_ply(output_path, result.mesh);
   const RefineStats& s = result.stats;
   // Scores of different levels do not compare (a finer level's patches see
-  // finer texture): the finest level's first and last rounds do.
-  const auto finest =
+  // finer texture): the last level's first and last rounds do. That is the
+  // finest level unless max_seconds stopped the run before it.
+  const auto last_level =
       std::find(s.round_levels.begin(), s.round_levels.end(), s.round_levels.empty() ? 0 : s.round_levels.back());
-  const std::size_t first = static_cast<std::size_t>(finest - s.round_levels.begin());
+  const std::size_t first = static_cast<std::size_t>(last_level - s.round_levels.begin());
   reporter.info(format_message(
       "wrote ", output_path.string(), ": ", result.mesh.num_vertices(), " vertices, ", result.mesh.num_faces(),
       " faces (", s.split_edges, " edges split", s.face_budget_reached ? ", face budget reached" : "", "); ", s.rounds,
-      " rounds, mean ZNCC at the finest level ", s.round_scores.empty() ? 0.0 : s.round_scores[first], " -> ",
+      " rounds, mean ZNCC at the last level ", s.round_scores.empty() ? 0.0 : s.round_scores[first], " -> ",
       s.round_scores.empty() ? 0.0 : s.round_scores.back(), ", mean displacement ", s.mean_displacement, ", ",
       s.seconds, " s", s.out_of_time ? " (time budget reached)" : ""));
   return s;

@@ -86,11 +86,11 @@ TEST(SearchNormalOffsets, PartialPatchesReachTheSilhouettesAndPointBackToTheSurf
   EXPECT_LT(median(added_errors), 0.8);
 }
 
-// The pushed rock, scored where even the most frontal view sees
-// the surface obliquely (more than 45 degrees off its normal). Moving the
-// patch's samples along the normal would slide them across the reference's
-// texture there (by about the shift times the tangent of the incidence); on
-// the reference's rays they stay on the texture they were sampled from.
+// The pushed rock, scored where even the most frontal view sees the surface
+// obliquely (more than 45 degrees off its normal). Moving the patch's samples
+// along the normal would slide them across the reference's texture there (by
+// about the shift times the tangent of the incidence); on the reference's
+// rays they stay on the texture they were sampled from.
 TEST(SearchNormalOffsets, ObliqueReferencesStillPointBackToTheSurface) {
   PushedRock rock = pushed_rock();
   const auto& [scene, mesh, normals, shift, tolerance] = rock;
