@@ -33,9 +33,9 @@ struct MvsOptions {
   // Source views below this angle are not chosen; in fusion, agreeing views
   // closer than this to one already counted are no further evidence.
   double min_triangulation_angle_deg = 3.0;
-  double max_cost = 0.6;          // 1 - NCC above this: pixel rejected
-  double min_texture_std = 0.01;  // window intensity std (0..1) below this: textureless, no depth
-  double sigma_color = 0.2;       // bilateral weight: intensity scale
+  double max_cost = 0.6;           // 1 - NCC above this: pixel rejected
+  double min_texture_std = 0.006;  // window intensity std (0..1) below this: textureless, no depth
+  double sigma_color = 0.2;        // bilateral weight: intensity scale
   // Geometric consistency and fusion. Real photos need two other views to
   // agree: one lets noisy background and webs between columns in.
   int min_consistent_views = 2;
