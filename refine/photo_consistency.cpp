@@ -8,7 +8,7 @@
 namespace hos::refine {
 namespace {
 
-constexpr float kMinPatchStd = 0.01f;  // grey levels in [0, 1]; as mvs.min_texture_std
+constexpr float kMinPatchStd = 0.01f;  // grey levels in [0, 1]; flatter patches give no score
 constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 
 // The reference view (most frontal) and the views compared with it, for one vertex.
