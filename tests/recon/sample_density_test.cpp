@@ -54,6 +54,24 @@ TEST(SampleDensity, ChosenCellsSpanTheSpacingTimesTheRootOfTheSamplesPerCell) {
   }
 }
 
+// A facade and, far behind it, a small patch of another surface (a
+// building seen through a gap): the domain grows, the cells keep following
+// the spacing, beyond the 1024 cells the rule once stopped at.
+TEST(SampleDensity, AFarPatchWidensTheDomainNotTheCells) {
+  std::vector<Eigen::Vector3f> points = planar_lattice();
+  constexpr int kPatch = 57;       // 2% of the facade's samples
+  constexpr double kOffset = 6.0;  // the patch's distance along x
+  for (int y = 0; y < kPatch; ++y) {
+    for (int x = 0; x < kPatch; ++x) points.emplace_back(kOffset + x * kSpacing, y * kSpacing, 0.0f);
+  }
+  const ReconOptions options;
+  const double side = (kOffset + (kPatch - 1) * kSpacing) * (1.0 + 2.0 * options.margin);
+  const double expected = side / (kSpacing * std::sqrt(options.samples_per_cell));
+  ASSERT_GT(expected, 1100.0);
+  const int chosen = resolution_from_density(bounding_box(points), points, options);
+  EXPECT_NEAR(chosen, expected, 8.0 + 0.03 * expected);
+}
+
 TEST(SampleDensity, FourTimesTheSamplesOnASurfaceDoubleTheResolution) {
   const std::vector<Eigen::Vector3f> sparse = synth::sample_sphere(160000, 1.0, 0.0, 3).positions;
   const std::vector<Eigen::Vector3f> dense = synth::sample_sphere(640000, 1.0, 0.0, 4).positions;
