@@ -80,6 +80,7 @@ class PatchMatcher {
     photo_.assign(std::size_t(w) * h, 2.0f);
     changed_.assign(std::size_t(w) * h, -1);
     settled_.assign(std::size_t(w) * h, 0);
+    inherited_.assign(std::size_t(w) * h, kTextureless);
     prepare_windows();
   }
 
@@ -99,7 +100,8 @@ class PatchMatcher {
 
   // Finer level: each pixel starts from the plane of the coarse pixel it
   // lies in, re-intersected with its own ray; pixels where that plane
-  // matches well are settled and left alone by the sweeps.
+  // matches well are settled and left alone by the sweeps, and pixels too
+  // flat at this level to be scored keep it with the coarse pixel's cost.
   void initialise_from(const PlaneMap& coarse, const std::vector<Eigen::Vector3d>& seeds) {
     const int w = ref_.width(), h = ref_.height();
     const Eigen::Matrix3d coarse_K_inv = coarse.K.inverse();
@@ -119,6 +121,7 @@ class PatchMatcher {
         if (depth > 0.5 / inv_max_ && depth < 2.0 / inv_min_) {
           planes_[i].depth = static_cast<float>(depth);
           planes_[i].normal = n.cast<float>();
+          inherited_[i] = coarse.cost.at<float>(cy, cx);
         } else {
           planes_[i] = random_plane(x, y, i * 7919u);
         }
@@ -159,7 +162,7 @@ class PatchMatcher {
         map.depth.at<float>(y, x) = planes_[i].depth;
         const Eigen::Vector3f& n = planes_[i].normal;
         map.normal.at<cv::Vec3f>(y, x) = cv::Vec3f(n.x(), n.y(), n.z());
-        map.cost.at<float>(y, x) = textured_[i] ? photo_[i] : kTextureless;
+        map.cost.at<float>(y, x) = textured_[i] ? photo_[i] : inherited_[i];
       }
     }
     return map;
@@ -553,6 +556,10 @@ class PatchMatcher {
   std::vector<float> weights_, centred_, ref_var_;
   std::vector<char> textured_;
   std::vector<char> settled_;  // finer levels: the upsampled plane matched well, no sweeps
+  // Finer levels: the coarser pixel's cost. A window flat at this level
+  // whose coarser pixel matched (its window spans twice the scene and saw
+  // texture) keeps the upsampled plane and that cost; kTextureless elsewhere.
+  std::vector<float> inherited_;
   std::vector<PriorFrame> priors_;
   bool has_priors_ = false;
   float geometric_pixel_ = 1.0f;  // coarse pixels per reference pixel

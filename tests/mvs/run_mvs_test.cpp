@@ -21,6 +21,7 @@
 namespace hos::mvs {
 namespace {
 
+using mvs_testing::edited_copy;
 using mvs_testing::synthetic_workspace;
 using mvs_testing::truth_at;
 using mvs_testing::TruthAtPoint;
@@ -29,24 +30,6 @@ const MvsResult& mvs_result() {
   static const MvsResult result = run_mvs(synthetic_workspace().workspace, MvsOptions{}, null_reporter(),
                                           synthetic_workspace().dir->path() / "depth_maps");
   return result;
-}
-
-// The scene's workspace copied into dir with every image passed through
-// edit (image, index in image id order), then loaded.
-template <typename Edit>
-UndistortedWorkspace edited_copy(const mvs_testing::SyntheticWorkspace& s,
-                                 const hos::testing::TempDir& dir,
-                                 Edit edit) {
-  std::filesystem::copy(s.dir->path() / "scene", dir.path() / "scene", std::filesystem::copy_options::recursive);
-  std::size_t v = 0;
-  for (const auto& [id, record] : s.truth.model.images) {
-    const auto path = dir.path() / "scene" / "images" / record.name;
-    cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);
-    if (image.empty()) throw std::runtime_error("cannot read " + path.string());
-    edit(image, v++);
-    cv::imwrite(path.string(), image);
-  }
-  return load_undistorted_workspace(dir.path() / "scene");
 }
 
 // Points within 0.5% of the diagonal of the true surface.

@@ -1,5 +1,9 @@
 #include "tests/mvs/synthetic_workspace.h"
 
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <stdexcept>
+
 #include "core/ply_io.h"
 
 namespace hos::mvs_testing {
@@ -14,6 +18,21 @@ SyntheticWorkspace make_synthetic_workspace(const synth::SceneOptions& scene_opt
   s.workspace = load_undistorted_workspace(s.dir->path() / "scene");
   s.diagonal = bounding_box(read_mesh_ply(s.dir->path() / "scene" / "gt_objects.ply").vertices).diagonal();
   return s;
+}
+
+UndistortedWorkspace edited_copy(const SyntheticWorkspace& s,
+                                 const hos::testing::TempDir& dir,
+                                 const std::function<void(cv::Mat&, std::size_t)>& edit) {
+  std::filesystem::copy(s.dir->path() / "scene", dir.path() / "scene", std::filesystem::copy_options::recursive);
+  std::size_t v = 0;
+  for (const auto& [id, record] : s.truth.model.images) {
+    const auto path = dir.path() / "scene" / "images" / record.name;
+    cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);
+    if (image.empty()) throw std::runtime_error("cannot read " + path.string());
+    edit(image, v++);
+    cv::imwrite(path.string(), image);
+  }
+  return load_undistorted_workspace(dir.path() / "scene");
 }
 
 const SyntheticWorkspace& synthetic_workspace() {

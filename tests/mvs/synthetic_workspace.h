@@ -3,7 +3,10 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
+#include <functional>
 #include <memory>
+#include <opencv2/core.hpp>
 
 #include "core/undistorted_workspace.h"
 #include "synth/dataset.h"
@@ -22,6 +25,12 @@ struct SyntheticWorkspace {
 
 SyntheticWorkspace make_synthetic_workspace(const synth::SceneOptions& scene_options,
                                             const synth::DatasetOptions& options);
+
+// The scene's workspace copied into dir with every image passed through
+// edit (image, index in image id order), then loaded.
+UndistortedWorkspace edited_copy(const SyntheticWorkspace& s,
+                                 const hos::testing::TempDir& dir,
+                                 const std::function<void(cv::Mat&, std::size_t)>& edit);
 
 // 12 views at 320x240 of the default scene (seed 1).
 const SyntheticWorkspace& synthetic_workspace();
