@@ -12,10 +12,12 @@ namespace hos::mvs {
 struct MvsOptions {
   std::string backend = "cpu";  // cpu | colmap (COLMAP's CUDA PatchMatch, only when available)
   // Matching size. One level at 1024 px by default: on the Strecha hold-out
-  // photos it scored 0.4-0.7 dB above 640 px at 2.6x the CPU time, and finer
-  // levels refined from a coarse one scored below one level at their size
-  // (docs/benchmarks-mvs.md). A max_image_size above coarse_image_size adds
-  // levels of twice the size up to it, refined from the level below.
+  // photos, coarse to fine from 640 to 1280 scored 0.05-0.2 dB above it with
+  // refine off and -0.05 to +0.1 dB with refine on, at 0.6-0.9x its mvs CPU
+  // time, but kept fewer of the synthetic railing's bars
+  // (docs/benchmarks-mvs.md).
+  // A max_image_size above coarse_image_size adds levels of twice the size
+  // up to it, refined from the level below.
   int max_image_size = 1024;     // longest image side of the finest level
   int coarse_image_size = 1024;  // longest side of the full PatchMatch level; >= max_image_size: one level
   int num_source_views = 4;      // source views per reference view
@@ -23,7 +25,9 @@ struct MvsOptions {
   int window_radius = 4;         // matching window half size in pixels
   int window_step = 2;           // sample every step-th pixel of the window
   int iterations = 4;            // coarse level sweeps (red-black, both colours)
-  int refine_iterations = 1;     // sweeps per finer level (they start from a converged plane)
+  // Sweeps per finer level (they start from a converged plane); 2 keeps more
+  // thin bars than 1 (railing completeness 0.458 -> 0.537 at 640 -> 1280).
+  int refine_iterations = 2;
   // Finer level: pixels whose upsampled plane costs at most this skip the sweeps (most of a smooth
   // surface).
   double refine_settled_cost = 0.15;
@@ -56,8 +60,11 @@ struct MvsOptions {
   double max_reprojection_error_px = 1.5;  // in the pixels of the finest level
   // Density control with finer levels: a fused point claims the pixels
   // within this radius in every view that saw it, so a surface gets about
-  // one point per (2r+1)^2 pixels of the finest level (one level: 0).
-  int fusion_spacing_px = 1;
+  // one point per (2r+1)^2 pixels of the finest level (one level: 0). Off by
+  // default: recon's grid follows the points' density up to its limit, and
+  // matching 1024 -> 2048 at radius 1 scored 0.6-0.9 dB below every pixel on
+  // the Strecha hold-out photos (docs/benchmarks-mvs.md).
+  int fusion_spacing_px = 0;
   int threads = 0;  // OpenMP threads; 0 = all cores
 
   // Throws ConfigError naming the offending option.
