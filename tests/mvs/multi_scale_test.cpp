@@ -65,14 +65,19 @@ SurfaceComparison compare(const PointCloud& cloud, const TriangleMesh& truth) {
   return compare_surfaces(as_points(cloud), truth, options, null_reporter());
 }
 
-// The default scene at 480x360: refining from 240 to 480 keeps the accuracy
-// bounds of single-scale matching (RunMvs tests) and its F-score at 0.5%.
-TEST(MultiScaleMvs, MeetsTheAccuracyBoundsOfSingleScale) {
+// The default scene, 10 views at 480x360.
+SyntheticWorkspace default_scene_at_480() {
   DatasetOptions options;
   options.num_views = 10;
   options.width = 480;
   options.height = 360;
-  const SyntheticWorkspace s = make_synthetic_workspace(SceneOptions{}, options);
+  return make_synthetic_workspace(SceneOptions{}, options);
+}
+
+// The default scene at 480x360: refining from 240 to 480 keeps the accuracy
+// bounds of single-scale matching (RunMvs tests) and its F-score at 0.5%.
+TEST(MultiScaleMvs, MeetsTheAccuracyBoundsOfSingleScale) {
+  const SyntheticWorkspace s = default_scene_at_480();
   const PointCloud multi = run_mvs(s.workspace, multi_scale(240, 480), null_reporter()).points;
   const PointCloud single = run_mvs(s.workspace, single_scale(240), null_reporter()).points;
   ASSERT_GT(multi.size(), 1000u);
@@ -100,11 +105,7 @@ TEST(MultiScaleMvs, MeetsTheAccuracyBoundsOfSingleScale) {
 // level loses no surface the coarse one found (completeness at 1% of the
 // diagonal: 0.379 against 0.369); without that it lost a third of it (0.238).
 TEST(MultiScaleMvs, FinerLevelsKeepTheSurfaceWhereTheirWindowIsFlat) {
-  DatasetOptions options;
-  options.num_views = 10;
-  options.width = 480;
-  options.height = 360;
-  const SyntheticWorkspace s = make_synthetic_workspace(SceneOptions{}, options);
+  const SyntheticWorkspace s = default_scene_at_480();
   const hos::testing::TempDir dir("hos-mvs-blurred");
   const UndistortedWorkspace blurred = edited_copy(
       s, dir, [](cv::Mat& image, std::size_t) { cv::GaussianBlur(image, image, cv::Size(0, 0), kBlurSigma); });
