@@ -62,7 +62,7 @@ struct MvsOptions {
   // within this radius in every view that saw it, so a surface gets about
   // one point per (2r+1)^2 pixels of the finest level (one level: 0). Off by
   // default: recon's grid follows the points' density up to its limit, and
-  // matching 1024 -> 2048 at radius 1 scored 0.6-0.9 dB below every pixel on
+  // matching 1024 -> 2048 at radius 1 scored 0.7-0.8 dB below every pixel on
   // the Strecha hold-out photos (docs/benchmarks-mvs.md).
   int fusion_spacing_px = 0;
   int threads = 0;  // OpenMP threads; 0 = all cores
