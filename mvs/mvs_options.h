@@ -15,9 +15,8 @@ struct MvsOptions {
   // photos, coarse to fine from 640 to 1280 scored 0.05-0.2 dB above it with
   // refine off and -0.05 to +0.1 dB with refine on, at 0.6-0.9x its mvs CPU
   // time, but kept fewer of the synthetic railing's bars
-  // (docs/benchmarks-mvs.md).
-  // A max_image_size above coarse_image_size adds levels of twice the size
-  // up to it, refined from the level below.
+  // (docs/benchmarks-mvs.md). A max_image_size above coarse_image_size adds
+  // levels of twice the size up to it, refined from the level below.
   int max_image_size = 1024;     // longest image side of the finest level
   int coarse_image_size = 1024;  // longest side of the full PatchMatch level; >= max_image_size: one level
   int num_source_views = 4;      // source views per reference view

@@ -10,7 +10,6 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <unordered_set>
 

@@ -56,7 +56,7 @@ TEST(SampleDensity, ChosenCellsSpanTheSpacingTimesTheRootOfTheSamplesPerCell) {
 
 // A facade and, far behind it, a small patch of another surface (a
 // building seen through a gap): the domain grows, the cells keep following
-// the spacing, beyond the 1024 cells the rule once stopped at.
+// the spacing, here beyond 1100 cells.
 TEST(SampleDensity, AFarPatchWidensTheDomainNotTheCells) {
   std::vector<Eigen::Vector3f> points = planar_lattice();
   constexpr int kPatch = 57;       // 2% of the facade's samples
