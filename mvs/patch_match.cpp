@@ -5,6 +5,7 @@
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <utility>
 
 #include "core/error.h"
 
@@ -73,6 +74,7 @@ class PatchMatcher {
       const Eigen::Vector3d t_rel = s->t - r_rel * ref.t;
       relative_.push_back({(s->K * r_rel * ref.K_inv).cast<float>(), (s->K * t_rel).cast<float>()});
     }
+    prepare_propagation_areas();
     prepare_priors(priors);
     const int w = ref.width(), h = ref.height();
     planes_.resize(std::size_t(w) * h);
@@ -185,6 +187,42 @@ class PatchMatcher {
     Eigen::Matrix3f A;
     Eigen::Vector3f b;
   };
+
+  // The eight propagation areas: four strips along the axes (distances 1,
+  // 3, ..., 2 * kStripLength - 1) and four V-shapes around the diagonals
+  // (|dx| + |dy| of 3 and 5). Every offset has odd |dx| + |dy|: the other
+  // colour of the red-black sweep, which is not written while this one runs.
+  void prepare_propagation_areas() {
+    constexpr int kStripLength = 6;
+    for (const auto& [ax, ay] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+      auto& strip = propagation_areas_.emplace_back();
+      for (int k = 0; k < kStripLength; ++k) strip.emplace_back(ax * (2 * k + 1), ay * (2 * k + 1));
+    }
+    for (const auto& [sx, sy] : {std::pair{1, 1}, {-1, 1}, {1, -1}, {-1, -1}}) {
+      auto& v = propagation_areas_.emplace_back();
+      for (const auto& [a, b] : {std::pair{1, 2}, {2, 1}, {1, 4}, {2, 3}, {3, 2}, {4, 1}})
+        v.emplace_back(sx * a, sy * b);
+    }
+  }
+
+  // The pixel of area (offsets from (x, y)) with the lowest cost among those
+  // whose plane changed in sweep changed_since or later; (-1, -1) if none.
+  Eigen::Vector2i best_in_area(const std::vector<Eigen::Vector2i>& area, int x, int y, int changed_since) const {
+    const int w = ref_.width(), h = ref_.height();
+    Eigen::Vector2i best(-1, -1);
+    float best_cost = 0;
+    for (const Eigen::Vector2i& o : area) {
+      const int nx = x + o.x(), ny = y + o.y();
+      if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+      const std::size_t ni = std::size_t(ny) * w + nx;
+      if (changed_[ni] < changed_since) continue;
+      if (best.x() < 0 || costs_[ni] < best_cost) {
+        best = {nx, ny};
+        best_cost = costs_[ni];
+      }
+    }
+    return best;
+  }
 
   // Viewing ray of pixel (x, y) with z = 1.
   Eigen::Vector3d ray(int x, int y) const { return ref_.K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1.0); }
@@ -494,29 +532,30 @@ class PatchMatcher {
   }
 
   void update(int x, int y, int iteration, int colour, double scale) {
-    const int w = ref_.width(), h = ref_.height();
+    const int w = ref_.width();
     const std::size_t i = std::size_t(y) * w + x;
     if (!textured_[i] || settled_[i]) return;
     Tried tried;
     tried.add(planes_[i]);
     bool changed = false;
-    // This pixel scored every neighbour's plane in its previous update and
-    // its own cost has only fallen since; a neighbour that has not changed
-    // since then offers nothing new. Colour 0 last ran before the previous
-    // sweep's colour-1 pass, colour 1 before this sweep's colour-0 pass.
+    // A neighbour whose plane has not changed since this pixel's previous
+    // update already competed then (its area's best was scored, and this
+    // pixel's cost has only fallen since), so it is passed over. Colour 0
+    // last ran before the previous sweep's colour-1 pass, colour 1 before
+    // this sweep's colour-0 pass.
     const int unchanged_before = colour == 0 ? iteration - 1 : iteration;
-    // Propagation from the neighbours of the other colour (distance 1 and 3).
-    static constexpr int kNeighbours[8][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}, {-3, 0}, {3, 0}, {0, -3}, {0, 3}};
-    for (const auto& o : kNeighbours) {
-      const int nx = x + o[0], ny = y + o[1];
-      if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-      const std::size_t ni = std::size_t(ny) * w + nx;
-      if (iteration > 0 && changed_[ni] < unchanged_before) continue;
-      const Plane& neighbour = planes_[ni];
+    // Adaptive checkerboard propagation (after ACMH, Xu and Tao 2019): from
+    // each of eight areas of the other colour, the plane that scores best at
+    // its own pixel. Long strips carry a plane along a thin structure in few
+    // sweeps.
+    for (const auto& area : propagation_areas_) {
+      const Eigen::Vector2i best = best_in_area(area, x, y, iteration > 0 ? unchanged_before : -1);
+      if (best.x() < 0) continue;
+      const Plane& neighbour = planes_[std::size_t(best.y()) * w + best.x()];
       // The neighbour's plane, re-intersected with this pixel's ray.
       Plane candidate = neighbour;
       const Eigen::Vector3d n = neighbour.normal.cast<double>();
-      const Eigen::Vector3d xn = ray(nx, ny) * neighbour.depth;
+      const Eigen::Vector3d xn = ray(best.x(), best.y()) * neighbour.depth;
       const double denom = n.dot(ray(x, y));
       if (std::abs(denom) < 1e-9) continue;
       candidate.depth = static_cast<float>(n.dot(xn) / denom);
@@ -549,6 +588,7 @@ class PatchMatcher {
   std::vector<Eigen::Vector2i> offsets_;
   std::vector<float> offset_x_, offset_y_;
   std::vector<Relative> relative_;
+  std::vector<std::vector<Eigen::Vector2i>> propagation_areas_;
   std::vector<Plane> planes_;
   std::vector<float> costs_;          // Cost::effective
   std::vector<float> photo_;          // Cost::photo
