@@ -22,6 +22,8 @@ void register_options(OptionSet& set, MvsOptions& o) {
   set.add("window_step", o.window_step, "window sampling step (pixels)", 1, 15);
   set.add("iterations", o.iterations, "PatchMatch sweeps at the coarse level", 1, 20);
   set.add("refine_iterations", o.refine_iterations, "sweeps per finer level", 0, 20);
+  set.add("refine_random_planes", o.refine_random_planes,
+          "finer levels: random planes a pixel not settled tries before the sweeps (finds thin structures)", 0, 64);
   set.add("refine_settled_cost", o.refine_settled_cost,
           "finer levels: pixels whose upsampled plane costs (1 - NCC) at most this skip the sweeps", 0.0, 2.0);
   set.add("geometric_weight", o.geometric_weight,

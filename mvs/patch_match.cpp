@@ -137,6 +137,26 @@ class PatchMatcher {
       Tried tried;
       if (!settled_[i]) try_plane(x, y, i, seed, tried);
     });
+    try_random_planes_where_unsettled();
+  }
+
+  // Finer level: a structure the coarse level missed (a bar under one coarse
+  // pixel wide) has no plane to propagate from; random planes, as at the
+  // coarse level's start, let some of its pixels find it, and the sweeps'
+  // propagation carries it along the structure.
+  void try_random_planes_where_unsettled() {
+    const int w = ref_.width(), h = ref_.height();
+#pragma omp parallel for schedule(dynamic, 4)
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const std::size_t i = std::size_t(y) * w + x;
+        if (!textured_[i] || settled_[i]) continue;
+        Tried tried;
+        for (int k = 1; k <= options_.refine_random_planes; ++k) {
+          try_plane(x, y, i, random_plane(x, y, i * 7919u + 104729u * k), tried);
+        }
+      }
+    }
   }
 
   // One red-black sweep; scale shrinks the random perturbations.
