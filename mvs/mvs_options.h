@@ -24,8 +24,8 @@ struct MvsOptions {
   int window_radius = 4;         // matching window half size in pixels
   int window_step = 2;           // sample every step-th pixel of the window
   int iterations = 4;            // coarse level sweeps (red-black, both colours)
-  // Sweeps per finer level (they start from a converged plane); 2 keeps more
-  // thin bars than 1 (railing completeness 0.458 -> 0.537 at 640 -> 1280).
+  // Sweeps per finer level (they start from a converged plane); 2 scored
+  // above 1 on the 1280x960 synthetic scene (docs/benchmarks-mvs.md).
   int refine_iterations = 2;
   // Finer levels: random planes a pixel the upsampled plane does not fit
   // tries before the sweeps, so thin structures the coarse level missed are

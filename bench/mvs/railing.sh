@@ -12,16 +12,17 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 bin="${HOS_BUILD_DIR:-$root/build}/bin"
+usage() { echo "usage: $0 --run LABEL [--mvs-bin DIR] [--set mvs.key=value]... [--run ...]" >&2; exit 2; }
 labels=() mvs_bins=() run_sets=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --run) labels+=("$2"); mvs_bins+=("$bin"); run_sets+=(""); shift 2 ;;
     --mvs-bin) mvs_bins[-1]="$(cd "$2" && pwd)"; shift 2 ;;
     --set) run_sets[-1]+=" --set $2"; shift 2 ;;
-    *) echo "usage: $0 --run LABEL [--mvs-bin DIR] [--set mvs.key=value]... [--run ...]" >&2; exit 2 ;;
+    *) usage ;;
   esac
 done
-[ ${#labels[@]} -gt 0 ] || { echo "usage: $0 --run LABEL [--mvs-bin DIR] [--set mvs.key=value]... [--run ...]" >&2; exit 2; }
+[ ${#labels[@]} -gt 0 ] || usage
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 "$bin/hos-synth" --output "$work/scene" --scene railing --ground-plane --views 8 --width 1280 --height 960 \

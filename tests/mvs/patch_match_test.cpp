@@ -13,7 +13,7 @@ namespace {
 constexpr int kWidth = 160, kHeight = 120;
 constexpr double kFocal = 200.0;
 constexpr double kPlaneDepth = 4.0;
-constexpr int kDisparity = 8;  // pixels; the source camera sits kFocal / kDisparity closer to +x
+constexpr int kDisparity = 8;  // pixels; the source camera sits kDisparity * kPlaneDepth / kFocal along +x
 
 // A smooth random texture, larger than a view by the disparity.
 cv::Mat texture() {
@@ -39,6 +39,15 @@ MvsView plane_view(const cv::Mat& tex, int shift, double centre_x) {
   return v;
 }
 
+// The reference view (at the origin) and the source view of the plane.
+struct PlaneViews {
+  MvsView ref, src;
+};
+PlaneViews plane_views() {
+  const cv::Mat tex = texture();
+  return {plane_view(tex, 0, 0.0), plane_view(tex, kDisparity, kDisparity * kPlaneDepth / kFocal)};
+}
+
 // Share of the pixels within radius (Chebyshev) of (cx, cy) whose depth is
 // the plane's within 0.5%.
 double correct_share_near(const PlaneMap& planes, int cx, int cy, int radius) {
@@ -58,9 +67,7 @@ double correct_share_near(const PlaneMap& planes, int cx, int cy, int radius) {
 // the 17x17 pixels around the seed in one sweep; reaching 3 pixels covered
 // 0.41 of them.
 TEST(PatchMatch, OneSweepCarriesASeededPlaneElevenPixelsAlongTheAxes) {
-  const cv::Mat tex = texture();
-  const MvsView ref = plane_view(tex, 0, 0.0);
-  const MvsView src = plane_view(tex, kDisparity, kDisparity * kPlaneDepth / kFocal);
+  const auto [ref, src] = plane_views();
   MvsOptions options;
   options.iterations = 1;
   options.best_k = 1;
@@ -76,9 +83,7 @@ TEST(PatchMatch, OneSweepCarriesASeededPlaneElevenPixelsAlongTheAxes) {
 // sweep give propagation something to carry: with 6, one sweep recovered
 // 0.74 of the surface around the centre; without, 0.10.
 TEST(PatchMatch, RandomPlanesLetAFinerLevelFindWhatTheCoarseOneMissed) {
-  const cv::Mat tex = texture();
-  const MvsView ref = plane_view(tex, 0, 0.0);
-  const MvsView src = plane_view(tex, kDisparity, kDisparity * kPlaneDepth / kFocal);
+  const auto [ref, src] = plane_views();
   PlaneMap coarse;
   coarse.depth = cv::Mat(kHeight / 2, kWidth / 2, CV_32F, cv::Scalar(1.5 * kPlaneDepth));
   coarse.normal = cv::Mat(kHeight / 2, kWidth / 2, CV_32FC3, cv::Scalar(0, 0, -1));
