@@ -26,20 +26,49 @@ Eigen::Vector3d back_project(const FusionView& v, int x, int y, double depth) {
   return v.R.transpose() * (xc - v.t);
 }
 
-Eigen::Vector3d normal_at(const FusionView& v, int x, int y) {
-  const cv::Vec3f n = v.map.normal.at<cv::Vec3f>(y, x);
-  return Eigen::Vector3d(n[0], n[1], n[2]);
+Eigen::Vector3d normal_at(const FusionView& v, int x, int y) { return decode_normal(v.map.normal.at<cv::Vec2s>(y, x)); }
+
+float cost_at(const FusionView& v, int x, int y) { return float(v.map.cost.at<cv::float16_t>(y, x)); }
+
+// The folding of the octahedron's lower half onto the square's corners.
+Eigen::Vector2d fold(const Eigen::Vector2d& p) {
+  return {(1.0 - std::abs(p.y())) * (p.x() >= 0 ? 1.0 : -1.0), (1.0 - std::abs(p.x())) * (p.y() >= 0 ? 1.0 : -1.0)};
 }
 
 }  // namespace
 
-FusionView make_fusion_view(const MvsView& view, DepthMap map) {
+cv::Vec2s encode_normal(const Eigen::Vector3d& n) {
+  const double l1 = n.cwiseAbs().sum();
+  if (!(l1 > 0)) return {0, 0};
+  Eigen::Vector2d p = n.head<2>() / l1;
+  if (n.z() < 0) p = fold(p);
+  return {static_cast<short>(std::lround(p.x() * 32767.0)), static_cast<short>(std::lround(p.y() * 32767.0))};
+}
+
+Eigen::Vector3d decode_normal(cv::Vec2s code) {
+  Eigen::Vector2d p(code[0] / 32767.0, code[1] / 32767.0);
+  const double z = 1.0 - p.cwiseAbs().sum();
+  if (z < 0) p = fold(p);
+  return Eigen::Vector3d(p.x(), p.y(), z).normalized();
+}
+
+FusionMap::FusionMap(const DepthMap& map) : depth(map.depth), normal(map.normal.size(), CV_16SC2) {
+  for (int y = 0; y < map.normal.rows; ++y) {
+    for (int x = 0; x < map.normal.cols; ++x) {
+      const cv::Vec3f n = map.normal.at<cv::Vec3f>(y, x);
+      normal.at<cv::Vec2s>(y, x) = encode_normal(Eigen::Vector3d(n[0], n[1], n[2]));
+    }
+  }
+  map.cost.convertTo(cost, CV_16F);
+}
+
+FusionView make_fusion_view(const MvsView& view, const DepthMap& map) {
   FusionView f;
   f.K = view.K;
   f.K_inv = view.K_inv;
   f.R = view.R;
   f.t = view.t;
-  f.map = std::move(map);
+  f.map = FusionMap(map);
   f.color = view.color;
   return f;
 }
@@ -125,7 +154,7 @@ bool reliable_two_view(const std::vector<FusionView>& views, const Agreement& a,
   const MvsOptions& o = rules.options;
   if (o.two_view_max_cost <= 0.0 || a.views_without_depth > o.two_view_max_views_without_depth) return false;
   for (const auto& obs : a.observations) {
-    if (!(views[obs.view].map.cost.at<float>(obs.y, obs.x) <= o.two_view_max_cost)) return false;
+    if (!(cost_at(views[obs.view], obs.x, obs.y) <= o.two_view_max_cost)) return false;
   }
   return true;
 }

@@ -25,16 +25,32 @@
 
 namespace hos::mvs {
 
+// A unit normal in two 16-bit octahedral coordinates (the octant's face
+// unfolded onto a square), within 0.01 degrees of the normal; zero decodes
+// to some unit vector.
+cv::Vec2s encode_normal(const Eigen::Vector3d& n);
+Eigen::Vector3d decode_normal(cv::Vec2s code);
+
+// A depth map as fusion keeps it for every view until the end: 10 bytes a
+// pixel instead of DepthMap's 20, so photo-resolution maps of many views fit.
+struct FusionMap {
+  cv::Mat depth;   // CV_32F, camera z, 0 = no estimate
+  cv::Mat normal;  // CV_16SC2, encode_normal of the world-frame normal
+  cv::Mat cost;    // CV_16F, aggregated 1 - NCC
+  FusionMap() = default;
+  explicit FusionMap(const DepthMap& map);
+};
+
 // The parts of a view fusion needs (kept for every view, images are not).
 struct FusionView {
   Eigen::Matrix3d K = Eigen::Matrix3d::Identity(), K_inv = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d t = Eigen::Vector3d::Zero();
-  DepthMap map;
+  FusionMap map;
   cv::Mat color;  // CV_8UC3 at the depth map's size
 };
 
-FusionView make_fusion_view(const MvsView& view, DepthMap map);
+FusionView make_fusion_view(const MvsView& view, const DepthMap& map);
 
 PointCloud fuse_depth_maps(const std::vector<FusionView>& views, const MvsOptions& options, Reporter& reporter);
 

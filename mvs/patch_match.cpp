@@ -674,6 +674,14 @@ MvsView downscale_view(const MvsView& view, int max_image_size) {
   return small;
 }
 
+double matcher_bytes_per_pixel(const MvsOptions& options) {
+  const int side = 2 * options.window_radius / options.window_step + 1;
+  // Two floats per window sample (weights, centred values), the Plane, four
+  // floats (costs, photometric costs, inherited costs, variance) and three
+  // bytes (changed, settled, textured).
+  return 2.0 * sizeof(float) * side * side + sizeof(Plane) + 4.0 * sizeof(float) + 3.0;
+}
+
 PlaneMap match_planes(const MvsView& ref,
                       const std::vector<const MvsView*>& sources,
                       double depth_min,

@@ -73,6 +73,10 @@ struct PatchMatchStats {
 // The view at a smaller size (longest side at most max_image_size).
 MvsView downscale_view(const MvsView& view, int max_image_size);
 
+// Bytes a PatchMatch level holds per reference pixel (its planes, costs and
+// precomputed windows), for memory estimates.
+double matcher_bytes_per_pixel(const MvsOptions& options);
+
 // Full PatchMatch (random initialisation, options.iterations sweeps of
 // propagation and random refinement) of ref against sources within
 // [depth_min, depth_max]; seed_points (world) are sparse points used to

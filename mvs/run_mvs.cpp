@@ -338,7 +338,7 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
   match_views(workspace, options, plan, std::vector<bool>(plan.views.size(), true), reporter, result.stats,
               [&](std::size_t i, const MvsView& ref, DepthMap map) {
                 if (!depth_map_folder.empty()) write_depth_map(depth_map_folder, plan.views[i].image->name, map);
-                fusion_views.push_back(make_fusion_view(ref, std::move(map)));
+                fusion_views.push_back(make_fusion_view(ref, map));
               });
   fuse_views(fusion_views, plan, options, reporter, result);
   return result;

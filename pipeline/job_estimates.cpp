@@ -6,6 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "mvs/mvs_options.h"
+#include "mvs/patch_match.h"
 #include "recon/recon_options.h"
 #include "refine/refine_options.h"
 #include "sfm/sfm_options.h"
@@ -92,10 +93,12 @@ int job_memory_mb(const std::string& job, const PipelineConfig& config, int view
     if (const auto* mvs = stage_options<mvs::MvsOptions>(config, "mvs")) {
       // The finest level at a 4:3 aspect; a depth chunk holds the reference
       // view and its sources (grey float + colour), the planes, costs and
-      // the sources' coarse priors; fusion holds every view's maps and colour.
+      // the sources' coarse priors; fusion holds every view's compact maps
+      // (depth, normal, cost: FusionMap) and colour.
       const double pixels = 0.75 * double(mvs->max_image_size) * mvs->max_image_size;
-      const double bytes = job == "mvs-depth" ? pixels * (7.0 * (1 + mvs->num_source_views) + 80.0)
-                                              : pixels * views * (4.0 + 12.0 + 4.0 + 3.0 + 8.0);
+      const double bytes = job == "mvs-depth"
+                               ? pixels * (7.0 * (1 + mvs->num_source_views) + mvs::matcher_bytes_per_pixel(*mvs))
+                               : pixels * views * (4.0 + 4.0 + 2.0 + 3.0 + 8.0);
       return static_cast<int>(std::ceil(512.0 + 1.5 * bytes / (1024.0 * 1024.0)));
     }
   }

@@ -21,9 +21,9 @@ FusionView plane_view(int j) {
   v.K << 100, 0, kWidth / 2.0, 0, 100, kHeight / 2.0, 0, 0, 1;
   v.K_inv = v.K.inverse();
   v.t = -Eigen::Vector3d(0.1 * j, 0, 0);  // R = I, centre (0.1 j, 0, 0)
-  v.map.depth = cv::Mat(kHeight, kWidth, CV_32F, cv::Scalar(kDepth));
-  v.map.normal = cv::Mat(kHeight, kWidth, CV_32FC3, cv::Scalar(0, 0, -1));
-  v.map.cost = cv::Mat(kHeight, kWidth, CV_32F, cv::Scalar(0.1));
+  v.map = FusionMap(DepthMap{cv::Mat(kHeight, kWidth, CV_32F, cv::Scalar(kDepth)),
+                             cv::Mat(kHeight, kWidth, CV_32FC3, cv::Scalar(0, 0, -1)),
+                             cv::Mat(kHeight, kWidth, CV_32F, cv::Scalar(0.1))});
   v.color = cv::Mat(kHeight, kWidth, CV_8UC3, cv::Scalar(0, 0, 40 * j));  // BGR: red = 40 j
   return v;
 }
@@ -107,7 +107,7 @@ TEST(Fusion, ViewWithWrongDepthDoesNotCount) {
 TEST(Fusion, ViewWithWrongNormalsDoesNotCount) {
   auto views = plane_views();
   const double a = 30.0 * M_PI / 180.0;  // max_normal_error_deg is 20
-  views[1].map.normal.setTo(cv::Scalar(std::sin(a), 0, -std::cos(a)));
+  views[1].map.normal.setTo(encode_normal({std::sin(a), 0, -std::cos(a)}));
   expect_fused(fuse_depth_maps(views, three_views_must_agree(), null_reporter()),
                expected_confidence({true, false, true, true}, 3));
 }
@@ -160,7 +160,7 @@ TEST(Fusion, AViewSeeingTheSurfaceGrazinglyDoesNotSpeakAgainstIt) {
   for (int u = kWidth / 2 + 2 * kShift; u < kWidth + 2 * kShift; ++u) vetoed.erase(u);
   const auto tilt_normals = [&views](double degrees) {
     const double t = degrees * M_PI / 180.0;
-    for (auto& v : views) v.map.normal.setTo(cv::Scalar(-std::sin(t), 0, -std::cos(t)));
+    for (auto& v : views) v.map.normal.setTo(encode_normal({-std::sin(t), 0, -std::cos(t)}));
   };
   tilt_normals(30.0);  // view 2 faces the surface: its missing depth still counts
   const PointCloud facing = fuse_depth_maps(views, options, null_reporter());
@@ -180,6 +180,22 @@ TEST(Fusion, PhotoFromTheSameSpotIsNoFurtherEvidence) {
   MvsOptions any_angle = three_views_must_agree();
   any_angle.min_triangulation_angle_deg = 0.0;  // every photo counts: three views agree
   EXPECT_GT(fuse_depth_maps(views, any_angle, null_reporter()).size(), 0u);
+}
+
+TEST(Fusion, CompactNormalsKeepTheirDirectionWithinAHundredthOfADegree) {
+  std::vector<Eigen::Vector3d> normals = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {0, -1, 0}, {1, -1, -1e-9}};
+  std::uint64_t state = 1;
+  const auto uniform = [&state] {  // deterministic, in [-1, 1)
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(state >> 11) / 4503599627370496.0 - 1.0;
+  };
+  for (int i = 0; i < 10000; ++i) normals.emplace_back(uniform(), uniform(), uniform());
+  double worst_deg = 0;
+  for (const Eigen::Vector3d& n : normals) {
+    const Eigen::Vector3d u = n.normalized(), back = decode_normal(encode_normal(n));
+    worst_deg = std::max(worst_deg, std::acos(std::min(1.0, u.dot(back))) * 180.0 / M_PI);
+  }
+  EXPECT_LT(worst_deg, 0.01);
 }
 
 TEST(Fusion, PixelsWithoutDepthAreIgnored) {
