@@ -11,19 +11,20 @@ namespace hos::mvs {
 
 struct MvsOptions {
   std::string backend = "cpu";  // cpu | colmap (COLMAP's CUDA PatchMatch, only when available)
-  // Matching size. One level at 1024 px by default: on the Strecha hold-out
-  // photos, coarse to fine from 640 to 1280 scored 0.05-0.2 dB above it with
-  // refine off and -0.05 to +0.1 dB with refine on, at 0.6-0.9x its mvs CPU
-  // time, but kept fewer of the synthetic railing's bars
-  // (docs/benchmarks-mvs.md). A max_image_size above coarse_image_size adds
-  // levels of twice the size up to it, refined from the level below.
-  int max_image_size = 1024;     // longest image side of the finest level
-  int coarse_image_size = 1024;  // longest side of the full PatchMatch level; >= max_image_size: one level
-  int num_source_views = 4;      // source views per reference view
-  int best_k = 2;                // photo-consistency: mean of the best K source costs (occlusions)
-  int window_radius = 4;         // matching window half size in pixels
-  int window_step = 2;           // sample every step-th pixel of the window
-  int iterations = 4;            // coarse level sweeps (red-black, both colours)
+  // Matching size. Coarse to fine from 640 to 1280 px by default: on the
+  // four Strecha hold-out photos it scored 0.38 dB (fountain-P11) and 0.17 dB
+  // (Herz-Jesu-P8) above one level at 1024 px at 0.80-0.96x its mvs CPU
+  // time, though it keeps fewer of the synthetic railing's bars
+  // (docs/benchmarks-mvs.md). Levels double from coarse_image_size up to
+  // max_image_size, each refined from the level below; max_image_size at
+  // most coarse_image_size matches in one level.
+  int max_image_size = 1280;    // longest image side of the finest level
+  int coarse_image_size = 640;  // longest side of the full PatchMatch level; >= max_image_size: one level
+  int num_source_views = 4;     // source views per reference view
+  int best_k = 2;               // photo-consistency: mean of the best K source costs (occlusions)
+  int window_radius = 4;        // matching window half size in pixels
+  int window_step = 2;          // sample every step-th pixel of the window
+  int iterations = 4;           // coarse level sweeps (red-black, both colours)
   // Sweeps per finer level (they start from a converged plane); 2 scored
   // above 1 on the 1280x960 synthetic scene (docs/benchmarks-mvs.md).
   int refine_iterations = 2;
