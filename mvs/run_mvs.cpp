@@ -336,7 +336,7 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
   if (!depth_map_folder.empty()) std::filesystem::create_directories(depth_map_folder);
   std::vector<FusionView> fusion_views;
   match_views(workspace, options, plan, std::vector<bool>(plan.views.size(), true), reporter, result.stats,
-              [&](std::size_t i, const MvsView& ref, DepthMap map) {
+              [&](std::size_t i, const MvsView& ref, const DepthMap& map) {
                 if (!depth_map_folder.empty()) write_depth_map(depth_map_folder, plan.views[i].image->name, map);
                 fusion_views.push_back(make_fusion_view(ref, map));
               });

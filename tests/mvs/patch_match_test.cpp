@@ -83,7 +83,8 @@ TEST(PatchMatch, OneSweepCarriesASeededPlaneElevenPixelsAlongTheAxes) {
 // sweep give propagation something to carry: with 6, one sweep recovered
 // 0.74 of the surface around the centre; without, 0.10.
 TEST(PatchMatch, RandomPlanesLetAFinerLevelFindWhatTheCoarseOneMissed) {
-  const auto [ref, src] = plane_views();
+  const PlaneViews views = plane_views();  // named members: the lambda below captures them
+  const MvsView &ref = views.ref, &src = views.src;
   PlaneMap coarse;
   coarse.depth = cv::Mat(kHeight / 2, kWidth / 2, CV_32F, cv::Scalar(1.5 * kPlaneDepth));
   coarse.normal = cv::Mat(kHeight / 2, kWidth / 2, CV_32FC3, cv::Scalar(0, 0, -1));
