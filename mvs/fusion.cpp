@@ -62,6 +62,10 @@ FusionMap::FusionMap(const DepthMap& map) : depth(map.depth), normal(map.normal.
   map.cost.convertTo(cost, CV_16F);
 }
 
+double fusion_bytes_per_pixel() {
+  return sizeof(float) + sizeof(cv::Vec2s) + sizeof(cv::float16_t) + sizeof(cv::Vec3b);
+}
+
 FusionView make_fusion_view(const MvsView& view, const DepthMap& map) {
   FusionView f;
   f.K = view.K;

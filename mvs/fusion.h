@@ -41,6 +41,9 @@ struct FusionMap {
   explicit FusionMap(const DepthMap& map);
 };
 
+// Bytes fusion keeps per pixel of every view: the FusionMap and the colour.
+double fusion_bytes_per_pixel();
+
 // The parts of a view fusion needs (kept for every view, images are not).
 struct FusionView {
   Eigen::Matrix3d K = Eigen::Matrix3d::Identity(), K_inv = Eigen::Matrix3d::Identity();

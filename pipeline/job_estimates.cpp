@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <opencv2/imgcodecs.hpp>
 
+#include "mvs/fusion.h"
 #include "mvs/mvs_options.h"
 #include "mvs/patch_match.h"
 #include "recon/recon_options.h"
@@ -94,11 +95,11 @@ int job_memory_mb(const std::string& job, const PipelineConfig& config, int view
       // The finest level at a 4:3 aspect; a depth chunk holds the reference
       // view and its sources (grey float + colour), the planes, costs and
       // the sources' coarse priors; fusion holds every view's compact maps
-      // (depth, normal, cost: FusionMap) and colour.
+      // and colour, and 8 bytes more for its used masks and a margin.
       const double pixels = 0.75 * double(mvs->max_image_size) * mvs->max_image_size;
       const double bytes = job == "mvs-depth"
                                ? pixels * (7.0 * (1 + mvs->num_source_views) + mvs::matcher_bytes_per_pixel(*mvs))
-                               : pixels * views * (4.0 + 4.0 + 2.0 + 3.0 + 8.0);
+                               : pixels * views * (mvs::fusion_bytes_per_pixel() + 8.0);
       return static_cast<int>(std::ceil(512.0 + 1.5 * bytes / (1024.0 * 1024.0)));
     }
   }

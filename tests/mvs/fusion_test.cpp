@@ -196,6 +196,10 @@ TEST(Fusion, CompactNormalsKeepTheirDirectionWithinAHundredthOfADegree) {
     worst_deg = std::max(worst_deg, std::acos(std::min(1.0, u.dot(back))) * 180.0 / M_PI);
   }
   EXPECT_LT(worst_deg, 0.01);
+  // Pixels without depth have a zero normal: it must decode to a number.
+  const Eigen::Vector3d zero = decode_normal(encode_normal(Eigen::Vector3d::Zero()));
+  EXPECT_TRUE(zero.allFinite());
+  EXPECT_NEAR(zero.norm(), 1.0, 1e-12);
 }
 
 TEST(Fusion, PixelsWithoutDepthAreIgnored) {
