@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mvs/fusion_store.h"
+
 namespace hos::mvs {
 namespace {
 
@@ -84,19 +86,20 @@ struct FusionRules {
   const MvsOptions& options;
   double cos_normal, max_reproj2, cos_triangulation, cos_veto_incidence;
   std::vector<Eigen::Vector3d> centres;
-  FusionRules(const std::vector<FusionView>& views, const MvsOptions& o)
+  FusionRules(const FusionViewStore& views, const MvsOptions& o)
       : options(o),
         cos_normal(std::cos(o.max_normal_error_deg * M_PI / 180.0)),
         max_reproj2(o.max_reprojection_error_px * o.max_reprojection_error_px),
         cos_triangulation(std::cos(o.min_triangulation_angle_deg * M_PI / 180.0)),
         cos_veto_incidence(std::cos(o.two_view_veto_max_incidence_deg * M_PI / 180.0)) {
-    for (const auto& v : views) centres.push_back(v.R.transpose() * -v.t);
+    for (std::size_t i = 0; i < views.size(); ++i) centres.push_back(views[i].R.transpose() * -views[i].t);
   }
 };
 
-// The reference pixel's point and every unused pixel of another view that
-// agrees with it on depth, normal and forward-backward reprojection.
-Agreement agreeing_pixels(const std::vector<FusionView>& views,
+// The reference pixel's point and every unused pixel of a neighbouring view
+// that agrees with it on depth, normal and forward-backward reprojection.
+Agreement agreeing_pixels(const FusionViewStore& views,
+                          const std::vector<std::size_t>& neighbours,
                           const std::vector<cv::Mat>& used,
                           const FusionRules& rules,
                           std::size_t r,
@@ -110,8 +113,7 @@ Agreement agreeing_pixels(const std::vector<FusionView>& views,
   const Eigen::Vector3d n = normal_at(ref, x, y);
   auto& obs = agreement.observations;
   obs.push_back({static_cast<int>(r), x, y, X, n});
-  for (std::size_t s = 0; s < views.size(); ++s) {
-    if (s == r) continue;
+  for (std::size_t s : neighbours) {
     const FusionView& src = views[s];
     const Eigen::Vector3d xs = src.R * X + src.t;
     if (xs.z() <= 0) continue;
@@ -154,7 +156,7 @@ int independent_views(const std::vector<Observation>& obs, const FusionRules& ru
 // well and every other view that covers it has a depth there: a view that
 // sees nothing matchable at that spot (background, a gap between parts of
 // the object) speaks against the point.
-bool reliable_two_view(const std::vector<FusionView>& views, const Agreement& a, const FusionRules& rules) {
+bool reliable_two_view(const FusionViewStore& views, const Agreement& a, const FusionRules& rules) {
   const MvsOptions& o = rules.options;
   if (o.two_view_max_cost <= 0.0 || a.views_without_depth > o.two_view_max_views_without_depth) return false;
   for (const auto& obs : a.observations) {
@@ -165,7 +167,7 @@ bool reliable_two_view(const std::vector<FusionView>& views, const Agreement& a,
 
 // The agreeing pixels' mean position, normal (towards the reference
 // camera) and colour; false if the normals cancel.
-bool merge(const std::vector<FusionView>& views,
+bool merge(const FusionViewStore& views,
            const std::vector<Observation>& obs,
            const Eigen::Vector3d& ref_centre,
            PointCloud& cloud) {
@@ -192,7 +194,7 @@ bool merge(const std::vector<FusionView>& views,
 // Marks the merged pixels used, and (density control) their neighbours
 // within fusion_spacing_px on the same surface (depth within
 // max_depth_error), so no other point is made there.
-void claim(const std::vector<FusionView>& views,
+void claim(const FusionViewStore& views,
            const std::vector<Observation>& obs,
            const MvsOptions& options,
            std::vector<cv::Mat>& used) {
@@ -212,7 +214,7 @@ void claim(const std::vector<FusionView>& views,
 
 // Keeps the agreement of one reference pixel as a point if enough
 // independent views agree and none of its pixels is claimed yet.
-void fuse_pixel(const std::vector<FusionView>& views,
+void fuse_pixel(const FusionViewStore& views,
                 const Agreement& agreement,
                 const FusionRules& rules,
                 std::size_t r,
@@ -234,15 +236,25 @@ void fuse_pixel(const std::vector<FusionView>& views,
 
 }  // namespace
 
-PointCloud fuse_depth_maps(const std::vector<FusionView>& views, const MvsOptions& options, Reporter& reporter) {
+PointCloud fuse_depth_maps(FusionViewStore& views,
+                           const std::vector<std::vector<std::size_t>>& neighbours,
+                           const MvsOptions& options,
+                           Reporter& reporter) {
   const FusionRules rules(views, options);
   std::vector<cv::Mat> used;
   used.reserve(views.size());
-  for (const auto& v : views) used.push_back(cv::Mat::zeros(v.map.depth.size(), CV_8U));
+  for (std::size_t i = 0; i < views.size(); ++i) used.push_back(cv::Mat::zeros(views.map_size(i), CV_8U));
   PointCloud cloud;
   reporter.begin("fusion", static_cast<std::int64_t>(views.size()));
   for (std::size_t r = 0; r < views.size(); ++r) {
     reporter.throw_if_cancelled();
+    // Ascending, so that the observations' order (and the merged sums) do
+    // not depend on how the neighbours were ranked.
+    std::vector<std::size_t> others = neighbours[r];
+    std::sort(others.begin(), others.end());
+    std::vector<std::size_t> held = others;
+    held.push_back(r);
+    views.hold(held);
     const int w = views[r].map.depth.cols, h = views[r].map.depth.rows;
     // Blocks of rows: consistency checks in parallel, then merging and
     // marking in order (which the next block's checks see); only a block's
@@ -253,7 +265,7 @@ PointCloud fuse_depth_maps(const std::vector<FusionView>& views, const MvsOption
       const int y1 = std::min(h, y0 + kBlockRows);
 #pragma omp parallel for schedule(dynamic, 1)
       for (int y = y0; y < y1; ++y) {
-        for (int x = 0; x < w; ++x) rows[y - y0][x] = agreeing_pixels(views, used, rules, r, x, y);
+        for (int x = 0; x < w; ++x) rows[y - y0][x] = agreeing_pixels(views, others, used, rules, r, x, y);
       }
       for (int y = y0; y < y1; ++y) {
         for (int x = 0; x < w; ++x) fuse_pixel(views, rows[y - y0][x], rules, r, used, cloud);
@@ -263,6 +275,18 @@ PointCloud fuse_depth_maps(const std::vector<FusionView>& views, const MvsOption
   }
   reporter.end();
   return cloud;
+}
+
+PointCloud fuse_depth_maps(const std::vector<FusionView>& views, const MvsOptions& options, Reporter& reporter) {
+  FusionViewStore store(0, {});
+  std::vector<std::vector<std::size_t>> neighbours(views.size());
+  for (std::size_t r = 0; r < views.size(); ++r) {
+    store.add(views[r]);
+    for (std::size_t s = 0; s < views.size(); ++s) {
+      if (s != r) neighbours[r].push_back(s);
+    }
+  }
+  return fuse_depth_maps(store, neighbours, options, reporter);
 }
 
 }  // namespace hos::mvs

@@ -31,8 +31,8 @@ namespace hos::mvs {
 cv::Vec2s encode_normal(const Eigen::Vector3d& n);
 Eigen::Vector3d decode_normal(cv::Vec2s code);
 
-// A depth map as fusion keeps it for every view until the end: 10 bytes a
-// pixel instead of DepthMap's 20, so photo-resolution maps of many views fit.
+// A depth map as fusion keeps it: 10 bytes a pixel instead of DepthMap's 20,
+// so photo-resolution maps of many views fit.
 struct FusionMap {
   cv::Mat depth;   // CV_32F, camera z, 0 = no estimate
   cv::Mat normal;  // CV_16SC2, encode_normal of the world-frame normal
@@ -44,7 +44,7 @@ struct FusionMap {
 // Bytes fusion keeps per pixel of every view: the FusionMap and the colour.
 double fusion_bytes_per_pixel();
 
-// The parts of a view fusion needs (kept for every view, images are not).
+// The parts of a view fusion needs (its image is not).
 struct FusionView {
   Eigen::Matrix3d K = Eigen::Matrix3d::Identity(), K_inv = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
@@ -55,6 +55,17 @@ struct FusionView {
 
 FusionView make_fusion_view(const MvsView& view, const DepthMap& map);
 
+class FusionViewStore;
+
+// Fuses every view of the store: each reference view's pixels are checked
+// against the views neighbours[r] lists (indices into the store, the views
+// that overlap it), with only those views' maps held in memory.
+PointCloud fuse_depth_maps(FusionViewStore& views,
+                           const std::vector<std::vector<std::size_t>>& neighbours,
+                           const MvsOptions& options,
+                           Reporter& reporter);
+
+// All views in memory, each checked against every other.
 PointCloud fuse_depth_maps(const std::vector<FusionView>& views, const MvsOptions& options, Reporter& reporter);
 
 }  // namespace hos::mvs

@@ -60,6 +60,12 @@ void register_options(OptionSet& set, MvsOptions& o) {
           "with finer levels, a fused point claims the pixels within this radius in the views "
           "that saw it (0 = every pixel)",
           0, 16);
+  set.add("fusion_max_views", o.fusion_max_views,
+          "fusion checks a view's depths against this many views sharing the most sparse points with "
+          "it (0 = all)",
+          0, 100000);
+  set.add("fusion_memory_mb", o.fusion_memory_mb,
+          "depth maps fusion holds in memory (MB); the rest wait in a temporary folder (0 = no limit)", 0, 1 << 24);
   set.add("threads", o.threads, "OpenMP threads (0 = all cores)", 0, 1024);
   set.add_flag("--max-image-size", "max_image_size");
 }

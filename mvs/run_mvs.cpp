@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/stopwatch.h"
 #include "mvs/fusion.h"
+#include "mvs/fusion_store.h"
 #include "mvs/patch_match.h"
 #include "mvs/view_selection.h"
 
@@ -53,7 +54,8 @@ bool depth_range(const SparseModel& model,
 // What one reference view needs: its sources, depth range and seeds.
 struct ViewPlan {
   const ImageRecord* image = nullptr;
-  std::vector<int> sources;  // image ids
+  std::vector<int> sources;            // image ids
+  std::vector<int> fusion_neighbours;  // image ids fusion checks its depths against
   std::vector<Eigen::Vector3d> seeds;
   double depth_min = 0, depth_max = 0;
   bool skipped = false;
@@ -64,11 +66,13 @@ std::vector<ViewPlan> plan_views(const SparseModel& model,
                                  Reporter& reporter,
                                  MvsStats& stats) {
   const auto sources = select_source_views(model, options);
+  const auto fusion_neighbours = select_fusion_views(model, options.fusion_max_views);
   std::vector<ViewPlan> plans;
   for (const auto& [id, image] : model.images) {
     ViewPlan plan;
     plan.image = &image;
     plan.sources = sources[plans.size()];
+    plan.fusion_neighbours = fusion_neighbours[plans.size()];
     if (plan.sources.empty() || !depth_range(model, image, plan.seeds, plan.depth_min, plan.depth_max)) {
       reporter.warn(format_message("mvs: ", image.name,
                                    plan.sources.empty() ? ": no source view with enough overlap and baseline; skipped"
@@ -299,27 +303,56 @@ void match_views(const UndistortedWorkspace& workspace,
   stats.seconds_depth = seconds_since(t_depth);
 }
 
+// Fusion's views, in view order, with the plan index of each.
+struct FusionInput {
+  FusionViewStore store;
+  std::vector<std::size_t> plan_index;
+  explicit FusionInput(const MvsOptions& options)
+      : store(static_cast<std::size_t>(options.fusion_memory_mb) << 20U, std::filesystem::temp_directory_path()) {}
+  void add(std::size_t view, const MvsView& ref, const DepthMap& map) {
+    store.add(make_fusion_view(ref, map));
+    plan_index.push_back(view);
+  }
+};
+
+// Each fused view's neighbours as indices into the store (skipped views
+// have no maps).
+std::vector<std::vector<std::size_t>> fusion_neighbours(const FusionInput& input, const MvsPlan& plan) {
+  std::map<std::size_t, std::size_t> store_index;  // plan index -> store index
+  for (std::size_t i = 0; i < input.plan_index.size(); ++i) store_index[input.plan_index[i]] = i;
+  std::vector<std::vector<std::size_t>> neighbours;
+  for (std::size_t view : input.plan_index) {
+    std::vector<std::size_t> indices;
+    for (int id : plan.views[view].fusion_neighbours) {
+      const auto it = store_index.find(plan.index_of.at(id));
+      if (it != store_index.end()) indices.push_back(it->second);
+    }
+    neighbours.push_back(std::move(indices));
+  }
+  return neighbours;
+}
+
 // Fusion of the matched views (in view order) into the result's points.
-void fuse_views(const std::vector<FusionView>& fusion_views,
-                const MvsPlan& plan,
-                const MvsOptions& options,
-                Reporter& reporter,
-                MvsResult& result) {
+void fuse_views(
+    FusionInput& input, const MvsPlan& plan, const MvsOptions& options, Reporter& reporter, MvsResult& result) {
   MvsStats& stats = result.stats;
-  if (fusion_views.size() < 2) {
-    throw StageError("mvs", "fewer than two views could be matched (" + std::to_string(fusion_views.size()) + " of " +
+  if (input.store.size() < 2) {
+    throw StageError("mvs", "fewer than two views could be matched (" + std::to_string(input.store.size()) + " of " +
                                 std::to_string(plan.views.size()) + "); the images overlap too little");
   }
   const auto t_fusion = Clock::now();
   // Density control is for the finer levels' pixels; one level keeps every pixel.
   MvsOptions fusion_options = options;
   if (!plan.multi_scale()) fusion_options.fusion_spacing_px = 0;
-  result.points = fuse_depth_maps(fusion_views, fusion_options, reporter);
+  result.points = fuse_depth_maps(input.store, fusion_neighbours(input, plan), fusion_options, reporter);
   stats.seconds_fusion = seconds_since(t_fusion);
   stats.points = result.points.size();
   if (result.points.empty()) {
     throw StageError("mvs", "no point is consistent across views (textureless or non-overlapping images)");
   }
+  reporter.debug(format_message("mvs: fusion held at most ", input.store.peak_resident_bytes() >> 20U, " MB of maps; ",
+                                input.store.spilled_views(), " views spilled, ", input.store.maps_read_back(),
+                                " read back"));
   reporter.info(format_message("mvs: ", stats.points, " points from ", stats.views - stats.views_skipped, "/",
                                stats.views, " views; depth maps ", stats.seconds_depth, " s, fusion ",
                                stats.seconds_fusion, " s"));
@@ -334,13 +367,13 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
   MvsResult result;
   const MvsPlan plan = make_plan(workspace, options, reporter, result.stats);
   if (!depth_map_folder.empty()) std::filesystem::create_directories(depth_map_folder);
-  std::vector<FusionView> fusion_views;
+  FusionInput fusion(options);
   match_views(workspace, options, plan, std::vector<bool>(plan.views.size(), true), reporter, result.stats,
               [&](std::size_t i, const MvsView& ref, const DepthMap& map) {
                 if (!depth_map_folder.empty()) write_depth_map(depth_map_folder, plan.views[i].image->name, map);
-                fusion_views.push_back(make_fusion_view(ref, map));
+                fusion.add(i, ref, map);
               });
-  fuse_views(fusion_views, plan, options, reporter, result);
+  fuse_views(fusion, plan, options, reporter, result);
   return result;
 }
 
@@ -371,18 +404,18 @@ MvsResult fuse_depth_map_folder(const UndistortedWorkspace& workspace,
                                 const std::filesystem::path& folder) {
   MvsResult result;
   const MvsPlan plan = make_plan(workspace, options, reporter, result.stats);
-  std::vector<FusionView> fusion_views;
+  FusionInput fusion(options);
   reporter.begin("reading depth maps", static_cast<std::int64_t>(plan.views.size()));
-  for (const ViewPlan& view : plan.views) {
+  for (std::size_t i = 0; i < plan.views.size(); ++i) {
+    const ViewPlan& view = plan.views[i];
     reporter.throw_if_cancelled();
     reporter.advance();
     if (view.skipped) continue;
     const MvsView ref = load_view(workspace, *view.image, plan.sizes.back());
-    fusion_views.push_back(make_fusion_view(
-        ref, read_depth_map_file(depth_map_file(folder, view.image->name), ref.width(), ref.height())));
+    fusion.add(i, ref, read_depth_map_file(depth_map_file(folder, view.image->name), ref.width(), ref.height()));
   }
   reporter.end();
-  fuse_views(fusion_views, plan, options, reporter, result);
+  fuse_views(fusion, plan, options, reporter, result);
   return result;
 }
 

@@ -6,32 +6,48 @@
 #include <set>
 
 namespace hos::mvs {
+namespace {
 
-std::vector<std::vector<int>> select_source_views(const SparseModel& model, const MvsOptions& options) {
-  const double min_angle = options.min_triangulation_angle_deg * M_PI / 180.0;
-  std::map<std::pair<int, int>, double> scores;
+using PairScores = std::map<std::pair<int, int>, double>;  // (smaller id, larger id) -> score
+
+// Sums weight(a, b, point) over the sparse points both images a < b see.
+template <typename Weight>
+PairScores score_image_pairs(const SparseModel& model, const Weight& weight) {
+  PairScores scores;
   for (const auto& [id, point] : model.points) {
     std::set<int> seen;
     for (const auto& e : point.track) seen.insert(e.image_id);
     for (int a : seen) {
       for (int b : seen) {
-        if (a >= b) continue;
-        const Eigen::Vector3d ca = model.images.at(a).center(), cb = model.images.at(b).center();
-        const Eigen::Vector3d ra = (ca - point.xyz).normalized(), rb = (cb - point.xyz).normalized();
-        const double angle = std::acos(std::clamp(ra.dot(rb), -1.0, 1.0));
-        if (angle < min_angle) continue;
-        const double weight = std::min(1.0, angle / (5.0 * std::max(min_angle, 1e-3)));
-        scores[{a, b}] += weight;
+        if (a < b) scores[{a, b}] += weight(a, b, point.xyz);
       }
     }
   }
+  return scores;
+}
+
+double pair_score(const PairScores& scores, int a, int b) {
+  const auto it = scores.find({std::min(a, b), std::max(a, b)});
+  return it == scores.end() ? 0.0 : it->second;
+}
+
+}  // namespace
+
+std::vector<std::vector<int>> select_source_views(const SparseModel& model, const MvsOptions& options) {
+  const double min_angle = options.min_triangulation_angle_deg * M_PI / 180.0;
+  const PairScores scores = score_image_pairs(model, [&](int a, int b, const Eigen::Vector3d& x) {
+    const Eigen::Vector3d ca = model.images.at(a).center(), cb = model.images.at(b).center();
+    const Eigen::Vector3d ra = (ca - x).normalized(), rb = (cb - x).normalized();
+    const double angle = std::acos(std::clamp(ra.dot(rb), -1.0, 1.0));
+    if (angle < min_angle) return 0.0;
+    return std::min(1.0, angle / (5.0 * std::max(min_angle, 1e-3)));
+  });
   std::vector<std::vector<int>> sources;
   for (const auto& [ref_id, ref] : model.images) {
     std::vector<std::pair<double, int>> candidates;
     for (const auto& [src_id, src] : model.images) {
       if (src_id == ref_id) continue;
-      const auto it = scores.find({std::min(ref_id, src_id), std::max(ref_id, src_id)});
-      double score = it == scores.end() ? 0.0 : it->second;
+      double score = pair_score(scores, ref_id, src_id);
       if (model.points.empty()) {
         // No sparse points: views looking the same way from a useful baseline.
         const double cos_view = ref.viewing_direction().dot(src.viewing_direction());
@@ -49,6 +65,27 @@ std::vector<std::vector<int>> select_source_views(const SparseModel& model, cons
     sources.push_back(std::move(chosen));
   }
   return sources;
+}
+
+std::vector<std::vector<int>> select_fusion_views(const SparseModel& model, int max_views) {
+  const bool limited = max_views > 0 && static_cast<int>(model.images.size()) - 1 > max_views;
+  const PairScores shared =
+      limited ? score_image_pairs(model, [](int, int, const Eigen::Vector3d&) { return 1.0; }) : PairScores{};
+  std::vector<std::vector<int>> views;
+  for (const auto& [ref_id, ref] : model.images) {
+    std::vector<std::pair<double, int>> candidates;
+    for (const auto& [id, image] : model.images) {
+      if (id != ref_id) candidates.emplace_back(pair_score(shared, ref_id, id), id);
+    }
+    // Most shared points first, then the lower id.
+    std::stable_sort(candidates.begin(), candidates.end(),
+                     [](const auto& a, const auto& b) { return a.first > b.first; });
+    if (limited) candidates.resize(static_cast<std::size_t>(max_views));
+    std::vector<int> chosen(candidates.size());
+    std::transform(candidates.begin(), candidates.end(), chosen.begin(), [](const auto& c) { return c.second; });
+    views.push_back(std::move(chosen));
+  }
+  return views;
 }
 
 }  // namespace hos::mvs

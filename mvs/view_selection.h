@@ -16,4 +16,10 @@ namespace hos::mvs {
 // baseline. Views that share nothing usable get no sources.
 std::vector<std::vector<int>> select_source_views(const SparseModel& model, const MvsOptions& options);
 
+// For each image id of the model (in map order), the other image ids fusion
+// checks its depths against: every other image when there are at most
+// max_views of them (or max_views is 0), otherwise the max_views that share
+// the most sparse points with it (most first).
+std::vector<std::vector<int>> select_fusion_views(const SparseModel& model, int max_views);
+
 }  // namespace hos::mvs

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <opencv2/imgcodecs.hpp>
 
-#include "mvs/fusion.h"
+#include "mvs/fusion_store.h"
 #include "mvs/mvs_options.h"
 #include "mvs/patch_match.h"
 #include "recon/recon_options.h"
@@ -94,12 +94,11 @@ int job_memory_mb(const std::string& job, const PipelineConfig& config, int view
     if (const auto* mvs = stage_options<mvs::MvsOptions>(config, "mvs")) {
       // The finest level at a 4:3 aspect; a depth chunk holds the reference
       // view and its sources (grey float + colour), the planes, costs and
-      // the sources' coarse priors; fusion holds every view's compact maps
-      // and colour, and 8 bytes more for its used masks and a margin.
+      // the sources' coarse priors; fusion what its store holds at most.
       const double pixels = 0.75 * double(mvs->max_image_size) * mvs->max_image_size;
       const double bytes = job == "mvs-depth"
                                ? pixels * (7.0 * (1 + mvs->num_source_views) + mvs::matcher_bytes_per_pixel(*mvs))
-                               : pixels * views * (mvs::fusion_bytes_per_pixel() + 8.0);
+                               : mvs::fusion_peak_bytes(*mvs, pixels, views);
       return static_cast<int>(std::ceil(512.0 + 1.5 * bytes / (1024.0 * 1024.0)));
     }
   }

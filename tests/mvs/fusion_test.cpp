@@ -7,8 +7,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
+
+#include "mvs/fusion_store.h"
+#include "tests/support/test_support.h"
 
 namespace hos::mvs {
 namespace {
@@ -200,6 +204,73 @@ TEST(Fusion, CompactNormalsKeepTheirDirectionWithinAHundredthOfADegree) {
   const Eigen::Vector3d zero = decode_normal(encode_normal(Eigen::Vector3d::Zero()));
   EXPECT_TRUE(zero.allFinite());
   EXPECT_NEAR(zero.norm(), 1.0, 1e-12);
+}
+
+// Each view's neighbours: the views at most `reach` indices away.
+std::vector<std::vector<std::size_t>> neighbours_within(int reach) {
+  std::vector<std::vector<std::size_t>> neighbours(kViews);
+  for (int r = 0; r < kViews; ++r) {
+    for (int s = 0; s < kViews; ++s) {
+      if (s != r && std::abs(s - r) <= reach) neighbours[r].push_back(static_cast<std::size_t>(s));
+    }
+  }
+  return neighbours;
+}
+
+// Fusion through a store: views added in order, a budget in views.
+PointCloud fuse_in_store(const hos::testing::TempDir& spill,
+                         std::size_t budget_views,
+                         const std::vector<std::vector<std::size_t>>& neighbours,
+                         const MvsOptions& options,
+                         int* spilled = nullptr) {
+  const auto bytes = static_cast<std::size_t>(kWidth * kHeight * fusion_bytes_per_pixel());
+  FusionViewStore store(budget_views * bytes, spill.path());
+  for (int j = 0; j < kViews; ++j) store.add(plane_view(j));
+  PointCloud cloud = fuse_depth_maps(store, neighbours, options, null_reporter());
+  if (spilled) *spilled = store.spilled_views();
+  return cloud;
+}
+
+void expect_same_points(const PointCloud& streamed, const PointCloud& in_memory) {
+  ASSERT_GT(in_memory.size(), 0u);
+  ASSERT_EQ(streamed.size(), in_memory.size());
+  for (std::size_t i = 0; i < in_memory.size(); ++i) {
+    ASSERT_EQ(streamed.positions[i], in_memory.positions[i]) << i;
+    ASSERT_EQ(streamed.normals[i], in_memory.normals[i]) << i;
+    ASSERT_EQ(streamed.colors[i], in_memory.colors[i]) << i;
+    ASSERT_EQ(streamed.confidence[i], in_memory.confidence[i]) << i;
+  }
+}
+
+TEST(Fusion, MapsSpilledOverTheMemoryBudgetFuseToTheSamePoints) {
+  const hos::testing::TempDir spill;
+  const MvsOptions options = views_must_agree(2);
+  int spilled = 0;
+  // Every view checked against every other: all are held, none is dropped.
+  expect_same_points(fuse_in_store(spill, 1, neighbours_within(kViews), options, &spilled),
+                     fuse_depth_maps(plane_views(), options, null_reporter()));
+  EXPECT_EQ(spilled, kViews - 1);
+  // Against the next views only: views are dropped and read back in turn.
+  expect_same_points(fuse_in_store(spill, 1, neighbours_within(1), options, &spilled),
+                     fuse_in_store(spill, 0, neighbours_within(1), options));
+  EXPECT_EQ(spilled, kViews);
+}
+
+TEST(Fusion, OnlyTheListedNeighboursConfirmAPoint) {
+  const hos::testing::TempDir spill;
+  const MvsOptions options = views_must_agree(2);
+  const auto max_confidence = [](const PointCloud& cloud) {
+    float m = 0;
+    for (float c : cloud.confidence) m = std::max(m, c);
+    return m;
+  };
+  const PointCloud all = fuse_in_store(spill, 0, neighbours_within(kViews), options);
+  EXPECT_EQ(max_confidence(all), 4.0f);
+  // A view and the ones next to it: fewer agree on a point.
+  const PointCloud adjacent = fuse_in_store(spill, 0, neighbours_within(1), options);
+  ASSERT_GT(adjacent.size(), 0u);
+  EXPECT_LT(max_confidence(adjacent), 4.0f);
+  EXPECT_EQ(fuse_in_store(spill, 0, neighbours_within(0), options).size(), 0u);
 }
 
 TEST(Fusion, PixelsWithoutDepthAreIgnored) {

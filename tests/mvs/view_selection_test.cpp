@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "tests/mvs/synthetic_workspace.h"
 
 namespace hos::mvs {
@@ -45,6 +47,45 @@ TEST(ViewSelection, ViewWithoutBaselineGetsNoSources) {
   const auto sources = select_source_views(model, MvsOptions{});
   EXPECT_TRUE(sources[0].empty());
   EXPECT_TRUE(sources[1].empty());
+}
+
+TEST(ViewSelection, FusionChecksEveryOtherViewUpToItsLimit) {
+  const SparseModel& model = mvs_testing::synthetic_workspace().workspace.model;
+  ASSERT_EQ(model.images.size(), 12u);
+  for (int limit : {0, 11, 30}) {
+    for (const auto& views : select_fusion_views(model, limit)) EXPECT_EQ(views.size(), 11u) << limit;
+  }
+}
+
+// Over the limit, the views sharing the most sparse points, most first.
+TEST(ViewSelection, FusionViewsOverTheLimitShareTheMostPoints) {
+  const SparseModel& model = mvs_testing::synthetic_workspace().workspace.model;
+  const auto shared = [&](int a, int b) {
+    int n = 0;
+    for (const auto& [id, point] : model.points) {
+      bool sa = false, sb = false;
+      for (const auto& e : point.track) {
+        sa = sa || e.image_id == a;
+        sb = sb || e.image_id == b;
+      }
+      n += sa && sb;
+    }
+    return n;
+  };
+  const auto chosen = select_fusion_views(model, 3);
+  std::size_t i = 0;
+  for (const auto& [id, image] : model.images) {
+    ASSERT_EQ(chosen[i].size(), 3u) << image.name;
+    EXPECT_GE(shared(id, chosen[i][0]), shared(id, chosen[i][1]));
+    EXPECT_GE(shared(id, chosen[i][1]), shared(id, chosen[i][2]));
+    for (const auto& [other, unused] : model.images) {
+      const bool in = std::find(chosen[i].begin(), chosen[i].end(), other) != chosen[i].end();
+      if (other != id && !in) {
+        EXPECT_LE(shared(id, other), shared(id, chosen[i][2])) << image.name;
+      }
+    }
+    ++i;
+  }
 }
 
 }  // namespace
