@@ -8,6 +8,7 @@
 #include <system_error>
 
 #include "core/error.h"
+#include "mvs/raw_mat_io.h"
 
 namespace hos::mvs {
 namespace {
@@ -106,10 +107,7 @@ void FusionViewStore::spill(std::size_t i) {
     if (spill_folder_.empty()) make_spill_folder();
     const auto file = spill_file(i);
     std::ofstream out(file, std::ios::binary);
-    for (cv::Mat* m : spilled_mats(view)) {
-      const cv::Mat c = m->isContinuous() ? *m : m->clone();
-      out.write(reinterpret_cast<const char*>(c.data), static_cast<std::streamsize>(c.total() * c.elemSize()));
-    }
+    for (const cv::Mat* m : spilled_mats(view)) write_raw_mat(out, *m);
     if (!out) throw OutputError(file.string(), "cannot spill fusion's depth maps (disk full?)");
     slot.on_disk = true;
     ++spilled_;
@@ -128,9 +126,7 @@ void FusionViewStore::read_back(std::size_t i) {
   view.color.create(slot.height, slot.width, CV_8UC3);
   const auto file = spill_file(i);
   std::ifstream in(file, std::ios::binary);
-  for (cv::Mat* m : spilled_mats(view)) {
-    in.read(reinterpret_cast<char*>(m->data), static_cast<std::streamsize>(m->total() * m->elemSize()));
-  }
+  for (cv::Mat* m : spilled_mats(view)) read_raw_mat(in, *m);
   if (!in) throw InputError(file.string(), "cannot read fusion's spilled depth maps back");
   slot.resident = true;
   resident_bytes_ += bytes_of(slot);

@@ -31,13 +31,16 @@ class FusionViewStore {
   FusionViewStore(const FusionViewStore&) = delete;
   FusionViewStore& operator=(const FusionViewStore&) = delete;
 
-  // Appends a view with its maps; spills others if over the budget.
+  // Appends a view with its maps; spills others if over the budget. Throws
+  // OutputError naming the spill folder's parent or a spill file that
+  // cannot be made or written.
   void add(FusionView view);
   std::size_t size() const { return views_.size(); }
 
   // Makes the maps of `held` resident and keeps them so until the next call
   // (the budget is exceeded when they alone do not fit). Throws InputError
-  // naming a spill file that cannot be read back.
+  // naming a spill file that cannot be read back, OutputError (as add) when
+  // one cannot be written.
   void hold(const std::vector<std::size_t>& held);
 
   // The camera always; the maps and colour only while held (or resident).

@@ -12,6 +12,7 @@
 #include "mvs/fusion.h"
 #include "mvs/fusion_store.h"
 #include "mvs/patch_match.h"
+#include "mvs/raw_mat_io.h"
 #include "mvs/view_selection.h"
 
 #ifdef _OPENMP
@@ -127,11 +128,6 @@ std::filesystem::path depth_map_file(const std::filesystem::path& folder, const 
   return folder / (name + ".dmap");
 }
 
-void write_raw(std::ofstream& out, const cv::Mat& m) {
-  const cv::Mat c = m.isContinuous() ? m : m.clone();
-  out.write(reinterpret_cast<const char*>(c.data), static_cast<std::streamsize>(c.total() * c.elemSize()));
-}
-
 void write_depth_map_file(const std::filesystem::path& file, const DepthMap& map) {
   std::filesystem::create_directories(file.parent_path());
   write_atomically(file, [&](const std::filesystem::path& tmp) {
@@ -139,9 +135,7 @@ void write_depth_map_file(const std::filesystem::path& file, const DepthMap& map
     const std::int32_t size[2] = {map.depth.cols, map.depth.rows};
     out.write(kDepthMapTag, sizeof(kDepthMapTag));
     out.write(reinterpret_cast<const char*>(size), sizeof(size));
-    write_raw(out, map.depth);
-    write_raw(out, map.normal);
-    write_raw(out, map.cost);
+    for (const cv::Mat* m : {&map.depth, &map.normal, &map.cost}) write_raw_mat(out, *m);
     if (!out) throw OutputError(file.string(), "cannot write the depth map");
   });
 }
@@ -169,9 +163,7 @@ DepthMap read_depth_map_file(const std::filesystem::path& file, int width, int h
                                         " (computed with other options?)");
   }
   DepthMap map{cv::Mat(height, width, CV_32F), cv::Mat(height, width, CV_32FC3), cv::Mat(height, width, CV_32F)};
-  for (cv::Mat* m : {&map.depth, &map.normal, &map.cost}) {
-    in.read(reinterpret_cast<char*>(m->data), static_cast<std::streamsize>(m->total() * m->elemSize()));
-  }
+  for (cv::Mat* m : {&map.depth, &map.normal, &map.cost}) read_raw_mat(in, *m);
   if (!in || in.peek() != std::ifstream::traits_type::eof()) {
     throw InputError(file.string(), "truncated or damaged depth map");
   }

@@ -6,7 +6,9 @@
 
 #include <cstring>
 #include <filesystem>
+#include <string>
 
+#include "core/error.h"
 #include "tests/support/test_support.h"
 
 namespace hos::mvs {
@@ -84,6 +86,38 @@ TEST(FusionViewStore, WithoutABudgetNothingIsSpilled) {
   EXPECT_EQ(store.spilled_views(), 0);
   EXPECT_EQ(store.peak_resident_bytes(), 6 * view_bytes());
   EXPECT_TRUE(std::filesystem::is_empty(parent.path()));
+}
+
+TEST(FusionViewStore, AMissingSpillFolderIsNamed) {
+  const hos::testing::TempDir parent;
+  const auto missing = parent.path() / "gone";
+  FusionViewStore store(view_bytes(), missing);
+  store.add(noise_view(0));
+  try {
+    store.add(noise_view(1));
+    FAIL() << "spilling into a folder that does not exist succeeded";
+  } catch (const OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find(missing.string()), std::string::npos) << e.what();
+  }
+}
+
+TEST(FusionViewStore, ALostSpillFileIsNamedWhenReadBack) {
+  const hos::testing::TempDir parent;
+  FusionViewStore store(view_bytes(), parent.path());
+  store.add(noise_view(0));
+  store.add(noise_view(1));  // spills view 0
+  std::filesystem::path lost;
+  for (const auto& folder : std::filesystem::directory_iterator(parent.path())) {
+    for (const auto& file : std::filesystem::directory_iterator(folder.path())) lost = file.path();
+  }
+  ASSERT_FALSE(lost.empty());
+  std::filesystem::remove(lost);
+  try {
+    store.hold({0});
+    FAIL() << "reading back a removed spill file succeeded";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(lost.string()), std::string::npos) << e.what();
+  }
 }
 
 // Compact maps and colour: 4 + 4 + 2 + 3 bytes a pixel; used masks: 1.
