@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 #include <utility>
 
+#include "core/cpu_clones.h"
 #include "core/error.h"
 
 namespace hos::mvs {
@@ -308,7 +309,7 @@ class PatchMatcher {
   // camera frame) through source s's coarser depth map, in coarse pixels,
   // as a cost: options.geometric_weight at options.geometric_max_error_px
   // and beyond (also where that map has no depth).
-  float geometric_cost(int s, const Eigen::Vector3f& x_ref, int x, int y) const {
+  HOS_INLINED_INTO_CLONES float geometric_cost(int s, const Eigen::Vector3f& x_ref, int x, int y) const {
     const PriorFrame& f = priors_[s];
     if (!f.prior) return 0.0f;
     const float weight = static_cast<float>(options_.geometric_weight);
@@ -400,13 +401,13 @@ class PatchMatcher {
   // the image or lies behind the camera. Three passes over the window so the
   // compiler vectorises the projection and the sums; only the bilinear
   // lookups stay scalar.
-  float view_cost(int x,
-                  int y,
-                  const Eigen::Matrix3f& H,
-                  const MvsView& src,
-                  const float* wts,
-                  const float* centred,
-                  float var_r) const {
+  HOS_INLINED_INTO_CLONES float view_cost(int x,
+                                          int y,
+                                          const Eigen::Matrix3f& H,
+                                          const MvsView& src,
+                                          const float* wts,
+                                          const float* centred,
+                                          float var_r) const {
     const int r = options_.window_radius, step = options_.window_step;
     const float W = static_cast<float>(src.width() - 1), Hh = static_cast<float>(src.height() - 1);
     const Eigen::Vector3f centre = H * Eigen::Vector3f(x + 0.5f, y + 0.5f, 1.0f);
@@ -468,7 +469,7 @@ class PatchMatcher {
   // each scored by its 1 - NCC plus (finer levels) its geometric vote.
   // Stops early, returning a lower bound >= to_beat, once the views still to
   // be scored (each at best 0) cannot bring the cost below it.
-  Cost cost(int x, int y, const Plane& plane, float to_beat = 3.0f) const {
+  HOS_CPU_CLONES Cost cost(int x, int y, const Plane& plane, float to_beat = 3.0f) const {
     const std::size_t i = std::size_t(y) * ref_.width() + x;
     if (!textured_[i] || !(plane.depth > 0)) return {};
     const std::size_t k = offsets_.size();
