@@ -5,6 +5,7 @@
 #include <fstream>
 #include <functional>
 #include <opencv2/imgcodecs.hpp>
+#include <set>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -67,22 +68,25 @@ std::vector<ViewPlan> plan_views(const SparseModel& model,
                                  Reporter& reporter,
                                  MvsStats& stats) {
   const auto sources = select_source_views(model, options);
-  const auto fusion_neighbours = select_fusion_views(model, options.fusion_max_views);
   std::vector<ViewPlan> plans;
+  std::set<int> skipped;
   for (const auto& [id, image] : model.images) {
     ViewPlan plan;
     plan.image = &image;
     plan.sources = sources[plans.size()];
-    plan.fusion_neighbours = fusion_neighbours[plans.size()];
     if (plan.sources.empty() || !depth_range(model, image, plan.seeds, plan.depth_min, plan.depth_max)) {
       reporter.warn(format_message("mvs: ", image.name,
                                    plan.sources.empty() ? ": no source view with enough overlap and baseline; skipped"
                                                         : ": too few sparse points to bound its depth; skipped"));
       plan.skipped = true;
+      skipped.insert(id);
       ++stats.views_skipped;
     }
     plans.push_back(std::move(plan));
   }
+  // Fusion's neighbours among the views that will have depth maps.
+  const auto fusion_neighbours = select_fusion_views(model, options.fusion_max_views, skipped);
+  for (std::size_t i = 0; i < plans.size(); ++i) plans[i].fusion_neighbours = fusion_neighbours[i];
   return plans;
 }
 
@@ -307,18 +311,15 @@ struct FusionInput {
   }
 };
 
-// Each fused view's neighbours as indices into the store (skipped views
-// have no maps).
+// Each fused view's neighbours as indices into the store (which holds the
+// maps of every view not skipped, and no skipped view is a neighbour).
 std::vector<std::vector<std::size_t>> fusion_neighbours(const FusionInput& input, const MvsPlan& plan) {
   std::map<std::size_t, std::size_t> store_index;  // plan index -> store index
   for (std::size_t i = 0; i < input.plan_index.size(); ++i) store_index[input.plan_index[i]] = i;
   std::vector<std::vector<std::size_t>> neighbours;
   for (std::size_t view : input.plan_index) {
     std::vector<std::size_t> indices;
-    for (int id : plan.views[view].fusion_neighbours) {
-      const auto it = store_index.find(plan.index_of.at(id));
-      if (it != store_index.end()) indices.push_back(it->second);
-    }
+    for (int id : plan.views[view].fusion_neighbours) indices.push_back(store_index.at(plan.index_of.at(id)));
     neighbours.push_back(std::move(indices));
   }
   return neighbours;

@@ -67,20 +67,24 @@ std::vector<std::vector<int>> select_source_views(const SparseModel& model, cons
   return sources;
 }
 
-std::vector<std::vector<int>> select_fusion_views(const SparseModel& model, int max_views) {
-  const bool limited = max_views > 0 && static_cast<int>(model.images.size()) - 1 > max_views;
+std::vector<std::vector<int>> select_fusion_views(const SparseModel& model,
+                                                  int max_views,
+                                                  const std::set<int>& without_depth) {
+  const auto with_depth = static_cast<int>(std::count_if(
+      model.images.begin(), model.images.end(), [&](const auto& e) { return !without_depth.contains(e.first); }));
+  const bool limited = max_views > 0 && with_depth - 1 > max_views;
   const PairScores shared =
       limited ? score_image_pairs(model, [](int, int, const Eigen::Vector3d&) { return 1.0; }) : PairScores{};
   std::vector<std::vector<int>> views;
   for (const auto& [ref_id, ref] : model.images) {
     std::vector<std::pair<double, int>> candidates;
     for (const auto& [id, image] : model.images) {
-      if (id != ref_id) candidates.emplace_back(pair_score(shared, ref_id, id), id);
+      if (id != ref_id && !without_depth.contains(id)) candidates.emplace_back(pair_score(shared, ref_id, id), id);
     }
     // Most shared points first, then the lower id.
     std::stable_sort(candidates.begin(), candidates.end(),
                      [](const auto& a, const auto& b) { return a.first > b.first; });
-    if (limited) candidates.resize(static_cast<std::size_t>(max_views));
+    if (limited) candidates.resize(std::min(candidates.size(), static_cast<std::size_t>(max_views)));
     std::vector<int> chosen(candidates.size());
     std::transform(candidates.begin(), candidates.end(), chosen.begin(), [](const auto& c) { return c.second; });
     views.push_back(std::move(chosen));

@@ -1,6 +1,7 @@
 // Choosing the source views of each reference view from the sparse model.
 #pragma once
 
+#include <set>
 #include <vector>
 
 #include "core/sparse_model.h"
@@ -17,9 +18,12 @@ namespace hos::mvs {
 std::vector<std::vector<int>> select_source_views(const SparseModel& model, const MvsOptions& options);
 
 // For each image id of the model (in map order), the other image ids fusion
-// checks its depths against: every other image when there are at most
-// max_views of them (or max_views is 0), otherwise the max_views that share
-// the most sparse points with it (most first).
-std::vector<std::vector<int>> select_fusion_views(const SparseModel& model, int max_views);
+// checks its depths against: every other image with a depth map (not in
+// without_depth) when there are at most max_views of them (or max_views is
+// 0), otherwise the max_views of them that share the most sparse points
+// with it (most first).
+std::vector<std::vector<int>> select_fusion_views(const SparseModel& model,
+                                                  int max_views,
+                                                  const std::set<int>& without_depth = {});
 
 }  // namespace hos::mvs

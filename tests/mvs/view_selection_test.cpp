@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <set>
 
 #include "tests/mvs/synthetic_workspace.h"
 
@@ -55,6 +56,27 @@ TEST(ViewSelection, FusionChecksEveryOtherViewUpToItsLimit) {
   for (int limit : {0, 11, 30}) {
     for (const auto& views : select_fusion_views(model, limit)) EXPECT_EQ(views.size(), 11u) << limit;
   }
+}
+
+// Views mvs skips have no depth map: no view checks against them, and the
+// others take their place within the limit.
+TEST(ViewSelection, FusionLeavesOutViewsWithoutDepthMaps) {
+  const SparseModel& model = mvs_testing::synthetic_workspace().workspace.model;
+  const std::vector<std::vector<int>> all = select_fusion_views(model, 3);
+  const std::set<int> without_depth{all[0][0], all[0][1]};
+  for (int limit : {0, 3}) {
+    const auto chosen = select_fusion_views(model, limit, without_depth);
+    std::size_t i = 0;
+    for (const auto& [id, image] : model.images) {
+      const std::size_t others = 11 - without_depth.size() + without_depth.count(id);
+      EXPECT_EQ(chosen[i].size(), limit == 0 ? others : 3u) << image.name;
+      for (int other : chosen[i]) EXPECT_FALSE(without_depth.contains(other)) << image.name;
+      ++i;
+    }
+  }
+  // The first view's list moves up: its third choice and the two after it.
+  const auto all5 = select_fusion_views(model, 5);
+  EXPECT_EQ(select_fusion_views(model, 3, without_depth)[0], std::vector<int>(all5[0].begin() + 2, all5[0].end()));
 }
 
 // Over the limit, the views sharing the most sparse points, most first.
