@@ -20,7 +20,7 @@ struct MvsOptions {
   // most coarse_image_size matches in one level.
   int max_image_size = 1280;    // longest image side of the finest level
   int coarse_image_size = 640;  // longest side of the full PatchMatch level; >= max_image_size: one level
-  int num_source_views = 4;     // source views per reference view
+  int num_source_views = 5;     // source views per reference view
   int best_k = 2;               // photo-consistency: mean of the best K source costs (occlusions)
   int window_radius = 4;        // matching window half size in pixels
   int window_step = 2;          // sample every step-th pixel of the window
