@@ -72,6 +72,7 @@ std::vector<std::vector<int>> select_fusion_views(const SparseModel& model,
                                                   const std::set<int>& without_depth) {
   const auto with_depth = static_cast<int>(std::count_if(
       model.images.begin(), model.images.end(), [&](const auto& e) { return !without_depth.contains(e.first); }));
+  // Limited: every list, a skipped view's too, has more than max_views candidates.
   const bool limited = max_views > 0 && with_depth - 1 > max_views;
   const PairScores shared =
       limited ? score_image_pairs(model, [](int, int, const Eigen::Vector3d&) { return 1.0; }) : PairScores{};
@@ -84,7 +85,7 @@ std::vector<std::vector<int>> select_fusion_views(const SparseModel& model,
     // Most shared points first, then the lower id.
     std::stable_sort(candidates.begin(), candidates.end(),
                      [](const auto& a, const auto& b) { return a.first > b.first; });
-    if (limited) candidates.resize(std::min(candidates.size(), static_cast<std::size_t>(max_views)));
+    if (limited) candidates.resize(static_cast<std::size_t>(max_views));
     std::vector<int> chosen(candidates.size());
     std::transform(candidates.begin(), candidates.end(), chosen.begin(), [](const auto& c) { return c.second; });
     views.push_back(std::move(chosen));
