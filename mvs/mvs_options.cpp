@@ -18,9 +18,6 @@ void register_options(OptionSet& set, MvsOptions& o) {
           "longest image side of the full PatchMatch level (levels double up to max_image_size)", 64, 16384);
   set.add("num_source_views", o.num_source_views, "source views per reference view", 1, 32);
   set.add("best_k", o.best_k, "photo-consistency: mean of the best K source views", 1, 32);
-  set.add_choice("view_weights", o.view_weights, {"best_k", "neighbourhood"},
-                 "while planes compete: best_k, the mean of the best K views; neighbourhood, each pixel weighs "
-                 "its views by how well they matched its neighbours' planes");
   set.add("window_radius", o.window_radius, "matching window half size (pixels)", 1, 15);
   set.add("window_step", o.window_step, "window sampling step (pixels)", 1, 15);
   set.add("iterations", o.iterations, "PatchMatch sweeps at the coarse level", 1, 20);

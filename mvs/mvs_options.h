@@ -22,16 +22,9 @@ struct MvsOptions {
   int coarse_image_size = 640;  // longest side of the full PatchMatch level; >= max_image_size: one level
   int num_source_views = 5;     // source views per reference view
   int best_k = 2;               // photo-consistency: mean of the best K source costs (occlusions)
-  // How a plane's source view costs are combined while planes compete:
-  // best_k, the mean of the best K for every plane; neighbourhood, a
-  // weighted mean whose weights each pixel takes from how well each view
-  // matched its neighbours' planes (after ACMM's joint view selection), so a
-  // wrong plane cannot win through whichever two views happen to fit it.
-  // Accepted pixels are judged by the best-K mean (max_cost) either way.
-  std::string view_weights = "best_k";
-  int window_radius = 4;  // matching window half size in pixels
-  int window_step = 2;    // sample every step-th pixel of the window
-  int iterations = 4;     // coarse level sweeps (red-black, both colours)
+  int window_radius = 4;        // matching window half size in pixels
+  int window_step = 2;          // sample every step-th pixel of the window
+  int iterations = 4;           // coarse level sweeps (red-black, both colours)
   // Sweeps per finer level (they start from a converged plane); 2 scored
   // above 1 on the 1280x960 synthetic scene (docs/benchmarks-mvs.md).
   int refine_iterations = 2;

@@ -44,26 +44,6 @@ struct Cost {
   float photo = 2.0f;
 };
 
-// Per-pixel view weights (mvs.view_weights: neighbourhood), after ACMM's
-// multi-hypothesis joint view selection (Xu and Tao 2019, Sec. 3.2): a view
-// counts at a pixel when more than two of the sampled planes match in it
-// (1 - NCC below kViewGoodCost) and fewer than three contradict it (above
-// kViewBadCost); its weight is the mean of exp(-c^2 / (2 beta^2)) over the
-// planes it matches. ACMM's thresholds and beta; its good threshold's decay
-// over the sweeps is left out.
-constexpr float kViewGoodCost = 0.8f, kViewBadCost = 1.2f, kViewWeightBeta = 0.3f;
-constexpr int kViewMinGood = 3, kViewMaxBad = 2;
-
-// Most source views a plane is scored in.
-constexpr int kMaxSources = 32;
-
-struct ViewWeights {
-  float weight[kMaxSources] = {};
-  int order[kMaxSources] = {};  // views by descending weight; the first `weighted` have weight > 0
-  int weighted = 0;
-  float total = 0;
-};
-
 // A source view's coarser depth map relative to the reference camera.
 struct PriorFrame {
   const DepthPrior* prior = nullptr;
@@ -82,13 +62,7 @@ class PatchMatcher {
                double depth_max,
                const MvsOptions& options,
                const std::vector<const DepthPrior*>& priors = {})
-      : ref_(ref),
-        sources_(sources),
-        options_(options),
-        inv_min_(1.0 / depth_max),
-        inv_max_(1.0 / depth_min),
-        nsrc_(static_cast<int>(std::min<std::size_t>(sources.size(), kMaxSources))),
-        neighbourhood_weights_(options.view_weights == "neighbourhood") {
+      : ref_(ref), sources_(sources), options_(options), inv_min_(1.0 / depth_max), inv_max_(1.0 / depth_min) {
     for (int dy = -options.window_radius; dy <= options.window_radius; dy += options.window_step) {
       for (int dx = -options.window_radius; dx <= options.window_radius; dx += options.window_step) {
         offsets_.emplace_back(dx, dy);
@@ -110,7 +84,6 @@ class PatchMatcher {
     changed_.assign(std::size_t(w) * h, -1);
     settled_.assign(std::size_t(w) * h, 0);
     inherited_.assign(std::size_t(w) * h, kTextureless);
-    if (neighbourhood_weights_) view_photo_.assign(std::size_t(w) * h * nsrc_, 2.0f);
     prepare_windows();
   }
 
@@ -212,7 +185,7 @@ class PatchMatcher {
         map.depth.at<float>(y, x) = planes_[i].depth;
         const Eigen::Vector3f& n = planes_[i].normal;
         map.normal.at<cv::Vec3f>(y, x) = cv::Vec3f(n.x(), n.y(), n.z());
-        map.cost.at<float>(y, x) = !textured_[i] ? inherited_[i] : neighbourhood_weights_ ? best_k_mean(i) : photo_[i];
+        map.cost.at<float>(y, x) = textured_[i] ? photo_[i] : inherited_[i];
       }
     }
     return map;
@@ -251,9 +224,6 @@ class PatchMatcher {
       for (const auto& [a, b] : {std::pair{1, 2}, {2, 1}, {1, 4}, {2, 3}, {3, 2}, {4, 1}})
         v.emplace_back(sx * a, sy * b);
     }
-    // View weights are taken from the pixel itself and its eight nearest
-    // pixels of the other colour (not written while this colour runs).
-    weight_samples_ = {{0, 0}, {1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 2}, {-1, 2}, {1, -2}, {-1, -2}};
   }
 
   // The pixel of area (offsets from (x, y)) with the lowest cost among those
@@ -307,8 +277,7 @@ class PatchMatcher {
     for (int y = 0; y < h; ++y) {
       for (int x = 0; x < w; ++x) {
         const std::size_t i = std::size_t(y) * w + x;
-        const Cost c =
-            cost(x, y, planes_[i], 3.0f, nullptr, neighbourhood_weights_ ? &view_photo_[i * nsrc_] : nullptr);
+        const Cost c = cost(x, y, planes_[i]);
         costs_[i] = c.effective;
         photo_[i] = c.photo;
       }
@@ -496,69 +465,31 @@ class PatchMatcher {
     return 1.0f - cov / std::sqrt(var_r * var_s);
   }
 
-  // Source s's 1 - NCC of the plane with homography parameter m (see
-  // Relative) at pixel (x, y), whose index is i.
-  HOS_INLINED_INTO_CLONES float photo_cost(int s, int x, int y, std::size_t i, const Eigen::Vector3f& m) const {
-    const std::size_t k = offsets_.size();
-    const Eigen::Matrix3f H = relative_[s].A + relative_[s].b * m.transpose();
-    return view_cost(x, y, H, *sources_[s], &weights_[i * k], &centred_[i * k], ref_var_[i]);
-  }
-
-  // A weighted plane's cost from its weighted sums of view costs with
-  // (sum) and without (photo_sum) the geometric vote.
-  Cost weighted_cost(float sum, float photo_sum, float total) const {
-    const float margin = static_cast<float>(options_.detail_restore_margin);
-    return {std::min(sum, photo_sum + margin * total) / total, photo_sum / total};
-  }
-
-  // Cost of plane at pixel (x, y). Each source view is scored by its
-  // 1 - NCC plus (finer levels) its geometric vote; without weights the
-  // best K views are averaged, with weights the views they weigh. Stops
-  // early, returning a lower bound >= to_beat, once the views still to be
-  // scored (each at best 0) cannot bring the cost below it. view_photo (if
-  // given) receives each view's 1 - NCC (2 where not scored); a plane that
-  // beats to_beat is scored in every view.
-  HOS_CPU_CLONES Cost cost(int x,
-                           int y,
-                           const Plane& plane,
-                           float to_beat = 3.0f,
-                           const ViewWeights* weights = nullptr,
-                           float* view_photo = nullptr) const {
-    if (view_photo) std::fill_n(view_photo, nsrc_, 2.0f);
+  // Cost of plane at pixel (x, y): the mean of the best K source views,
+  // each scored by its 1 - NCC plus (finer levels) its geometric vote.
+  // Stops early, returning a lower bound >= to_beat, once the views still to
+  // be scored (each at best 0) cannot bring the cost below it.
+  HOS_CPU_CLONES Cost cost(int x, int y, const Plane& plane, float to_beat = 3.0f) const {
     const std::size_t i = std::size_t(y) * ref_.width() + x;
-    if (!textured_[i] || !(plane.depth > 0) || nsrc_ == 0) return {};
+    if (!textured_[i] || !(plane.depth > 0)) return {};
+    const std::size_t k = offsets_.size();
     const Eigen::Vector3d n = plane.normal.cast<double>();
     const Eigen::Vector3d x_ref = ray(x, y) * plane.depth;
     const double nd = n.dot(x_ref);
     if (std::abs(nd) < 1e-12) return {};
     const Eigen::Vector3f m = (ref_.K_inv.transpose() * n / nd).cast<float>();
-    const Eigen::Vector3f x_ref_f = x_ref.cast<float>();
-    if (weights && weights->weighted > 0) {
-      float sum = 0, photo_sum = 0;
-      for (int r = 0; r < weights->weighted; ++r) {
-        const int s = weights->order[r];
-        const float photo = photo_cost(s, x, y, i, m);
-        if (view_photo) view_photo[s] = photo;
-        photo_sum += weights->weight[s] * photo;
-        sum += weights->weight[s] * (photo + (has_priors_ ? geometric_cost(s, x_ref_f, x, y) : 0.0f));
-        const Cost bound = weighted_cost(sum, photo_sum, weights->total);
-        if (bound.effective >= to_beat) return {bound.effective, bound.effective};
-      }
-      for (int r = weights->weighted; view_photo && r < nsrc_; ++r) {
-        view_photo[weights->order[r]] = photo_cost(weights->order[r], x, y, i, m);
-      }
-      return weighted_cost(sum, photo_sum, weights->total);
-    }
-    const int best = std::min(options_.best_k, nsrc_);
+    const int nsrc = static_cast<int>(std::min<std::size_t>(sources_.size(), 32));
+    if (nsrc == 0) return {};
+    const int best = std::min(options_.best_k, nsrc);
     const float margin = static_cast<float>(options_.detail_restore_margin);
     // The view costs so far (photometric + geometric, and photometric
     // alone) in ascending order of the former, and the photometric ones
     // ascending on their own for the early-exit bound.
-    float sorted[kMaxSources], sorted_photo[kMaxSources], photo_only[kMaxSources];
-    for (int s = 0; s < nsrc_; ++s) {
-      const float photo = photo_cost(s, x, y, i, m);
-      if (view_photo) view_photo[s] = photo;
-      const float c = photo + (has_priors_ ? geometric_cost(s, x_ref_f, x, y) : 0.0f);
+    float sorted[32], sorted_photo[32], photo_only[32];
+    for (int s = 0; s < nsrc; ++s) {
+      const Eigen::Matrix3f H = relative_[s].A + relative_[s].b * m.transpose();
+      const float photo = view_cost(x, y, H, *sources_[s], &weights_[i * k], &centred_[i * k], ref_var_[i]);
+      const float c = photo + (has_priors_ ? geometric_cost(s, x_ref.cast<float>(), x, y) : 0.0f);
       int j = s;
       for (; j > 0 && sorted[j - 1] > c; --j) {
         sorted[j] = sorted[j - 1];
@@ -569,8 +500,8 @@ class PatchMatcher {
       j = s;
       for (; j > 0 && photo_only[j - 1] > photo; --j) photo_only[j] = photo_only[j - 1];
       photo_only[j] = photo;
-      const int known = best - (nsrc_ - 1 - s);  // best-K members that must be among the scored views
-      if (known > 0 && s + 1 < nsrc_) {
+      const int known = best - (nsrc - 1 - s);  // best-K members that must be among the scored views
+      if (known > 0 && s + 1 < nsrc) {
         float bound = 0, photo_bound = 0;
         for (int b = 0; b < known; ++b) {
           bound += sorted[b];
@@ -587,66 +518,6 @@ class PatchMatcher {
     }
     const float photo = photo_sum / best;
     return {has_priors_ ? std::min(sum / best, photo + margin) : photo, photo};
-  }
-
-  // The mean of the best K of pixel i's stored view costs (the measure
-  // accepted pixels are judged by).
-  float best_k_mean(std::size_t i) const {
-    float c[kMaxSources];
-    std::copy_n(&view_photo_[i * nsrc_], nsrc_, c);
-    const int best = std::min(options_.best_k, nsrc_);
-    std::partial_sort(c, c + best, c + nsrc_);
-    float sum = 0;
-    for (int s = 0; s < best; ++s) sum += c[s];
-    return best > 0 ? sum / best : 2.0f;
-  }
-
-  // Pixel (x, y)'s view weights from the stored view costs of its samples'
-  // planes (see kViewGoodCost).
-  ViewWeights view_weights(int x, int y) const {
-    const int w = ref_.width(), h = ref_.height();
-    int good[kMaxSources] = {}, bad[kMaxSources] = {};
-    float score[kMaxSources] = {};
-    const float scale = -1.0f / (2.0f * kViewWeightBeta * kViewWeightBeta);
-    for (const Eigen::Vector2i& o : weight_samples_) {
-      const int nx = x + o.x(), ny = y + o.y();
-      if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-      const std::size_t n = std::size_t(ny) * w + nx;
-      if (!textured_[n]) continue;
-      const float* c = &view_photo_[n * nsrc_];
-      for (int s = 0; s < nsrc_; ++s) {
-        if (c[s] < kViewGoodCost) {
-          ++good[s];
-          score[s] += std::exp(c[s] * c[s] * scale);
-        } else if (c[s] > kViewBadCost) {
-          ++bad[s];
-        }
-      }
-    }
-    ViewWeights v;
-    for (int s = 0; s < nsrc_; ++s) {
-      v.weight[s] = good[s] >= kViewMinGood && bad[s] <= kViewMaxBad ? score[s] / good[s] : 0.0f;
-      v.order[s] = s;
-      v.total += v.weight[s];
-      v.weighted += v.weight[s] > 0;
-    }
-    std::stable_sort(v.order, v.order + nsrc_, [&](int a, int b) { return v.weight[a] > v.weight[b]; });
-    return v;
-  }
-
-  // Pixel i's cost under new weights, from its plane's stored view costs.
-  void reweigh(int x, int y, std::size_t i, const ViewWeights& v) {
-    const Eigen::Vector3f x_ref = (ray(x, y) * planes_[i].depth).cast<float>();
-    float sum = 0, photo_sum = 0;
-    for (int r = 0; r < v.weighted; ++r) {
-      const int s = v.order[r];
-      const float photo = view_photo_[i * nsrc_ + s];
-      photo_sum += v.weight[s] * photo;
-      sum += v.weight[s] * (photo + (has_priors_ ? geometric_cost(s, x_ref, x, y) : 0.0f));
-    }
-    const Cost c = weighted_cost(sum, photo_sum, v.total);
-    costs_[i] = c.effective;
-    photo_[i] = c.photo;
   }
 
   // Planes already scored at one pixel during one update. Neighbours on the
@@ -669,19 +540,15 @@ class PatchMatcher {
     }
   };
 
-  // Scores candidate at pixel i (weighted by weights if given) and keeps it
-  // if it is better; true if kept.
-  bool try_plane(
-      int x, int y, std::size_t i, const Plane& candidate, Tried& tried, const ViewWeights* weights = nullptr) {
+  // Scores candidate at pixel i and keeps it if it is better; true if kept.
+  bool try_plane(int x, int y, std::size_t i, const Plane& candidate, Tried& tried) {
     if (!(candidate.depth > 0) || !std::isfinite(candidate.depth) || tried.contains(candidate)) return false;
     tried.add(candidate);
-    float view_photo[kMaxSources];
-    const Cost c = cost(x, y, candidate, costs_[i], weights, neighbourhood_weights_ ? view_photo : nullptr);
+    const Cost c = cost(x, y, candidate, costs_[i]);
     if (!(c.effective < costs_[i])) return false;
     costs_[i] = c.effective;
     photo_[i] = c.photo;
     planes_[i] = candidate;
-    if (neighbourhood_weights_) std::copy_n(view_photo, nsrc_, &view_photo_[i * nsrc_]);
     return true;
   }
 
@@ -689,15 +556,6 @@ class PatchMatcher {
     const int w = ref_.width();
     const std::size_t i = std::size_t(y) * w + x;
     if (!textured_[i] || settled_[i]) return;
-    ViewWeights view_weights_here;
-    const ViewWeights* weights = nullptr;
-    if (neighbourhood_weights_) {
-      view_weights_here = view_weights(x, y);
-      if (view_weights_here.weighted > 0) {
-        weights = &view_weights_here;
-        reweigh(x, y, i, *weights);
-      }
-    }
     Tried tried;
     tried.add(planes_[i]);
     bool changed = false;
@@ -723,7 +581,7 @@ class PatchMatcher {
       if (std::abs(denom) < 1e-9) continue;
       candidate.depth = static_cast<float>(n.dot(xn) / denom);
       if (candidate.depth < 0.5 / inv_max_ || candidate.depth > 2.0 / inv_min_) continue;
-      changed |= try_plane(x, y, i, candidate, tried, weights);
+      changed |= try_plane(x, y, i, candidate, tried);
     }
     // Random refinement: perturb depth and normal, shrinking per iteration.
     const std::uint64_t seed = (std::uint64_t(i) * 131 + iteration) * 1000003ull;
@@ -733,14 +591,14 @@ class PatchMatcher {
     perturbed.depth = static_cast<float>(current.depth + (random_unit(seed) * 2 - 1) * range);
     const Eigen::Vector3d dn(random_unit(seed + 1) - 0.5, random_unit(seed + 2) - 0.5, random_unit(seed + 3) - 0.5);
     perturbed.normal = facing_camera(current.normal.cast<double>() + 0.6 * scale * dn, x, y);
-    changed |= try_plane(x, y, i, perturbed, tried, weights);
+    changed |= try_plane(x, y, i, perturbed, tried);
     Plane depth_only = current;
     depth_only.depth = perturbed.depth;
-    changed |= try_plane(x, y, i, depth_only, tried, weights);
+    changed |= try_plane(x, y, i, depth_only, tried);
     Plane normal_only = current;
     normal_only.normal = perturbed.normal;
-    changed |= try_plane(x, y, i, normal_only, tried, weights);
-    changed |= try_plane(x, y, i, random_plane(x, y, seed + 5), tried, weights);
+    changed |= try_plane(x, y, i, normal_only, tried);
+    changed |= try_plane(x, y, i, random_plane(x, y, seed + 5), tried);
     if (changed) changed_[i] = static_cast<std::int8_t>(iteration);
   }
 
@@ -748,18 +606,14 @@ class PatchMatcher {
   const std::vector<const MvsView*>& sources_;
   const MvsOptions& options_;
   double inv_min_, inv_max_;
-  int nsrc_;                    // sources scored, at most kMaxSources
-  bool neighbourhood_weights_;  // mvs.view_weights: neighbourhood
   std::vector<Eigen::Vector2i> offsets_;
   std::vector<float> offset_x_, offset_y_;
   std::vector<Relative> relative_;
   std::vector<std::vector<Eigen::Vector2i>> propagation_areas_;
-  std::vector<Eigen::Vector2i> weight_samples_;  // pixels (offsets) view weights are taken from
   std::vector<Plane> planes_;
   std::vector<float> costs_;          // Cost::effective
   std::vector<float> photo_;          // Cost::photo
   std::vector<std::int8_t> changed_;  // sweep in which the pixel's plane last changed, -1: never
-  std::vector<float> view_photo_;     // with neighbourhood weights: each view's 1 - NCC of the pixel's plane
   std::vector<float> weights_, centred_, ref_var_;
   std::vector<char> textured_;
   std::vector<char> settled_;  // finer levels: the upsampled plane matched well, no sweeps
@@ -824,11 +678,9 @@ MvsView downscale_view(const MvsView& view, int max_image_size) {
 double matcher_bytes_per_pixel(const MvsOptions& options) {
   const int side = 2 * options.window_radius / options.window_step + 1;
   // Two floats per window sample (weights, centred values), the Plane, four
-  // floats (costs, photometric costs, inherited costs, variance), three
-  // bytes (changed, settled, textured) and with neighbourhood weights a
-  // float per source view.
-  const double view_costs = options.view_weights == "neighbourhood" ? sizeof(float) * options.num_source_views : 0.0;
-  return 2.0 * sizeof(float) * side * side + sizeof(Plane) + 4.0 * sizeof(float) + 3.0 + view_costs;
+  // floats (costs, photometric costs, inherited costs, variance) and three
+  // bytes (changed, settled, textured).
+  return 2.0 * sizeof(float) * side * side + sizeof(Plane) + 4.0 * sizeof(float) + 3.0;
 }
 
 PlaneMap match_planes(const MvsView& ref,
