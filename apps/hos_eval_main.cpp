@@ -396,11 +396,20 @@ struct RenderCommand {
 struct CommonCommand {
   CLI::App* cmd = nullptr;
   std::vector<std::string> saved;
+  hos::eval::CommonOptions options;
+  std::string crops;
 
   void add(CLI::App& app, Output& output) {
     cmd = app.add_subcommand("common", "PSNR/SSIM of several runs' renders of one view over the pixels all cover");
     cmd->add_option("--saved", saved, "views saved by 'render --save' (DIR/NAME.png), one per run, same photo")
         ->required();
+    cmd->add_option("--worst-tiles", options.worst_tiles,
+                    "list this many tiles of the photo, those carrying most of the first run's squared error first")
+        ->default_val(0);
+    cmd->add_option("--tile-size", options.tile_size, "tile side (pixels)")
+        ->default_val(128)
+        ->check(CLI::Range(1, 1 << 16));
+    cmd->add_option("--crops", crops, "write DIR/tile_X_Y.png for the listed tiles: the photo beside each run");
     output.add_json(cmd);
   }
 
@@ -408,7 +417,7 @@ struct CommonCommand {
 #ifdef HOS_EVAL_HAS_RENDER
     Report r;
     const hos::eval::CommonComparison c =
-        hos::eval::compare_on_common_pixels(std::vector<fs::path>(saved.begin(), saved.end()));
+        hos::eval::compare_on_common_pixels(std::vector<fs::path>(saved.begin(), saved.end()), options);
     const auto share = [&](std::size_t pixels) { return static_cast<double>(pixels) / c.photo_pixels; };
     r.j["photo_pixels"] = c.photo_pixels;
     r.j["common_coverage"] = share(c.common_pixels);
@@ -423,6 +432,20 @@ struct CommonCommand {
       r.table +=
           row(saved[i], "PSNR " + fmt(c.psnr[i], 4) + " dB (exposure matched " + fmt(c.psnr_exposure_matched[i], 4) +
                             " dB)  SSIM " + fmt(c.ssim[i], 4) + "  coverage " + fmt(share(c.covered_pixels[i]), 4));
+    }
+    r.j["worst_tiles"] = json::array();
+    for (const hos::eval::ErrorTile& t : c.worst_tiles) {
+      r.j["worst_tiles"].push_back(
+          {{"x", t.x}, {"y", t.y}, {"common_pixels", t.common_pixels}, {"share", t.share}, {"mse", t.mse}});
+      std::ostringstream name, value;
+      name << "tile " << t.x << "," << t.y;
+      value << "share " << fmt(t.share, 3) << "  MSE per run";
+      for (double e : t.mse) value << " " << fmt(e, 4);
+      r.table += row(name.str(), value.str());
+    }
+    if (!crops.empty()) {
+      hos::eval::save_tile_crops(std::vector<fs::path>(saved.begin(), saved.end()), c.worst_tiles, options.tile_size,
+                                 crops);
     }
     return r;
 #else

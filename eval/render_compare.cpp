@@ -1,5 +1,6 @@
 #include "eval/render_compare.h"
 
+#include <algorithm>
 #include <cmath>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -84,7 +85,11 @@ SavedRender read_saved_render(const std::filesystem::path& path) {
   return out;
 }
 
-CommonComparison compare_on_common_pixels(const std::vector<std::filesystem::path>& saved_views) {
+namespace {
+
+// The saved views of one photo; throws InputError naming a view whose photo
+// differs from the first's.
+std::vector<SavedRender> read_runs(const std::vector<std::filesystem::path>& saved_views) {
   if (saved_views.empty()) throw std::invalid_argument("compare_on_common_pixels: no views");
   std::vector<SavedRender> runs;
   for (const auto& path : saved_views) {
@@ -95,6 +100,53 @@ CommonComparison compare_on_common_pixels(const std::vector<std::filesystem::pat
                        "its photo differs from " + saved_views.front().string() + "'s: not a render of the same view");
     }
   }
+  return runs;
+}
+
+// Every tile holding common pixels, with its squared error per run (8-bit
+// RGB summed over the tile's common pixels) in mse until the caller divides.
+std::vector<ErrorTile> tile_errors(const std::vector<SavedRender>& runs, const cv::Mat& common, int tile_size) {
+  std::vector<ErrorTile> tiles;
+  const cv::Mat& photo = runs.front().photo;
+  for (int y0 = 0; y0 < photo.rows; y0 += tile_size) {
+    for (int x0 = 0; x0 < photo.cols; x0 += tile_size) {
+      const cv::Rect rect(x0, y0, std::min(tile_size, photo.cols - x0), std::min(tile_size, photo.rows - y0));
+      ErrorTile tile;
+      tile.x = x0;
+      tile.y = y0;
+      tile.common_pixels = static_cast<std::size_t>(cv::countNonZero(common(rect)));
+      if (tile.common_pixels == 0) continue;
+      for (const SavedRender& run : runs) {
+        const double norm = cv::norm(run.color(rect), photo(rect), cv::NORM_L2, common(rect));
+        tile.mse.push_back(norm * norm);
+      }
+      tiles.push_back(tile);
+    }
+  }
+  return tiles;
+}
+
+// The count tiles carrying most of the first run's squared error, with
+// their shares of it and their mean squared errors.
+std::vector<ErrorTile> worst_tiles(std::vector<ErrorTile> tiles, std::size_t count) {
+  double total = 0.0;
+  for (const ErrorTile& t : tiles) total += t.mse.front();
+  std::stable_sort(tiles.begin(), tiles.end(),
+                   [](const ErrorTile& a, const ErrorTile& b) { return a.mse.front() > b.mse.front(); });
+  tiles.resize(std::min(count, tiles.size()));
+  for (ErrorTile& t : tiles) {
+    t.share = total > 0.0 ? t.mse.front() / total : 0.0;
+    for (double& e : t.mse) e /= 3.0 * static_cast<double>(t.common_pixels);
+  }
+  return tiles;
+}
+
+}  // namespace
+
+CommonComparison compare_on_common_pixels(const std::vector<std::filesystem::path>& saved_views,
+                                          const CommonOptions& options) {
+  if (options.tile_size < 1) throw std::invalid_argument("compare_on_common_pixels: tile_size < 1");
+  const std::vector<SavedRender> runs = read_runs(saved_views);
   CommonComparison out;
   out.photo_pixels = runs.front().photo.total();
   cv::Mat common = runs.front().mask.clone();
@@ -109,7 +161,33 @@ CommonComparison compare_on_common_pixels(const std::vector<std::filesystem::pat
     out.ssim.push_back(masked_ssim(run.color, run.photo, common));
     out.psnr_exposure_matched.push_back(masked_psnr(exposure_matched(run.color, run.photo, common), run.photo, common));
   }
+  if (options.worst_tiles > 0) {
+    out.worst_tiles = worst_tiles(tile_errors(runs, common, options.tile_size), options.worst_tiles);
+  }
   return out;
+}
+
+void save_tile_crops(const std::vector<std::filesystem::path>& saved_views,
+                     const std::vector<ErrorTile>& tiles,
+                     int tile_size,
+                     const std::filesystem::path& dir) {
+  const std::vector<SavedRender> runs = read_runs(saved_views);
+  std::filesystem::create_directories(dir);
+  const cv::Mat& photo = runs.front().photo;
+  for (const ErrorTile& tile : tiles) {
+    const cv::Rect rect = cv::Rect(tile.x, tile.y, tile_size, tile_size) & cv::Rect(0, 0, photo.cols, photo.rows);
+    std::vector<cv::Mat> parts{photo(rect).clone()};
+    for (const SavedRender& run : runs) {
+      cv::Mat part = run.color(rect).clone();
+      part.setTo(cv::Scalar(255, 0, 255), run.mask(rect) == 0);
+      parts.push_back(part);
+    }
+    cv::Mat side_by_side;
+    cv::hconcat(parts, side_by_side);
+    const std::filesystem::path target =
+        dir / ("tile_" + std::to_string(tile.x) + "_" + std::to_string(tile.y) + ".png");
+    if (!cv::imwrite(target.string(), side_by_side)) throw OutputError(target.string(), "cannot write the image");
+  }
 }
 
 }  // namespace hos::eval

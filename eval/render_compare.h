@@ -47,6 +47,16 @@ struct SavedRender {
 // when it is unreadable or not such an image (4 channels, even width).
 SavedRender read_saved_render(const std::filesystem::path& path);
 
+// A square of the photo and how much of the runs' error lies in it: where
+// a run fails (an occlusion edge, a wrong patch of surface) shows as a few
+// tiles carrying a large part of its squared error.
+struct ErrorTile {
+  int x = 0, y = 0;  // top-left pixel; tiles on the right and bottom edges may be cut off
+  std::size_t common_pixels = 0;
+  std::vector<double> mse;  // per run, 8-bit RGB, over the tile's common pixels
+  double share = 0.0;       // of the first run's squared error over all common pixels
+};
+
 // Every run's render of one view against the photo over the pixels all runs
 // cover. A run's PSNR over its own mask rewards trimming: surface that
 // trimming removed is not measured, so a run with holes can score higher
@@ -59,10 +69,26 @@ struct CommonComparison {
   std::vector<double> psnr, ssim;           // per run, over the common pixels
   // Per run, after exposure_matched over the common pixels.
   std::vector<double> psnr_exposure_matched;
+  std::vector<ErrorTile> worst_tiles;  // CommonOptions::worst_tiles of them
+};
+
+struct CommonOptions {
+  int tile_size = 128;          // pixels
+  std::size_t worst_tiles = 0;  // how many tiles to list, most of the first run's error first
 };
 
 // Throws InputError when the views differ in size or their photos differ
 // (they must be renders of the same view), or no pixel is common.
-CommonComparison compare_on_common_pixels(const std::vector<std::filesystem::path>& saved_views);
+CommonComparison compare_on_common_pixels(const std::vector<std::filesystem::path>& saved_views,
+                                          const CommonOptions& options = {});
+
+// Writes DIR/tile_X_Y.png for each tile: the photo beside every run's
+// render of that square, pixels a run does not cover in magenta. Throws
+// InputError as compare_on_common_pixels, OutputError naming a file it
+// cannot write.
+void save_tile_crops(const std::vector<std::filesystem::path>& saved_views,
+                     const std::vector<ErrorTile>& tiles,
+                     int tile_size,
+                     const std::filesystem::path& dir);
 
 }  // namespace hos::eval
