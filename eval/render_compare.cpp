@@ -103,8 +103,7 @@ std::vector<SavedRender> read_runs(const std::vector<std::filesystem::path>& sav
   return runs;
 }
 
-// Every tile holding common pixels, with its squared error per run (8-bit
-// RGB summed over the tile's common pixels) in mse until the caller divides.
+// Every tile holding common pixels, with each run's mean squared error there.
 std::vector<ErrorTile> tile_errors(const std::vector<SavedRender>& runs, const cv::Mat& common, int tile_size) {
   std::vector<ErrorTile> tiles;
   const cv::Mat& photo = runs.front().photo;
@@ -118,7 +117,7 @@ std::vector<ErrorTile> tile_errors(const std::vector<SavedRender>& runs, const c
       if (tile.common_pixels == 0) continue;
       for (const SavedRender& run : runs) {
         const double norm = cv::norm(run.color(rect), photo(rect), cv::NORM_L2, common(rect));
-        tile.mse.push_back(norm * norm);
+        tile.mse.push_back(norm * norm / (3.0 * static_cast<double>(tile.common_pixels)));
       }
       tiles.push_back(tile);
     }
@@ -127,17 +126,15 @@ std::vector<ErrorTile> tile_errors(const std::vector<SavedRender>& runs, const c
 }
 
 // The count tiles carrying most of the first run's squared error, with
-// their shares of it and their mean squared errors.
+// their shares of it.
 std::vector<ErrorTile> worst_tiles(std::vector<ErrorTile> tiles, std::size_t count) {
+  const auto first_run_error = [](const ErrorTile& t) { return t.mse.front() * static_cast<double>(t.common_pixels); };
   double total = 0.0;
-  for (const ErrorTile& t : tiles) total += t.mse.front();
+  for (const ErrorTile& t : tiles) total += first_run_error(t);
   std::stable_sort(tiles.begin(), tiles.end(),
-                   [](const ErrorTile& a, const ErrorTile& b) { return a.mse.front() > b.mse.front(); });
+                   [&](const ErrorTile& a, const ErrorTile& b) { return first_run_error(a) > first_run_error(b); });
   tiles.resize(std::min(count, tiles.size()));
-  for (ErrorTile& t : tiles) {
-    t.share = total > 0.0 ? t.mse.front() / total : 0.0;
-    for (double& e : t.mse) e /= 3.0 * static_cast<double>(t.common_pixels);
-  }
+  for (ErrorTile& t : tiles) t.share = total > 0.0 ? first_run_error(t) / total : 0.0;
   return tiles;
 }
 
@@ -172,10 +169,13 @@ void save_tile_crops(const std::vector<std::filesystem::path>& saved_views,
                      int tile_size,
                      const std::filesystem::path& dir) {
   const std::vector<SavedRender> runs = read_runs(saved_views);
-  std::filesystem::create_directories(dir);
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error) throw OutputError(dir.string(), error.message());
   const cv::Mat& photo = runs.front().photo;
   for (const ErrorTile& tile : tiles) {
     const cv::Rect rect = cv::Rect(tile.x, tile.y, tile_size, tile_size) & cv::Rect(0, 0, photo.cols, photo.rows);
+    if (rect.empty()) throw std::invalid_argument("save_tile_crops: a tile outside the photo");
     std::vector<cv::Mat> parts{photo(rect).clone()};
     for (const SavedRender& run : runs) {
       cv::Mat part = run.color(rect).clone();

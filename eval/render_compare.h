@@ -82,10 +82,10 @@ struct CommonOptions {
 CommonComparison compare_on_common_pixels(const std::vector<std::filesystem::path>& saved_views,
                                           const CommonOptions& options = {});
 
-// Writes DIR/tile_X_Y.png for each tile: the photo beside every run's
-// render of that square, pixels a run does not cover in magenta. Throws
-// InputError as compare_on_common_pixels, OutputError naming a file it
-// cannot write.
+// Writes DIR/tile_X_Y.png for each tile (inside the photo): the photo
+// beside every run's render of that square, pixels a run does not cover in
+// magenta. Throws InputError as compare_on_common_pixels, OutputError
+// naming a folder or file it cannot write.
 void save_tile_crops(const std::vector<std::filesystem::path>& saved_views,
                      const std::vector<ErrorTile>& tiles,
                      int tile_size,
