@@ -397,19 +397,21 @@ struct CommonCommand {
   CLI::App* cmd = nullptr;
   std::vector<std::string> saved;
   hos::eval::CommonOptions options;
-  std::string crops;
 
   void add(CLI::App& app, Output& output) {
     cmd = app.add_subcommand("common", "PSNR/SSIM of several runs' renders of one view over the pixels all cover");
     cmd->add_option("--saved", saved, "views saved by 'render --save' (DIR/NAME.png), one per run, same photo")
         ->required();
-    cmd->add_option("--worst-tiles", options.worst_tiles,
-                    "list this many tiles of the photo, those carrying most of the first run's squared error first")
-        ->default_val(0);
+    CLI::Option* worst =
+        cmd->add_option("--worst-tiles", options.worst_tiles,
+                        "list this many tiles of the photo, those carrying most of the first run's squared error first")
+            ->default_val(0);
     cmd->add_option("--tile-size", options.tile_size, "tile side (pixels)")
         ->default_val(128)
         ->check(CLI::Range(1, 1 << 16));
-    cmd->add_option("--crops", crops, "write DIR/tile_X_Y.png for the listed tiles: the photo beside each run");
+    cmd->add_option("--crops", options.crops_dir,
+                    "write DIR/tile_X_Y.png for the listed tiles: the photo beside each run")
+        ->needs(worst);
     output.add_json(cmd);
   }
 
@@ -442,10 +444,6 @@ struct CommonCommand {
       value << "share " << fmt(t.share, 3) << "  MSE per run";
       for (double e : t.mse) value << " " << fmt(e, 4);
       r.table += row(name.str(), value.str());
-    }
-    if (!crops.empty()) {
-      hos::eval::save_tile_crops(std::vector<fs::path>(saved.begin(), saved.end()), c.worst_tiles, options.tile_size,
-                                 crops);
     }
     return r;
 #else

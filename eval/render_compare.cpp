@@ -138,6 +138,32 @@ std::vector<ErrorTile> worst_tiles(std::vector<ErrorTile> tiles, std::size_t cou
   return tiles;
 }
 
+// Writes each tile as dir/tile_X_Y.png: the photo beside every run's render
+// of that square, pixels a run does not cover in magenta.
+void save_tile_crops(const std::vector<SavedRender>& runs,
+                     const std::vector<ErrorTile>& tiles,
+                     int tile_size,
+                     const std::filesystem::path& dir) {
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error) throw OutputError(dir.string(), error.message());
+  const cv::Mat& photo = runs.front().photo;
+  for (const ErrorTile& tile : tiles) {
+    const cv::Rect rect = cv::Rect(tile.x, tile.y, tile_size, tile_size) & cv::Rect(0, 0, photo.cols, photo.rows);
+    std::vector<cv::Mat> parts{photo(rect).clone()};
+    for (const SavedRender& run : runs) {
+      cv::Mat part = run.color(rect).clone();
+      part.setTo(cv::Scalar(255, 0, 255), run.mask(rect) == 0);
+      parts.push_back(part);
+    }
+    cv::Mat side_by_side;
+    cv::hconcat(parts, side_by_side);
+    const std::filesystem::path target =
+        dir / ("tile_" + std::to_string(tile.x) + "_" + std::to_string(tile.y) + ".png");
+    if (!cv::imwrite(target.string(), side_by_side)) throw OutputError(target.string(), "cannot write the image");
+  }
+}
+
 }  // namespace
 
 CommonComparison compare_on_common_pixels(const std::vector<std::filesystem::path>& saved_views,
@@ -160,34 +186,9 @@ CommonComparison compare_on_common_pixels(const std::vector<std::filesystem::pat
   }
   if (options.worst_tiles > 0) {
     out.worst_tiles = worst_tiles(tile_errors(runs, common, options.tile_size), options.worst_tiles);
+    if (!options.crops_dir.empty()) save_tile_crops(runs, out.worst_tiles, options.tile_size, options.crops_dir);
   }
   return out;
-}
-
-void save_tile_crops(const std::vector<std::filesystem::path>& saved_views,
-                     const std::vector<ErrorTile>& tiles,
-                     int tile_size,
-                     const std::filesystem::path& dir) {
-  const std::vector<SavedRender> runs = read_runs(saved_views);
-  std::error_code error;
-  std::filesystem::create_directories(dir, error);
-  if (error) throw OutputError(dir.string(), error.message());
-  const cv::Mat& photo = runs.front().photo;
-  for (const ErrorTile& tile : tiles) {
-    const cv::Rect rect = cv::Rect(tile.x, tile.y, tile_size, tile_size) & cv::Rect(0, 0, photo.cols, photo.rows);
-    if (rect.empty()) throw std::invalid_argument("save_tile_crops: a tile outside the photo");
-    std::vector<cv::Mat> parts{photo(rect).clone()};
-    for (const SavedRender& run : runs) {
-      cv::Mat part = run.color(rect).clone();
-      part.setTo(cv::Scalar(255, 0, 255), run.mask(rect) == 0);
-      parts.push_back(part);
-    }
-    cv::Mat side_by_side;
-    cv::hconcat(parts, side_by_side);
-    const std::filesystem::path target =
-        dir / ("tile_" + std::to_string(tile.x) + "_" + std::to_string(tile.y) + ".png");
-    if (!cv::imwrite(target.string(), side_by_side)) throw OutputError(target.string(), "cannot write the image");
-  }
 }
 
 }  // namespace hos::eval

@@ -75,20 +75,16 @@ struct CommonComparison {
 struct CommonOptions {
   int tile_size = 128;          // pixels
   std::size_t worst_tiles = 0;  // how many tiles to list, most of the first run's error first
+  // If set, each listed tile is also written as crops_dir/tile_X_Y.png: the
+  // photo beside every run's render of that square, pixels a run does not
+  // cover in magenta.
+  std::filesystem::path crops_dir;
 };
 
 // Throws InputError when the views differ in size or their photos differ
-// (they must be renders of the same view), or no pixel is common.
+// (they must be renders of the same view), or no pixel is common;
+// OutputError naming a crop or its folder that cannot be written.
 CommonComparison compare_on_common_pixels(const std::vector<std::filesystem::path>& saved_views,
                                           const CommonOptions& options = {});
-
-// Writes DIR/tile_X_Y.png for each tile (inside the photo): the photo
-// beside every run's render of that square, pixels a run does not cover in
-// magenta. Throws InputError as compare_on_common_pixels, OutputError
-// naming a folder or file it cannot write.
-void save_tile_crops(const std::vector<std::filesystem::path>& saved_views,
-                     const std::vector<ErrorTile>& tiles,
-                     int tile_size,
-                     const std::filesystem::path& dir);
 
 }  // namespace hos::eval

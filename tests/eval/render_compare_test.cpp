@@ -125,10 +125,11 @@ void write_saved(const std::filesystem::path& path, const cv::Mat& render, const
 
 // A grey 64x48 photo cut into 16-pixel tiles. Run "a" is off by 30 in a
 // 10x10 block inside tile (48, 16) and by 10 in a 4x4 block inside tile
-// (0, 0); run "b" is exact but does not cover the bottom tile row. The
-// tiles carrying a's error, largest first, and their figures by hand:
-// (48, 16): 100 pixels off by 30 of 256 common, MSE 900 * 100 / 256, share
-// 90000 / (90000 + 1600); (0, 0): MSE 100 * 16 / 256.
+// (0, 0); run "b" is exact but does not cover the bottom tile row nor the
+// 2x2 pixels at (0, 0). The tiles carrying a's error, largest first, and
+// their figures by hand: (48, 16): 100 pixels off by 30 of 256 common, MSE
+// 900 * 100 / 256, share 90000 / (90000 + 1600); (0, 0): 16 pixels off by
+// 10 of 252 common, MSE 100 * 16 / 252.
 TEST(RenderCompare, WorstTilesAreWhereTheFirstRunsErrorLies) {
   hos::testing::TempDir dir;
   const cv::Mat photo(48, 64, CV_8UC3, cv::Scalar(100, 100, 100));
@@ -136,16 +137,18 @@ TEST(RenderCompare, WorstTilesAreWhereTheFirstRunsErrorLies) {
   a(cv::Rect(50, 20, 10, 10)).setTo(cv::Scalar(130, 130, 130));
   a(cv::Rect(2, 2, 4, 4)).setTo(cv::Scalar(110, 110, 110));
   const cv::Mat all(48, 64, CV_8U, cv::Scalar(255));
-  cv::Mat top = all.clone();
-  top(cv::Rect(0, 32, 64, 16)).setTo(0);
+  cv::Mat part = all.clone();
+  part(cv::Rect(0, 32, 64, 16)).setTo(0);
+  part(cv::Rect(0, 0, 2, 2)).setTo(0);
   write_saved(dir / "a.png", a, all, photo);
-  write_saved(dir / "b.png", b, top, photo);
+  write_saved(dir / "b.png", b, part, photo);
 
   CommonOptions options;
   options.tile_size = 16;
   options.worst_tiles = 3;
+  options.crops_dir = dir / "crops";
   const CommonComparison c = compare_on_common_pixels({dir / "a.png", dir / "b.png"}, options);
-  EXPECT_EQ(c.common_pixels, 64u * 32u);
+  EXPECT_EQ(c.common_pixels, 64u * 32u - 4u);
   ASSERT_EQ(c.worst_tiles.size(), 3u);  // the third carries no error
   const ErrorTile& first = c.worst_tiles[0];
   EXPECT_EQ(first.x, 48);
@@ -157,22 +160,33 @@ TEST(RenderCompare, WorstTilesAreWhereTheFirstRunsErrorLies) {
   EXPECT_NEAR(first.share, 90000.0 / 91600.0, 1e-12);
   EXPECT_EQ(c.worst_tiles[1].x, 0);
   EXPECT_EQ(c.worst_tiles[1].y, 0);
-  EXPECT_NEAR(c.worst_tiles[1].mse[0], 100.0 * 16 / 256, 1e-9);
+  EXPECT_EQ(c.worst_tiles[1].common_pixels, 252u);
+  EXPECT_NEAR(c.worst_tiles[1].mse[0], 100.0 * 16 / 252, 1e-9);
   EXPECT_EQ(c.worst_tiles[2].share, 0.0);
   // Without worst_tiles none are listed.
   EXPECT_TRUE(compare_on_common_pixels({dir / "a.png", dir / "b.png"}).worst_tiles.empty());
 
-  // The crop: the photo, then each run; where b does not cover, magenta.
-  std::vector<ErrorTile> bottom(1);
-  bottom[0].x = 48;
-  bottom[0].y = 32;
-  save_tile_crops({dir / "a.png", dir / "b.png"}, bottom, 16, dir / "crops");
-  const cv::Mat crop = cv::imread((dir / "crops" / "tile_48_32.png").string());
+  // The crops of the listed tiles: the photo, then each run; where b does
+  // not cover, magenta.
+  const cv::Mat crop = cv::imread((dir / "crops" / "tile_48_16.png").string());
   ASSERT_EQ(crop.cols, 48);
   ASSERT_EQ(crop.rows, 16);
-  EXPECT_EQ(crop.at<cv::Vec3b>(8, 8), cv::Vec3b(100, 100, 100));       // photo
-  EXPECT_EQ(crop.at<cv::Vec3b>(8, 16 + 8), cv::Vec3b(100, 100, 100));  // a
-  EXPECT_EQ(crop.at<cv::Vec3b>(8, 32 + 8), cv::Vec3b(255, 0, 255));    // b: not covered
+  EXPECT_EQ(crop.at<cv::Vec3b>(8, 8), cv::Vec3b(100, 100, 100));       // photo at (56, 24)
+  EXPECT_EQ(crop.at<cv::Vec3b>(8, 16 + 8), cv::Vec3b(130, 130, 130));  // a, off there
+  EXPECT_EQ(crop.at<cv::Vec3b>(8, 32 + 8), cv::Vec3b(100, 100, 100));  // b
+  const cv::Mat corner = cv::imread((dir / "crops" / "tile_0_0.png").string());
+  ASSERT_FALSE(corner.empty());
+  EXPECT_EQ(corner.at<cv::Vec3b>(0, 32), cv::Vec3b(255, 0, 255));  // b does not cover (0, 0)
+  EXPECT_EQ(corner.at<cv::Vec3b>(3, 16 + 3), cv::Vec3b(110, 110, 110));
+
+  // A crops folder that cannot be made is an OutputError naming it.
+  options.crops_dir = dir / "a.png" / "crops";
+  try {
+    compare_on_common_pixels({dir / "a.png", dir / "b.png"}, options);
+    FAIL() << "expected OutputError";
+  } catch (const OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find("crops"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
