@@ -391,35 +391,78 @@ struct RenderCommand {
   }
 };
 
+// X,Y,WIDTH,HEIGHT of --region.
+hos::eval::PixelRect parse_region(const std::string& text) {
+  hos::eval::PixelRect r;
+  char c1 = 0, c2 = 0, c3 = 0;
+  std::istringstream in(text);
+  if (!(in >> r.x >> c1 >> r.y >> c2 >> r.width >> c3 >> r.height) || c1 != ',' || c2 != ',' || c3 != ',' ||
+      !(in >> std::ws).eof()) {
+    throw hos::ConfigError("--region " + text, "expected X,Y,WIDTH,HEIGHT in pixels");
+  }
+  return r;
+}
+
+// Tiles or regions as JSON (key) and table rows (name X,Y[,WxH]).
+void add_regions(Report& r,
+                 const std::string& key,
+                 const std::string& name,
+                 const std::vector<hos::eval::ErrorRegion>& regions) {
+  r.j[key] = json::array();
+  for (const hos::eval::ErrorRegion& e : regions) {
+    r.j[key].push_back({{"x", e.rect.x},
+                        {"y", e.rect.y},
+                        {"width", e.rect.width},
+                        {"height", e.rect.height},
+                        {"common_pixels", e.common_pixels},
+                        {"share", e.share},
+                        {"mse", e.mse}});
+    std::ostringstream label, value;
+    label << name << " " << e.rect.x << "," << e.rect.y;
+    if (name != "tile") label << " " << e.rect.width << "x" << e.rect.height;
+    if (e.common_pixels == 0) {
+      value << "no pixel all runs cover";
+    } else {
+      value << "share " << fmt(e.share, 3) << "  MSE per run";
+      for (double m : e.mse) value << " " << fmt(m, 4);
+    }
+    r.table += row(label.str(), value.str());
+  }
+}
+
 // common: several runs' saved renders of one view, compared with the photo
 // over the pixels every run covers.
 struct CommonCommand {
   CLI::App* cmd = nullptr;
   std::vector<std::string> saved;
+  std::vector<std::string> regions;
   hos::eval::CommonOptions options;
 
   void add(CLI::App& app, Output& output) {
     cmd = app.add_subcommand("common", "PSNR/SSIM of several runs' renders of one view over the pixels all cover");
     cmd->add_option("--saved", saved, "views saved by 'render --save' (DIR/NAME.png), one per run, same photo")
         ->required();
-    CLI::Option* worst =
-        cmd->add_option("--worst-tiles", options.worst_tiles,
-                        "list this many tiles of the photo, those carrying most of the first run's squared error first")
-            ->default_val(0);
+    cmd->add_option("--worst-tiles", options.worst_tiles,
+                    "list this many tiles of the photo, those carrying most of the first run's squared error first")
+        ->default_val(0);
     cmd->add_option("--tile-size", options.tile_size, "tile side (pixels)")
         ->default_val(128)
         ->check(CLI::Range(1, 1 << 16));
+    cmd->add_option("--region", regions,
+                    "X,Y,WIDTH,HEIGHT: also measure this rectangle of the photo (a thin structure; repeatable)");
     cmd->add_option("--crops", options.crops_dir,
-                    "write DIR/tile_X_Y.png for the listed tiles: the photo beside each run")
-        ->needs(worst);
+                    "write DIR/tile_X_Y.png and DIR/region_X_Y_WxH.png for the listed tiles and regions: the photo "
+                    "beside each run");
     output.add_json(cmd);
   }
 
   Report run(hos::Reporter&) const {
 #ifdef HOS_EVAL_HAS_RENDER
     Report r;
+    hos::eval::CommonOptions with_regions = options;
+    for (const std::string& text : regions) with_regions.regions.push_back(parse_region(text));
     const hos::eval::CommonComparison c =
-        hos::eval::compare_on_common_pixels(std::vector<fs::path>(saved.begin(), saved.end()), options);
+        hos::eval::compare_on_common_pixels(std::vector<fs::path>(saved.begin(), saved.end()), with_regions);
     const auto share = [&](std::size_t pixels) { return static_cast<double>(pixels) / c.photo_pixels; };
     r.j["photo_pixels"] = c.photo_pixels;
     r.j["common_coverage"] = share(c.common_pixels);
@@ -435,16 +478,8 @@ struct CommonCommand {
           row(saved[i], "PSNR " + fmt(c.psnr[i], 4) + " dB (exposure matched " + fmt(c.psnr_exposure_matched[i], 4) +
                             " dB)  SSIM " + fmt(c.ssim[i], 4) + "  coverage " + fmt(share(c.covered_pixels[i]), 4));
     }
-    r.j["worst_tiles"] = json::array();
-    for (const hos::eval::ErrorTile& t : c.worst_tiles) {
-      r.j["worst_tiles"].push_back(
-          {{"x", t.x}, {"y", t.y}, {"common_pixels", t.common_pixels}, {"share", t.share}, {"mse", t.mse}});
-      std::ostringstream name, value;
-      name << "tile " << t.x << "," << t.y;
-      value << "share " << fmt(t.share, 3) << "  MSE per run";
-      for (double e : t.mse) value << " " << fmt(e, 4);
-      r.table += row(name.str(), value.str());
-    }
+    add_regions(r, "worst_tiles", "tile", c.worst_tiles);
+    add_regions(r, "regions", "region", c.regions);
     return r;
 #else
     throw hos::ConfigError("common", "hos-eval was built without the render module");

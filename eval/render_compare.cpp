@@ -6,6 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
+#include <string>
 
 #include "core/error.h"
 #include "eval/image_metrics.h"
@@ -103,64 +104,101 @@ std::vector<SavedRender> read_runs(const std::vector<std::filesystem::path>& sav
   return runs;
 }
 
+std::string describe(const PixelRect& r) {
+  return std::to_string(r.x) + "," + std::to_string(r.y) + "," + std::to_string(r.width) + "," +
+         std::to_string(r.height);
+}
+
+cv::Rect to_cv(const PixelRect& r) { return {r.x, r.y, r.width, r.height}; }
+
+// Each run's mean squared error over the common pixels of rect.
+ErrorRegion region_error(const std::vector<SavedRender>& runs, const cv::Mat& common, const PixelRect& rect) {
+  ErrorRegion region;
+  region.rect = rect;
+  const cv::Rect r = to_cv(rect);
+  region.common_pixels = static_cast<std::size_t>(cv::countNonZero(common(r)));
+  if (region.common_pixels == 0) return region;
+  for (const SavedRender& run : runs) {
+    const double norm = cv::norm(run.color(r), run.photo(r), cv::NORM_L2, common(r));
+    region.mse.push_back(norm * norm / (3.0 * static_cast<double>(region.common_pixels)));
+  }
+  return region;
+}
+
 // Every tile holding common pixels, with each run's mean squared error there.
-std::vector<ErrorTile> tile_errors(const std::vector<SavedRender>& runs, const cv::Mat& common, int tile_size) {
-  std::vector<ErrorTile> tiles;
+std::vector<ErrorRegion> tile_errors(const std::vector<SavedRender>& runs, const cv::Mat& common, int tile_size) {
+  std::vector<ErrorRegion> tiles;
   const cv::Mat& photo = runs.front().photo;
   for (int y0 = 0; y0 < photo.rows; y0 += tile_size) {
     for (int x0 = 0; x0 < photo.cols; x0 += tile_size) {
-      const cv::Rect rect(x0, y0, std::min(tile_size, photo.cols - x0), std::min(tile_size, photo.rows - y0));
-      ErrorTile tile;
-      tile.x = x0;
-      tile.y = y0;
-      tile.common_pixels = static_cast<std::size_t>(cv::countNonZero(common(rect)));
-      if (tile.common_pixels == 0) continue;
-      for (const SavedRender& run : runs) {
-        const double norm = cv::norm(run.color(rect), photo(rect), cv::NORM_L2, common(rect));
-        tile.mse.push_back(norm * norm / (3.0 * static_cast<double>(tile.common_pixels)));
-      }
-      tiles.push_back(tile);
+      const PixelRect rect{x0, y0, std::min(tile_size, photo.cols - x0), std::min(tile_size, photo.rows - y0)};
+      ErrorRegion tile = region_error(runs, common, rect);
+      if (tile.common_pixels > 0) tiles.push_back(std::move(tile));
     }
   }
   return tiles;
 }
 
-// The count tiles carrying most of the first run's squared error, with
-// their shares of it.
-std::vector<ErrorTile> worst_tiles(std::vector<ErrorTile> tiles, std::size_t count) {
-  const auto first_run_error = [](const ErrorTile& t) { return t.mse.front() * static_cast<double>(t.common_pixels); };
-  double total = 0.0;
-  for (const ErrorTile& t : tiles) total += first_run_error(t);
+double first_run_error(const ErrorRegion& r) {
+  return r.mse.empty() ? 0.0 : r.mse.front() * static_cast<double>(r.common_pixels);
+}
+
+// The count tiles carrying most of the first run's squared error.
+std::vector<ErrorRegion> worst_tiles(std::vector<ErrorRegion> tiles, std::size_t count) {
   std::stable_sort(tiles.begin(), tiles.end(),
-                   [&](const ErrorTile& a, const ErrorTile& b) { return first_run_error(a) > first_run_error(b); });
+                   [](const ErrorRegion& a, const ErrorRegion& b) { return first_run_error(a) > first_run_error(b); });
   tiles.resize(std::min(count, tiles.size()));
-  for (ErrorTile& t : tiles) t.share = total > 0.0 ? first_run_error(t) / total : 0.0;
   return tiles;
 }
 
-// Writes each tile as dir/tile_X_Y.png: the photo beside every run's render
-// of that square, pixels a run does not cover in magenta.
-void save_tile_crops(const std::vector<SavedRender>& runs,
-                     const std::vector<ErrorTile>& tiles,
-                     int tile_size,
-                     const std::filesystem::path& dir) {
+// The options' regions, refusing one that does not lie inside the photo.
+std::vector<ErrorRegion> region_errors(const std::vector<SavedRender>& runs,
+                                       const cv::Mat& common,
+                                       const std::vector<PixelRect>& rects) {
+  const cv::Mat& photo = runs.front().photo;
+  std::vector<ErrorRegion> regions;
+  for (const PixelRect& r : rects) {
+    if (r.width < 1 || r.height < 1 || r.x < 0 || r.y < 0 || r.x + r.width > photo.cols ||
+        r.y + r.height > photo.rows) {
+      throw ConfigError("region " + describe(r), "must lie inside the " + std::to_string(photo.cols) + "x" +
+                                                     std::to_string(photo.rows) + " photo (X,Y,WIDTH,HEIGHT)");
+    }
+    regions.push_back(region_error(runs, common, r));
+  }
+  return regions;
+}
+
+void set_shares(std::vector<ErrorRegion>& regions, double total_error) {
+  for (ErrorRegion& r : regions) r.share = total_error > 0.0 ? first_run_error(r) / total_error : 0.0;
+}
+
+// Writes the photo beside every run's render of rect to path, pixels a run
+// does not cover in magenta.
+void save_crop(const std::vector<SavedRender>& runs, const PixelRect& rect, const std::filesystem::path& path) {
+  const cv::Rect r = to_cv(rect);
+  std::vector<cv::Mat> parts{runs.front().photo(r).clone()};
+  for (const SavedRender& run : runs) {
+    cv::Mat part = run.color(r).clone();
+    part.setTo(cv::Scalar(255, 0, 255), run.mask(r) == 0);
+    parts.push_back(part);
+  }
+  cv::Mat side_by_side;
+  cv::hconcat(parts, side_by_side);
+  if (!cv::imwrite(path.string(), side_by_side)) throw OutputError(path.string(), "cannot write the image");
+}
+
+// dir/tile_X_Y.png for each tile, dir/region_X_Y_WxH.png for each region.
+void save_crops(const std::vector<SavedRender>& runs, const CommonComparison& c, const std::filesystem::path& dir) {
   std::error_code error;
   std::filesystem::create_directories(dir, error);
   if (error) throw OutputError(dir.string(), error.message());
-  const cv::Mat& photo = runs.front().photo;
-  for (const ErrorTile& tile : tiles) {
-    const cv::Rect rect = cv::Rect(tile.x, tile.y, tile_size, tile_size) & cv::Rect(0, 0, photo.cols, photo.rows);
-    std::vector<cv::Mat> parts{photo(rect).clone()};
-    for (const SavedRender& run : runs) {
-      cv::Mat part = run.color(rect).clone();
-      part.setTo(cv::Scalar(255, 0, 255), run.mask(rect) == 0);
-      parts.push_back(part);
-    }
-    cv::Mat side_by_side;
-    cv::hconcat(parts, side_by_side);
-    const std::filesystem::path target =
-        dir / ("tile_" + std::to_string(tile.x) + "_" + std::to_string(tile.y) + ".png");
-    if (!cv::imwrite(target.string(), side_by_side)) throw OutputError(target.string(), "cannot write the image");
+  for (const ErrorRegion& t : c.worst_tiles) {
+    save_crop(runs, t.rect, dir / ("tile_" + std::to_string(t.rect.x) + "_" + std::to_string(t.rect.y) + ".png"));
+  }
+  for (const ErrorRegion& r : c.regions) {
+    save_crop(runs, r.rect,
+              dir / ("region_" + std::to_string(r.rect.x) + "_" + std::to_string(r.rect.y) + "_" +
+                     std::to_string(r.rect.width) + "x" + std::to_string(r.rect.height) + ".png"));
   }
 }
 
@@ -184,10 +222,17 @@ CommonComparison compare_on_common_pixels(const std::vector<std::filesystem::pat
     out.ssim.push_back(masked_ssim(run.color, run.photo, common));
     out.psnr_exposure_matched.push_back(masked_psnr(exposure_matched(run.color, run.photo, common), run.photo, common));
   }
-  if (options.worst_tiles > 0) {
-    out.worst_tiles = worst_tiles(tile_errors(runs, common, options.tile_size), options.worst_tiles);
-    if (!options.crops_dir.empty()) save_tile_crops(runs, out.worst_tiles, options.tile_size, options.crops_dir);
+  if (!options.crops_dir.empty() && options.worst_tiles == 0 && options.regions.empty()) {
+    throw ConfigError("crops " + options.crops_dir.string(), "needs worst tiles or regions to write");
   }
+  if (options.worst_tiles > 0)
+    out.worst_tiles = worst_tiles(tile_errors(runs, common, options.tile_size), options.worst_tiles);
+  out.regions = region_errors(runs, common, options.regions);
+  const double first_norm = cv::norm(runs.front().color, runs.front().photo, cv::NORM_L2, common);
+  const double first_total_error = first_norm * first_norm / 3.0;
+  set_shares(out.worst_tiles, first_total_error);
+  set_shares(out.regions, first_total_error);
+  if (!options.crops_dir.empty()) save_crops(runs, out, options.crops_dir);
   return out;
 }
 

@@ -47,13 +47,19 @@ struct SavedRender {
 // when it is unreadable or not such an image (4 channels, even width).
 SavedRender read_saved_render(const std::filesystem::path& path);
 
-// A square of the photo and how much of the runs' error lies in it: where
-// a run fails (an occlusion edge, a wrong patch of surface) shows as a few
-// tiles carrying a large part of its squared error.
-struct ErrorTile {
-  int x = 0, y = 0;  // top-left pixel; tiles on the right and bottom edges may be cut off
+// A rectangle of the photo, in pixels.
+struct PixelRect {
+  int x = 0, y = 0, width = 0, height = 0;
+};
+
+// A rectangle of the photo and how much of the runs' error lies in it:
+// where a run fails (an occlusion edge, a wrong patch of surface, a thin
+// structure lost) shows as a few rectangles carrying a large part of its
+// squared error.
+struct ErrorRegion {
+  PixelRect rect;  // tiles on the right and bottom edges are cut off there
   std::size_t common_pixels = 0;
-  std::vector<double> mse;  // per run, 8-bit RGB, over the tile's common pixels
+  std::vector<double> mse;  // per run, 8-bit RGB, over the common pixels; empty if there are none
   double share = 0.0;       // of the first run's squared error over all common pixels
 };
 
@@ -69,21 +75,27 @@ struct CommonComparison {
   std::vector<double> psnr, ssim;           // per run, over the common pixels
   // Per run, after exposure_matched over the common pixels.
   std::vector<double> psnr_exposure_matched;
-  std::vector<ErrorTile> worst_tiles;  // CommonOptions::worst_tiles of them
+  std::vector<ErrorRegion> worst_tiles;  // CommonOptions::worst_tiles of them
+  std::vector<ErrorRegion> regions;      // CommonOptions::regions, in their order
 };
 
 struct CommonOptions {
   int tile_size = 128;          // pixels
   std::size_t worst_tiles = 0;  // how many tiles to list, most of the first run's error first
-  // If set, each listed tile is also written as crops_dir/tile_X_Y.png: the
-  // photo beside every run's render of that square, pixels a run does not
-  // cover in magenta.
+  // Rectangles measured as the tiles are (a thin structure, a known
+  // failure); each must lie inside the photo.
+  std::vector<PixelRect> regions;
+  // If set, each listed tile and region is also written as
+  // crops_dir/tile_X_Y.png or crops_dir/region_X_Y_WxH.png: the photo beside
+  // every run's render of it, pixels a run does not cover in magenta.
   std::filesystem::path crops_dir;
 };
 
 // Throws InputError when the views differ in size or their photos differ
 // (they must be renders of the same view), or no pixel is common;
-// OutputError naming a crop or its folder that cannot be written.
+// ConfigError for a region outside the photo or crops with neither tiles
+// nor regions; OutputError naming a crop or its folder that cannot be
+// written.
 CommonComparison compare_on_common_pixels(const std::vector<std::filesystem::path>& saved_views,
                                           const CommonOptions& options = {});
 

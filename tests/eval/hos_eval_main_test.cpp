@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "core/exit_codes.h"
 #include "core/ply_io.h"
@@ -63,6 +65,32 @@ TEST(HosEvalMain, BadInputsGiveDocumentedExitCodes) {
   EXPECT_EQ(hos::testing::run_command(exe() + " mesh --result " + m + " --truth " + m + " --thresholds 0.01,x",
                                       dir / "c.txt"),
             kExitUsage);
+}
+
+// common --region: a rectangle is measured and listed in the JSON; a
+// malformed one is a usage error naming it.
+TEST(HosEvalMain, CommonMeasuresGivenRegions) {
+  hos::testing::TempDir dir;
+  // A saved view (render with alpha = mask, beside the photo): the render
+  // is off by 20 in the 4x4 block at (8, 8) of a 32x16 grey photo.
+  cv::Mat saved(16, 64, CV_8UC4, cv::Scalar(90, 90, 90, 255));
+  saved(cv::Rect(8, 8, 4, 4)).setTo(cv::Scalar(110, 110, 110, 255));
+  ASSERT_TRUE(cv::imwrite((dir / "a.png").string(), saved));
+  const std::string view = shell_quote((dir / "a.png").string());
+  const auto out = dir / "out.json";
+  ASSERT_EQ(hos::testing::run_command(exe() + " common --saved " + view + " --region 8,8,8,4 --json > " +
+                                      shell_quote(out.string())),
+            0)
+      << read_text(out);
+  const auto j = nlohmann::json::parse(read_text(out));
+  ASSERT_EQ(j["regions"].size(), 1u);
+  EXPECT_EQ(j["regions"][0]["width"].get<int>(), 8);
+  EXPECT_EQ(j["regions"][0]["common_pixels"].get<int>(), 32);
+  EXPECT_NEAR(j["regions"][0]["mse"][0].get<double>(), 400.0 * 16 / 32, 1e-9);
+  EXPECT_NEAR(j["regions"][0]["share"].get<double>(), 1.0, 1e-12);
+  EXPECT_EQ(hos::testing::run_command(exe() + " common --saved " + view + " --region 8,8,8", dir / "e.txt"),
+            kExitUsage);
+  EXPECT_NE(read_text(dir / "e.txt").find("8,8,8"), std::string::npos);
 }
 
 }  // namespace

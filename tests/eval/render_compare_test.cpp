@@ -150,16 +150,17 @@ TEST(RenderCompare, WorstTilesAreWhereTheFirstRunsErrorLies) {
   const CommonComparison c = compare_on_common_pixels({dir / "a.png", dir / "b.png"}, options);
   EXPECT_EQ(c.common_pixels, 64u * 32u - 4u);
   ASSERT_EQ(c.worst_tiles.size(), 3u);  // the third carries no error
-  const ErrorTile& first = c.worst_tiles[0];
-  EXPECT_EQ(first.x, 48);
-  EXPECT_EQ(first.y, 16);
+  const ErrorRegion& first = c.worst_tiles[0];
+  EXPECT_EQ(first.rect.x, 48);
+  EXPECT_EQ(first.rect.y, 16);
+  EXPECT_EQ(first.rect.width, 16);
   EXPECT_EQ(first.common_pixels, 256u);
   ASSERT_EQ(first.mse.size(), 2u);
   EXPECT_NEAR(first.mse[0], 900.0 * 100 / 256, 1e-9);
   EXPECT_EQ(first.mse[1], 0.0);
   EXPECT_NEAR(first.share, 90000.0 / 91600.0, 1e-12);
-  EXPECT_EQ(c.worst_tiles[1].x, 0);
-  EXPECT_EQ(c.worst_tiles[1].y, 0);
+  EXPECT_EQ(c.worst_tiles[1].rect.x, 0);
+  EXPECT_EQ(c.worst_tiles[1].rect.y, 0);
   EXPECT_EQ(c.worst_tiles[1].common_pixels, 252u);
   EXPECT_NEAR(c.worst_tiles[1].mse[0], 100.0 * 16 / 252, 1e-9);
   EXPECT_EQ(c.worst_tiles[2].share, 0.0);
@@ -186,6 +187,60 @@ TEST(RenderCompare, WorstTilesAreWhereTheFirstRunsErrorLies) {
     FAIL() << "expected OutputError";
   } catch (const OutputError& e) {
     EXPECT_NE(std::string(e.what()).find("crops"), std::string::npos) << e.what();
+  }
+  // Crops with neither tiles nor regions to write are refused.
+  options.worst_tiles = 0;
+  options.crops_dir = dir / "crops";
+  EXPECT_THROW(compare_on_common_pixels({dir / "a.png", dir / "b.png"}, options), ConfigError);
+}
+
+// Regions given by the caller, on the scene above: (48, 16, 16, 8) holds 4
+// rows of a's 10-pixel-wide error block, 40 pixels off by 30 of 128 common
+// (MSE 900 * 40 / 128, share 36000 / 91600); (0, 32, 8, 8) lies where b
+// covers nothing.
+TEST(RenderCompare, RegionsAreMeasuredAndCroppedAsGiven) {
+  hos::testing::TempDir dir;
+  const cv::Mat photo(48, 64, CV_8UC3, cv::Scalar(100, 100, 100));
+  cv::Mat a = photo.clone();
+  a(cv::Rect(50, 20, 10, 10)).setTo(cv::Scalar(130, 130, 130));
+  a(cv::Rect(2, 2, 4, 4)).setTo(cv::Scalar(110, 110, 110));
+  const cv::Mat all(48, 64, CV_8U, cv::Scalar(255));
+  cv::Mat part = all.clone();
+  part(cv::Rect(0, 32, 64, 16)).setTo(0);
+  write_saved(dir / "a.png", a, all, photo);
+  write_saved(dir / "b.png", photo, part, photo);
+
+  CommonOptions options;
+  options.regions = {{48, 16, 16, 8}, {0, 32, 8, 8}};
+  options.crops_dir = dir / "crops";
+  const CommonComparison c = compare_on_common_pixels({dir / "a.png", dir / "b.png"}, options);
+  EXPECT_TRUE(c.worst_tiles.empty());
+  ASSERT_EQ(c.regions.size(), 2u);
+  EXPECT_EQ(c.regions[0].common_pixels, 128u);
+  ASSERT_EQ(c.regions[0].mse.size(), 2u);
+  EXPECT_NEAR(c.regions[0].mse[0], 900.0 * 40 / 128, 1e-9);
+  EXPECT_EQ(c.regions[0].mse[1], 0.0);
+  EXPECT_NEAR(c.regions[0].share, 36000.0 / 91600.0, 1e-12);
+  EXPECT_EQ(c.regions[1].common_pixels, 0u);
+  EXPECT_TRUE(c.regions[1].mse.empty());
+  EXPECT_EQ(c.regions[1].share, 0.0);
+
+  const cv::Mat crop = cv::imread((dir / "crops" / "region_48_16_16x8.png").string());
+  ASSERT_EQ(crop.cols, 48);
+  ASSERT_EQ(crop.rows, 8);
+  EXPECT_EQ(crop.at<cv::Vec3b>(6, 16 + 4), cv::Vec3b(130, 130, 130));  // a at (52, 22)
+  EXPECT_EQ(crop.at<cv::Vec3b>(2, 16 + 4), cv::Vec3b(100, 100, 100));  // a at (52, 18), above the block
+  const cv::Mat uncovered = cv::imread((dir / "crops" / "region_0_32_8x8.png").string());
+  ASSERT_FALSE(uncovered.empty());
+  EXPECT_EQ(uncovered.at<cv::Vec3b>(4, 16 + 4), cv::Vec3b(255, 0, 255));  // b covers nothing there
+
+  // A region reaching outside the photo is a ConfigError naming it.
+  options.regions = {{60, 40, 8, 16}};
+  try {
+    compare_on_common_pixels({dir / "a.png", dir / "b.png"}, options);
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("60,40,8,16"), std::string::npos) << e.what();
   }
 }
 
