@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# hos-mvs time of two builds side by side on real photos: each WORK made by
+# bench/realdata/holdout.sh (its training photos' SfM), the builds run
+# alternately (old, new, old, new, ...) so both see the same load. Prints
+# one row per run and, per WORK, the ratios new / old of the medians of wall
+# and CPU (user + sys) time, and the seconds per view per megapixel of the
+# finest matching level.
+#
+#   bench/realdata/mvs_time.sh OLD_BIN NEW_BIN WORK[:WORK...] [--repeat N] [--set mvs.key=value]...
+#
+# --repeat N   runs of each build per WORK (default 2)
+# --set        applies to the new build only (e.g. a setting being weighed)
+set -euo pipefail
+usage() { sed -n '9,12p' "$0" | sed 's/^# *//' >&2; exit 2; }
+[ $# -ge 3 ] || usage
+old_bin="$(cd "$1" && pwd)" new_bin="$(cd "$2" && pwd)"
+IFS=: read -r -a works <<<"$3"
+shift 3
+repeat=2 sets=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --repeat) repeat="$2"; shift 2 ;;
+    --set) sets+=(--set "$2"); shift 2 ;;
+    *) usage ;;
+  esac
+done
+for b in "$old_bin" "$new_bin"; do [ -x "$b/hos-mvs" ] || { echo "$b/hos-mvs: missing" >&2; exit 3; }; done
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+echo "| WORK | build | run | wall s | CPU s | views | finest level MP | s per view per MP (wall / CPU) | load avg |"
+echo "|---|---|---|---|---|---|---|---|---|"
+for work in "${works[@]}"; do
+  undistorted="$work/sfm-train/sfm/undistorted"
+  [ -d "$undistorted/sparse" ] || { echo "$undistorted/sparse: missing (make WORK with holdout.sh)" >&2; exit 3; }
+  : > "$tmp/rows"
+  for ((r = 1; r <= repeat; ++r)); do
+    for build in old new; do
+      if [ "$build" = old ]; then bin="$old_bin" extra=(); else bin="$new_bin" extra=("${sets[@]}"); fi
+      /usr/bin/time -f "%e %U %S" -o "$tmp/time" "$bin/hos-mvs" --workspace "$undistorted" \
+        --output "$tmp/points.ply" --progress none --log "$tmp/mvs.log" "${extra[@]}" >/dev/null 2>"$tmp/stderr" ||
+        { cat "$tmp/stderr" >&2; echo "$bin/hos-mvs failed on $undistorted (log: above)" >&2; exit 4; }
+      read -r wall user sys < "$tmp/time"
+      # The finest level's size: a --set of it, else the build's default.
+      size=$(printf '%s\n' "${extra[@]}" | sed -n 's/^mvs\.max_image_size=//p' | tail -n 1)
+      [ -n "$size" ] || size=$("$bin/hos-mvs" --print-config | awk '/^ *max_image_size:/ { print $2; exit }')
+      echo "$build $r $wall $user $sys $size $(cut -d' ' -f1 /proc/loadavg)" >> "$tmp/rows"
+    done
+  done
+  python3 - "$work" "$undistorted" "$tmp/rows" <<'PY'
+import os, statistics, struct, sys
+work, undistorted, rows_path = sys.argv[1:4]
+# Image sizes from the COLMAP model (cameras.txt or cameras.bin).
+sizes = []
+sparse = os.path.join(undistorted, "sparse")
+if os.path.exists(os.path.join(sparse, "cameras.txt")):
+    for line in open(os.path.join(sparse, "cameras.txt")):
+        if line.strip() and not line.startswith("#"):
+            f = line.split()
+            sizes.append((int(f[2]), int(f[3])))
+else:
+    with open(os.path.join(sparse, "cameras.bin"), "rb") as f:
+        (count,) = struct.unpack("<Q", f.read(8))
+        params = {0: 3, 1: 4, 2: 4, 3: 5, 4: 8, 5: 8, 6: 12, 7: 5, 8: 4, 9: 5, 10: 12}
+        for _ in range(count):
+            _, model, w, h = struct.unpack("<iiQQ", f.read(24))
+            f.read(8 * params[model])
+            sizes.append((w, h))
+views = len(os.listdir(os.path.join(undistorted, "images")))  # the registered photos, undistorted
+w, h = sizes[0]
+runs = {"old": [], "new": []}
+for line in open(rows_path):
+    build, r, wall, user, sys_, size, load = line.split()
+    s = min(1.0, float(size) / max(w, h))
+    mp = (w * s) * (h * s) / 1e6
+    cpu = float(user) + float(sys_)
+    runs[build].append((float(wall), cpu))
+    print(f"| {os.path.basename(os.path.normpath(work))} | {build} | {r} | {float(wall):.1f} | {cpu:.1f} | {views} | "
+          f"{mp:.2f} | {float(wall) / views / mp:.1f} / {cpu / views / mp:.1f} | {load} |")
+med = {b: (statistics.median(x[0] for x in v), statistics.median(x[1] for x in v)) for b, v in runs.items()}
+print(f"| {os.path.basename(os.path.normpath(work))} | new / old (medians) | | {med['new'][0] / med['old'][0]:.2f}x | "
+      f"{med['new'][1] / med['old'][1]:.2f}x | | | | |")
+PY
+done
