@@ -106,7 +106,9 @@ void add_common_stage_flags(CLI::App& app, CommonStageFlags& flags, const Option
   app.add_option("--log", flags.log_file, "log file (every message, debug included)");
   app.add_flag("--verbose", flags.verbose, "show debug messages");
   app.add_flag("--print-config", flags.print_config,
-               "print the " + section + " options with their documentation and exit");
+               "print the " + section +
+                   " options (after --config, --set and the flags) with their documentation "
+                   "and exit");
 }
 
 void add_option_flags(CLI::App& app, CommonStageFlags& flags, const OptionSet& options) {
@@ -135,17 +137,31 @@ void add_option_flags(CLI::App& app, CommonStageFlags& flags, const OptionSet& o
 }
 
 std::optional<int> parse_stage_command_line(
-    CLI::App& app, int argc, char** argv, const CommonStageFlags& flags, const OptionSet& options) {
+    CLI::App& app, int argc, char** argv, const CommonStageFlags& flags, OptionSet& options) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? kExitSuccess : kExitUsage;
   }
-  if (flags.print_config) {
-    std::cout << options.documented_yaml();
-    return kExitSuccess;
-  }
+  if (flags.print_config) return print_config(flags, options);
   return std::nullopt;
+}
+
+int print_config(const CommonStageFlags& flags, OptionSet& options) {
+  // The values the stage would run with, so a --config or --set can be
+  // checked before a long run.
+  const std::string program = "hos-" + options.section();
+  try {
+    apply_config_and_overrides(options, flags);
+  } catch (const ConfigError& e) {
+    std::cerr << program << ": error: " << e.what() << "\n";
+    return kExitUsage;
+  } catch (const InputError& e) {
+    std::cerr << program << ": error: " << e.what() << "\n";
+    return kExitBadInput;
+  }
+  std::cout << options.documented_yaml();
+  return kExitSuccess;
 }
 
 }  // namespace hos::apps

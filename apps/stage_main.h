@@ -24,7 +24,7 @@ struct CommonStageFlags {
   std::string progress = "auto";         // --progress auto|bar|plain|json|none
   std::string log_file;                  // --log FILE: every message, debug included
   bool verbose = false;                  // --verbose: debug messages on the terminal
-  bool print_config = false;             // --print-config: the section's options, documented
+  bool print_config = false;             // --print-config: the options the stage would run with, documented
   // The option table's short flags as given (--resolution 512), applied
   // after --config and --set.
   struct ShortFlag {
@@ -42,10 +42,15 @@ void add_common_stage_flags(CLI::App& app, CommonStageFlags& flags, const Option
 void add_option_flags(CLI::App& app, CommonStageFlags& flags, const OptionSet& options);
 
 // Parses the command line. Returns the exit code when main is done already
-// (--help, a usage error, or --print-config, which prints options' documented
-// YAML), nothing when the stage should run.
+// (--help, a usage error, or --print-config), nothing when the stage should
+// run.
 std::optional<int> parse_stage_command_line(
-    CLI::App& app, int argc, char** argv, const CommonStageFlags& flags, const OptionSet& options);
+    CLI::App& app, int argc, char** argv, const CommonStageFlags& flags, OptionSet& options);
+
+// --print-config: applies --config, --set and the short flags to options
+// and prints them as documented YAML; returns the exit code (a ConfigError
+// or a config file that cannot be read is reported on stderr).
+int print_config(const CommonStageFlags& flags, OptionSet& options);
 
 // Applies --config (the file's `section:` map), then every --set, then the short flags to the
 // option set. "--set recon.lambda=0.2" and "--set lambda=0.2" are the same

@@ -7,8 +7,10 @@
 
 #include <CLI/CLI.hpp>
 #include <limits>
+#include <optional>
 
 #include "core/error.h"
+#include "core/exit_codes.h"
 #include "mvs/mvs_options.h"
 #include "pipeline/stages.h"
 #include "recon/recon_options.h"
@@ -106,6 +108,42 @@ TEST(StageOptions, ValidateChecksValuesSetInCodeAgainstTheTable) {
   texture::TextureOptions texture;
   texture.image_format = "gif";
   EXPECT_THROW(texture.validate(), ConfigError);
+}
+
+// --print-config prints the values the stage would run with: after --set
+// and the short flags; a refused value is a usage error, not a listing.
+TEST(StageOptions, PrintConfigShowsTheValuesAfterSetAndFlags) {
+  const auto print = [](std::vector<std::string> args, std::string& out) {
+    mvs::MvsOptions options;
+    OptionSet set("mvs");
+    mvs::register_options(set, options);
+    CLI::App app;
+    CommonStageFlags flags;
+    add_common_stage_flags(app, flags, set);
+    args.insert(args.begin(), "hos-mvs");
+    args.emplace_back("--print-config");
+    std::vector<char*> argv;
+    argv.reserve(args.size());
+    for (auto& a : args) argv.push_back(a.data());
+    ::testing::internal::CaptureStdout();
+    ::testing::internal::CaptureStderr();
+    const std::optional<int> code =
+        parse_stage_command_line(app, static_cast<int>(argv.size()), argv.data(), flags, set);
+    out = ::testing::internal::GetCapturedStdout() + ::testing::internal::GetCapturedStderr();
+    return code;
+  };
+  std::string out;
+  EXPECT_EQ(print({}, out), std::optional<int>(kExitSuccess));
+  EXPECT_NE(out.find("max_image_size: 1280"), std::string::npos) << out;
+  EXPECT_EQ(print({"--set", "mvs.max_image_size=640", "--set", "num_source_views=4"}, out),
+            std::optional<int>(kExitSuccess));
+  EXPECT_NE(out.find("max_image_size: 640"), std::string::npos) << out;
+  EXPECT_NE(out.find("num_source_views: 4"), std::string::npos) << out;
+  EXPECT_EQ(print({"--max-image-size", "2048"}, out), std::optional<int>(kExitSuccess));
+  EXPECT_NE(out.find("max_image_size: 2048"), std::string::npos) << out;
+  EXPECT_EQ(print({"--set", "mvs.max_image_size=abc"}, out), std::optional<int>(kExitUsage));
+  EXPECT_NE(out.find("max_image_size"), std::string::npos) << out;
+  EXPECT_EQ(out.find("coarse_image_size"), std::string::npos) << out;  // no listing
 }
 
 TEST(StageOptions, StageNamesComeFromTheOneList) {
