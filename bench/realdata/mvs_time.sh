@@ -40,9 +40,8 @@ for work in "${works[@]}"; do
         --output "$tmp/points.ply" --progress none --log "$tmp/mvs.log" "${extra[@]}" >/dev/null 2>"$tmp/stderr" ||
         { cat "$tmp/stderr" >&2; echo "$bin/hos-mvs failed on $undistorted (log: above)" >&2; exit 4; }
       read -r wall user sys < "$tmp/time"
-      # The finest level's size: a --set of it, else the build's default.
-      size=$(printf '%s\n' "${extra[@]}" | sed -n 's/^mvs\.max_image_size=//p' | tail -n 1)
-      [ -n "$size" ] || size=$("$bin/hos-mvs" --print-config | awk '/^ *max_image_size:/ { print $2; exit }')
+      # The finest level's size as this run had it.
+      size=$("$bin/hos-mvs" "${extra[@]}" --print-config | awk '/^ *max_image_size:/ { print $2; exit }')
       echo "$build $r $wall $user $sys $size $(cut -d' ' -f1 /proc/loadavg)" >> "$tmp/rows"
     done
   done
