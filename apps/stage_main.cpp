@@ -150,15 +150,16 @@ std::optional<int> parse_stage_command_line(
 int print_config(const CommonStageFlags& flags, OptionSet& options) {
   // The values the stage would run with, so a --config or --set can be
   // checked before a long run.
-  const std::string program = "hos-" + options.section();
+  const auto fail = [&](const Error& e, int code) {
+    std::cerr << "hos-" << options.section() << ": error: " << e.what() << "\n";
+    return code;
+  };
   try {
     apply_config_and_overrides(options, flags);
   } catch (const ConfigError& e) {
-    std::cerr << program << ": error: " << e.what() << "\n";
-    return kExitUsage;
+    return fail(e, kExitUsage);
   } catch (const InputError& e) {
-    std::cerr << program << ": error: " << e.what() << "\n";
-    return kExitBadInput;
+    return fail(e, kExitBadInput);
   }
   std::cout << options.documented_yaml();
   return kExitSuccess;

@@ -48,24 +48,17 @@ for work in "${works[@]}"; do
   python3 - "$work" "$undistorted" "$tmp/rows" <<'PY'
 import os, statistics, struct, sys
 work, undistorted, rows_path = sys.argv[1:4]
-# Image sizes from the COLMAP model (cameras.txt or cameras.bin).
-sizes = []
+# The first camera's image size from the COLMAP model (text or binary; a
+# binary camera record starts with id, model, width, height).
 sparse = os.path.join(undistorted, "sparse")
 if os.path.exists(os.path.join(sparse, "cameras.txt")):
-    for line in open(os.path.join(sparse, "cameras.txt")):
-        if line.strip() and not line.startswith("#"):
-            f = line.split()
-            sizes.append((int(f[2]), int(f[3])))
+    first = next(line.split() for line in open(os.path.join(sparse, "cameras.txt"))
+                 if line.strip() and not line.startswith("#"))
+    w, h = int(first[2]), int(first[3])
 else:
     with open(os.path.join(sparse, "cameras.bin"), "rb") as f:
-        (count,) = struct.unpack("<Q", f.read(8))
-        params = {0: 3, 1: 4, 2: 4, 3: 5, 4: 8, 5: 8, 6: 12, 7: 5, 8: 4, 9: 5, 10: 12}
-        for _ in range(count):
-            _, model, w, h = struct.unpack("<iiQQ", f.read(24))
-            f.read(8 * params[model])
-            sizes.append((w, h))
+        _, _, _, w, h = struct.unpack("<QiiQQ", f.read(32))
 views = len(os.listdir(os.path.join(undistorted, "images")))  # the registered photos, undistorted
-w, h = sizes[0]
 runs = {"old": [], "new": []}
 for line in open(rows_path):
     build, r, wall, user, sys_, size, load = line.split()

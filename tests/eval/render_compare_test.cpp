@@ -123,17 +123,13 @@ void write_saved(const std::filesystem::path& path, const cv::Mat& render, const
   ASSERT_TRUE(cv::imwrite(path.string(), side_by_side));
 }
 
-// A grey 64x48 photo cut into 16-pixel tiles. Run "a" is off by 30 in a
-// 10x10 block inside tile (48, 16) and by 10 in a 4x4 block inside tile
-// (0, 0); run "b" is exact but does not cover the bottom tile row nor the
-// 2x2 pixels at (0, 0). The tiles carrying a's error, largest first, and
-// their figures by hand: (48, 16): 100 pixels off by 30 of 256 common, MSE
-// 900 * 100 / 256, share 90000 / (90000 + 1600); (0, 0): 16 pixels off by
-// 10 of 252 common, MSE 100 * 16 / 252.
-TEST(RenderCompare, WorstTilesAreWhereTheFirstRunsErrorLies) {
-  hos::testing::TempDir dir;
+// Two runs of a grey 64x48 photo, saved as dir/a.png and dir/b.png. Run
+// "a" is off by 30 in a 10x10 block at (50, 20) and by 10 in a 4x4 block at
+// (2, 2); run "b" is exact but does not cover the bottom 16 rows nor the
+// 2x2 pixels at (0, 0). a's squared error: 90000 + 1600 (per channel).
+void write_two_runs(const std::filesystem::path& dir) {
   const cv::Mat photo(48, 64, CV_8UC3, cv::Scalar(100, 100, 100));
-  cv::Mat a = photo.clone(), b = photo.clone();
+  cv::Mat a = photo.clone();
   a(cv::Rect(50, 20, 10, 10)).setTo(cv::Scalar(130, 130, 130));
   a(cv::Rect(2, 2, 4, 4)).setTo(cv::Scalar(110, 110, 110));
   const cv::Mat all(48, 64, CV_8U, cv::Scalar(255));
@@ -141,7 +137,16 @@ TEST(RenderCompare, WorstTilesAreWhereTheFirstRunsErrorLies) {
   part(cv::Rect(0, 32, 64, 16)).setTo(0);
   part(cv::Rect(0, 0, 2, 2)).setTo(0);
   write_saved(dir / "a.png", a, all, photo);
-  write_saved(dir / "b.png", b, part, photo);
+  write_saved(dir / "b.png", photo, part, photo);
+}
+
+// The runs of write_two_runs cut into 16-pixel tiles. The tiles carrying
+// a's error, largest first, and their figures by hand: (48, 16): 100 pixels
+// off by 30 of 256 common, MSE 900 * 100 / 256, share 90000 / (90000 +
+// 1600); (0, 0): 16 pixels off by 10 of 252 common, MSE 100 * 16 / 252.
+TEST(RenderCompare, WorstTilesAreWhereTheFirstRunsErrorLies) {
+  hos::testing::TempDir dir;
+  write_two_runs(dir.path());
 
   CommonOptions options;
   options.tile_size = 16;
@@ -194,21 +199,13 @@ TEST(RenderCompare, WorstTilesAreWhereTheFirstRunsErrorLies) {
   EXPECT_THROW(compare_on_common_pixels({dir / "a.png", dir / "b.png"}, options), ConfigError);
 }
 
-// Regions given by the caller, on the scene above: (48, 16, 16, 8) holds 4
-// rows of a's 10-pixel-wide error block, 40 pixels off by 30 of 128 common
-// (MSE 900 * 40 / 128, share 36000 / 91600); (0, 32, 8, 8) lies where b
-// covers nothing.
+// Regions given by the caller, on the runs of write_two_runs: (48, 16,
+// 16, 8) holds 4 rows of a's 10-pixel-wide error block, 40 pixels off by 30
+// of 128 common (MSE 900 * 40 / 128, share 36000 / 91600); (0, 32, 8, 8)
+// lies where b covers nothing.
 TEST(RenderCompare, RegionsAreMeasuredAndCroppedAsGiven) {
   hos::testing::TempDir dir;
-  const cv::Mat photo(48, 64, CV_8UC3, cv::Scalar(100, 100, 100));
-  cv::Mat a = photo.clone();
-  a(cv::Rect(50, 20, 10, 10)).setTo(cv::Scalar(130, 130, 130));
-  a(cv::Rect(2, 2, 4, 4)).setTo(cv::Scalar(110, 110, 110));
-  const cv::Mat all(48, 64, CV_8U, cv::Scalar(255));
-  cv::Mat part = all.clone();
-  part(cv::Rect(0, 32, 64, 16)).setTo(0);
-  write_saved(dir / "a.png", a, all, photo);
-  write_saved(dir / "b.png", photo, part, photo);
+  write_two_runs(dir.path());
 
   CommonOptions options;
   options.regions = {{48, 16, 16, 8}, {0, 32, 8, 8}};
