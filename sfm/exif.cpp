@@ -85,7 +85,7 @@ void parse_tiff(const std::uint8_t* data, std::size_t size, ExifInfo& info) {
       latitude = latitude || tag == kTagGpsLatitude;
       longitude = longitude || tag == kTagGpsLongitude;
     });
-    info.has_gps = latitude && longitude;
+    if (latitude && longitude) info.gps = GpsPosition{};
   }
   if (exif_ifd == 0) return;
   for_each_entry(tiff, exif_ifd, [&](std::uint16_t tag, std::uint16_t type, std::size_t value) {

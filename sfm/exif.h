@@ -13,10 +13,19 @@
 
 namespace hos::sfm {
 
+// A photo's EXIF GPS position (WGS84).
+struct GpsPosition {
+  double latitude_deg = 0.0;         // north positive
+  double longitude_deg = 0.0;        // east positive
+  std::optional<double> altitude_m;  // above sea level; many phones omit it
+};
+
 struct ExifInfo {
   int orientation = 1;  // 1..8 as EXIF defines it; 1 = upright
   std::optional<double> focal_length_mm;
-  bool has_gps = false;  // GPS IFD with latitude and longitude
+  std::optional<GpsPosition> gps;  // GPS IFD with latitude and longitude
+  std::string camera_make;         // EXIF Make, trimmed; empty when absent
+  std::string camera_model;        // EXIF Model, trimmed; empty when absent
 };
 
 // Parses EXIF from the bytes of a JPEG file. Files without EXIF (or not

@@ -200,7 +200,9 @@ StagedImage stage_photo(const fs::path& file,
   staged.name = file.filename().string();
   staged.source = file;
   staged.focal_length_mm = photo.exif.focal_length_mm;
-  staged.has_gps = photo.exif.has_gps;
+  staged.gps = photo.exif.gps;
+  staged.camera_make = photo.exif.camera_make;
+  staged.camera_model = photo.exif.camera_model;
   cv::Mat image = std::move(photo.image);
   if (image.depth() != CV_8U) {
     image = to_8_bits(image);

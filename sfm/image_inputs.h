@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/reporter.h"
+#include "sfm/exif.h"
 #include "sfm/sfm_options.h"
 
 namespace hos::sfm {
@@ -25,8 +26,10 @@ struct StagedImage {
   int width = 0;                 // size as staged (upright, downscaled)
   int height = 0;
   std::optional<double> focal_length_mm;  // from EXIF
-  bool has_gps = false;                   // EXIF GPS position (spatial matching)
-  bool rewritten = false;                 // re-encoded (rotated, downscaled or 16 to 8 bits) rather than linked
+  std::optional<GpsPosition> gps;         // from EXIF (spatial matching, placement)
+  std::string camera_make;                // from EXIF; empty when absent
+  std::string camera_model;
+  bool rewritten = false;  // re-encoded (rotated, downscaled or 16 to 8 bits) rather than linked
 };
 
 struct ImageInputs {

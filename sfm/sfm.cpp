@@ -195,7 +195,7 @@ PhotoSetFacts photo_set_facts(const ImageInputs& inputs) {
   PhotoSetFacts facts;
   facts.photos = static_cast<int>(inputs.images.size());
   for (const StagedImage& image : inputs.images) {
-    facts.photos_with_gps += image.has_gps ? 1 : 0;
+    facts.photos_with_gps += image.gps ? 1 : 0;
     facts.longest_side_px = std::max({facts.longest_side_px, image.width, image.height});
   }
   return facts;

@@ -21,10 +21,10 @@ TEST(Exif, ReadsOrientationAndFocalLengthInBothByteOrders) {
 
 TEST(Exif, GpsPositionIsDetectedInBothByteOrders) {
   for (bool little_endian : {true, false}) {
-    EXPECT_TRUE(parse_jpeg_exif(testing::jpeg_with_gps(testing::gradient_image(64, 48), little_endian)).has_gps);
+    EXPECT_TRUE(parse_jpeg_exif(testing::jpeg_with_gps(testing::gradient_image(64, 48), little_endian)).gps.has_value());
     // Orientation and focal length only: no position.
     EXPECT_FALSE(
-        parse_jpeg_exif(testing::jpeg_with_exif(testing::gradient_image(64, 48), 1, 35.0, little_endian)).has_gps);
+        parse_jpeg_exif(testing::jpeg_with_exif(testing::gradient_image(64, 48), 1, 35.0, little_endian)).gps.has_value());
   }
 }
 
@@ -34,7 +34,7 @@ TEST(Exif, NoExifGivesDefaults) {
   const ExifInfo info = parse_jpeg_exif(jpeg);
   EXPECT_EQ(info.orientation, 1);
   EXPECT_FALSE(info.focal_length_mm.has_value());
-  EXPECT_FALSE(info.has_gps);
+  EXPECT_FALSE(info.gps.has_value());
 }
 
 TEST(Exif, GarbageIsNotFatal) {
