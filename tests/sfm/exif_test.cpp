@@ -21,10 +21,11 @@ TEST(Exif, ReadsOrientationAndFocalLengthInBothByteOrders) {
 
 TEST(Exif, GpsPositionIsDetectedInBothByteOrders) {
   for (bool little_endian : {true, false}) {
-    EXPECT_TRUE(parse_jpeg_exif(testing::jpeg_with_gps(testing::gradient_image(64, 48), little_endian)).gps.has_value());
+    EXPECT_TRUE(
+        parse_jpeg_exif(testing::jpeg_with_gps(testing::gradient_image(64, 48), little_endian)).gps.has_value());
     // Orientation and focal length only: no position.
-    EXPECT_FALSE(
-        parse_jpeg_exif(testing::jpeg_with_exif(testing::gradient_image(64, 48), 1, 35.0, little_endian)).gps.has_value());
+    EXPECT_FALSE(parse_jpeg_exif(testing::jpeg_with_exif(testing::gradient_image(64, 48), 1, 35.0, little_endian))
+                     .gps.has_value());
   }
 }
 
