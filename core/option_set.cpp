@@ -3,7 +3,10 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
+#include <cmath>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -12,17 +15,58 @@
 
 namespace hos {
 
+namespace {
+
+// The text without the '+' that YAML and people allow before a number
+// (from_chars does not); "+-1" stays as it is, and is refused.
+std::string_view unsigned_plus(const std::string& text) {
+  const std::string_view view(text);
+  if (view.size() >= 2 && view[0] == '+' && (std::isdigit(static_cast<unsigned char>(view[1])) || view[1] == '.')) {
+    return view.substr(1);
+  }
+  return view;
+}
+
+}  // namespace
+
 template <typename T>
 std::optional<T> parse_number(const std::string& text) {
+  const std::string_view digits = unsigned_plus(text);
   T value{};
-  const char* end = text.data() + text.size();
-  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+  const char* end = digits.data() + digits.size();
+  const auto [ptr, ec] = std::from_chars(digits.data(), end, value);
   if (ec != std::errc() || ptr != end) return std::nullopt;
   return value;
 }
 template std::optional<int> parse_number<int>(const std::string&);
 template std::optional<double> parse_number<double>(const std::string&);
 template std::optional<float> parse_number<float>(const std::string&);
+
+template <typename T>
+std::string number_problem(const std::string& text) {
+  const std::string_view digits = unsigned_plus(text);
+  long double wide = 0;  // holds what T cannot: tells underflow from overflow
+  const char* end = digits.data() + digits.size();
+  const auto [ptr, ec] = std::from_chars(digits.data(), end, wide);
+  if (ec != std::errc() || ptr != end) return "is not a number";
+  if constexpr (std::is_integral_v<T>) {
+    if (wide != std::trunc(wide)) return "is not an integer";
+    if (wide >= std::numeric_limits<T>::min() && wide <= std::numeric_limits<T>::max()) {
+      return "is not written as an integer (no decimal point or exponent)";
+    }
+    return "is too large in magnitude for an integer (the largest is " + print_number(std::numeric_limits<T>::max()) +
+           ")";
+  }
+  if (std::fabs(wide) < 1) {
+    return "underflows: it is nonzero but smaller in magnitude than the smallest number it can be stored as (" +
+           print_number(std::numeric_limits<T>::denorm_min()) + "); write 0 for zero";
+  }
+  return "overflows: it is larger in magnitude than the largest number it can be stored as (" +
+         print_number(std::numeric_limits<T>::max()) + ")";
+}
+template std::string number_problem<int>(const std::string&);
+template std::string number_problem<double>(const std::string&);
+template std::string number_problem<float>(const std::string&);
 
 template <typename T>
 std::string print_number(T value) {
@@ -224,6 +268,34 @@ std::vector<std::string> OptionSet::keys() const {
 
 namespace {
 
+// Aliases let a few hundred bytes of YAML stand for billions of values (an
+// alias of a list of aliases multiplies them), which every walk over the
+// config would then visit. A config holds a few hundred options, so one that
+// reaches more values than this is refused before anything walks it fully.
+constexpr std::size_t kMaxConfigValues = 10000;
+
+void check_value_count(const YAML::Node& root, const std::string& path) {
+  std::size_t visited = 0;
+  std::vector<YAML::Node> pending{root};
+  while (!pending.empty()) {
+    const YAML::Node node = pending.back();
+    pending.pop_back();
+    if (++visited > kMaxConfigValues) {
+      throw ConfigError(path, "holds more than " + std::to_string(kMaxConfigValues) +
+                                  " values once its aliases (*name) are expanded; a config needs a few hundred at "
+                                  "most (are aliases nested in lists of aliases?)");
+    }
+    for (const auto& item : node) {
+      if (node.IsMap()) {
+        pending.push_back(item.first);
+        pending.push_back(item.second);
+      } else {
+        pending.push_back(item);
+      }
+    }
+  }
+}
+
 // A key given twice in one map would silently lose one of its values.
 void check_unique_keys(const YAML::Node& node, const std::string& path) {
   if (node.IsSequence()) {
@@ -245,15 +317,25 @@ void check_unique_keys(const YAML::Node& node, const std::string& path) {
 }  // namespace
 
 YAML::Node load_yaml_file(const std::string& path) {
-  YAML::Node root;
+  std::vector<YAML::Node> documents;
   try {
-    root = YAML::LoadFile(path);
+    documents = YAML::LoadAllFromFile(path);
   } catch (const YAML::BadFile&) {
     throw InputError(path, "cannot open config file");
   } catch (const YAML::Exception& e) {
     // A configuration error like an unknown key (exit 2), not unreadable input.
     throw ConfigError(path, "YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
+  // Options in a second document would be ignored without a word; an empty
+  // one (a trailing "---") loses nothing.
+  for (std::size_t i = 1; i < documents.size(); ++i) {
+    if (documents[i].IsNull()) continue;
+    throw ConfigError(path, "holds a second YAML document (after a \"---\" line, at line " +
+                                std::to_string(documents[i].Mark().line + 1) +
+                                "), which would be ignored; a config is one document: merge them");
+  }
+  const YAML::Node root = documents.empty() ? YAML::Node() : documents.front();
+  check_value_count(root, path);
   check_unique_keys(root, path);
   return root;
 }

@@ -110,13 +110,21 @@ void check_option_table(const std::string& section, const Options& options) {
 }
 
 // Parses a whole string as a number of type T (from_chars: no locale, no
-// silent truncation); nothing when the text is not exactly one number or
-// does not fit T (e.g. "1e-7" for an int, "1e400" for a double).
+// silent truncation; a leading '+' is allowed); nothing when the text is not
+// exactly one number or does not fit T (e.g. "1e-7" for an int, "1e400" or
+// "1e-400" for a double).
 template <typename T>
 std::optional<T> parse_number(const std::string& text);
 extern template std::optional<int> parse_number<int>(const std::string&);
 extern template std::optional<double> parse_number<double>(const std::string&);
 extern template std::optional<float> parse_number<float>(const std::string&);
+// Why parse_number<T> gave nothing for text: "is not a number", "is not an
+// integer", "underflows: ..." (1e-400 for a double), "overflows: ...".
+template <typename T>
+std::string number_problem(const std::string& text);
+extern template std::string number_problem<int>(const std::string&);
+extern template std::string number_problem<double>(const std::string&);
+extern template std::string number_problem<float>(const std::string&);
 // The value as the config dump writes it (6 significant digits).
 template <typename T>
 std::string print_number(T value);
@@ -128,8 +136,9 @@ extern template std::string print_number<float>(float);
 std::size_t edit_distance(const std::string& a, const std::string& b);
 
 // Loads a YAML file; throws InputError when it cannot be opened, ConfigError
-// with the file name and line on a syntax error or a key given twice in one
-// map (naming both lines).
+// with the file name and line on a syntax error, a key given twice in one
+// map (naming both lines), a second document, or aliases that expand to more
+// values than any config holds (kMaxConfigValues, option_set.cpp).
 YAML::Node load_yaml_file(const std::string& path);
 
 template <typename Number>
@@ -146,7 +155,8 @@ requires std::is_arithmetic_v<Number> &&(!std::is_same_v<Number, bool>)void Opti
   entry.allowed = allowed;
   entry.parse = [&value, in_range, allowed](const std::string& text) {
     const std::optional<Number> v = parse_number<Number>(text);
-    if (!v || !in_range(*v)) throw std::invalid_argument("must be " + allowed);
+    if (!v) throw std::invalid_argument(number_problem<Number>(text) + "; must be " + allowed);
+    if (!in_range(*v)) throw std::invalid_argument("must be " + allowed);
     value = *v;
   };
   entry.print = [&value]() { return print_number(value); };

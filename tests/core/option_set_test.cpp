@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <chrono>
 #include <fstream>
+#include <sstream>
 
 #include "core/error.h"
 #include "tests/support/test_support.h"
@@ -98,6 +100,83 @@ TEST(OptionSet, DuplicateKeysAreRefusedNamingBothLines) {
   }
   std::ofstream(dir / "sections.yaml") << "recon:\n  lambda: 0.5\nmvs: {}\nrecon:\n  resolution: 64\n";
   EXPECT_THROW(load_yaml_file((dir / "sections.yaml").string()), ConfigError);
+}
+
+// Levels of lists, each of nine aliases of the level before: 9^levels values.
+std::string nested_aliases(int levels) {
+  std::ostringstream yaml;
+  yaml << "a0: &a0 [x, x, x, x, x, x, x, x, x]\n";
+  for (int level = 1; level < levels; ++level) {
+    yaml << "a" << level << ": &a" << level << " [*a" << level - 1;
+    for (int i = 1; i < 9; ++i) yaml << ", *a" << level - 1;
+    yaml << "]\n";
+  }
+  return yaml.str();
+}
+
+std::string config_error(const std::string& yaml) {
+  testing::TempDir dir;
+  std::ofstream(dir / "c.yaml") << yaml;
+  try {
+    load_yaml_file((dir / "c.yaml").string());
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "<no ConfigError>";
+}
+
+TEST(OptionSet, AliasesExpandingBeyondAnyConfigAreRefused) {
+  // 9^5 values: more than a config could need, walked in no time.
+  EXPECT_NE(config_error(nested_aliases(5)).find("aliases"), std::string::npos);
+  // 9^9 (a file of about 300 bytes): refused, as fast.
+  const auto start = std::chrono::steady_clock::now();
+  const std::string message = config_error(nested_aliases(9));
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_NE(message.find("c.yaml"), std::string::npos) << message;
+  EXPECT_NE(message.find("aliases"), std::string::npos) << message;
+  EXPECT_LT(seconds, 0.5);
+}
+
+TEST(OptionSet, AliasesOfSingleValuesStillApply) {
+  testing::TempDir dir;
+  std::ofstream(dir / "c.yaml") << "lambda: &weight 0.5\nsolver:\n  resolution: 64\nshared: *weight\n";
+  const YAML::Node root = load_yaml_file((dir / "c.yaml").string());
+  EXPECT_DOUBLE_EQ(root["shared"].as<double>(), 0.5);
+}
+
+TEST(OptionSet, ASecondDocumentIsRefusedAnEmptyOneIgnored) {
+  const std::string message = config_error("lambda: 0.5\n---\nlambda: 0.7\n");
+  EXPECT_NE(message.find("second YAML document"), std::string::npos) << message;
+  EXPECT_NE(message.find("line 3"), std::string::npos) << message;
+  EXPECT_EQ(config_error("lambda: 0.5\n---\n"), "<no ConfigError>");
+}
+
+TEST(OptionSet, NumbersWithAPlusParseAndUnderflowIsNamed) {
+  Example e;
+  OptionSet set = example_set(e);
+  set.apply_assignment("lambda", "+0.3");
+  EXPECT_DOUBLE_EQ(e.lambda, 0.3);
+  set.apply_assignment("solver.resolution", "+64");
+  EXPECT_EQ(e.resolution, 64);
+  auto message = [&](const std::string& key, const std::string& value) {
+    try {
+      set.apply_assignment(key, value);
+    } catch (const ConfigError& error) {
+      return std::string(error.what());
+    }
+    return std::string("<no ConfigError>");
+  };
+  EXPECT_NE(message("lambda", "1e-400").find("underflows"), std::string::npos) << message("lambda", "1e-400");
+  EXPECT_NE(message("lambda", "1e400").find("overflows"), std::string::npos);
+  EXPECT_NE(message("lambda", "+-1").find("is not a number"), std::string::npos);
+  EXPECT_NE(message("lambda", "abc").find("is not a number"), std::string::npos);
+  EXPECT_NE(message("solver.resolution", "64.5").find("is not an integer"), std::string::npos);
+  EXPECT_NE(message("solver.resolution", "1e2").find("not written as an integer"), std::string::npos);
+  EXPECT_NE(message("solver.resolution", "1e12").find("too large"), std::string::npos);
+  EXPECT_DOUBLE_EQ(e.lambda, 0.3) << "a refused value must not be applied";
+  EXPECT_EQ(parse_number<float>("1e-50"), std::nullopt);
+  EXPECT_NE(number_problem<float>("1e-50").find("underflows"), std::string::npos);
+  EXPECT_EQ(parse_number<double>("1e-320"), 1e-320) << "a subnormal double is a number";
 }
 
 }  // namespace
