@@ -27,7 +27,7 @@ packages=(
   libopencv-dev libeigen3-dev libceres-dev libtinygltf-dev libyaml-cpp-dev
   libcli11-dev nlohmann-json3-dev libstb-dev
   libnanoflann-dev libmaxflow-dev libmeshoptimizer-dev
-  libexiv2-dev libheif-dev
+  libexiv2-dev libheif-dev libsqlite3-dev
 )
 # The test suite: GoogleTest; clang-format and clang-tidy (scripts/test.sh
 # checks formatting and tidies the recent changes); Chromium opens the run

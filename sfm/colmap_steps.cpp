@@ -35,17 +35,40 @@ std::vector<std::string> sift_matching_args(const ColmapRunContext& context,
 
 }  // namespace
 
-ColmapStep feature_extraction_step(const ColmapRunContext& context, const SfmPlan& plan, const SfmOptions& options) {
-  ColmapStep step{"feature_extractor", common_args(context, options), "extracting features", context.num_images};
-  step.args.insert(
-      step.args.end(),
-      {"--image_path", context.images.string(), "--ImageReader.camera_model", options.camera_model,
-       "--ImageReader.single_camera", flag(context.single_camera), "--SiftExtraction.use_gpu", flag(context.gpu),
-       "--SiftExtraction.num_threads", std::to_string(options.num_threads), "--SiftExtraction.max_image_size",
-       std::to_string(plan.sift_max_image_size), "--SiftExtraction.first_octave", plan.sift_upsample ? "-1" : "0",
-       "--SiftExtraction.max_num_features", std::to_string(plan.max_num_features), "--SiftExtraction.peak_threshold",
-       format_message(options.sift_peak_threshold)});
+ColmapStep feature_extraction_step(const ColmapRunContext& context,
+                                   const ExtractionRun& run,
+                                   const std::filesystem::path& image_list,
+                                   const SfmPlan& plan,
+                                   const SfmOptions& options) {
+  ColmapStep step{"feature_extractor", common_args(context, options), "extracting features",
+                  static_cast<std::int64_t>(run.names.size())};
+  step.args.insert(step.args.end(), {"--image_path",
+                                     context.images.string(),
+                                     "--image_list_path",
+                                     image_list.string(),
+                                     "--ImageReader.camera_model",
+                                     options.camera_model,
+                                     "--ImageReader.single_camera",
+                                     flag(run.single_camera),
+                                     "--SiftExtraction.use_gpu",
+                                     flag(context.gpu),
+                                     "--SiftExtraction.num_threads",
+                                     std::to_string(options.num_threads),
+                                     "--SiftExtraction.max_image_size",
+                                     std::to_string(run.sift_max_image_size),
+                                     "--SiftExtraction.first_octave",
+                                     run.sift_upsample ? "-1" : "0",
+                                     "--SiftExtraction.max_num_features",
+                                     std::to_string(plan.max_num_features),
+                                     "--SiftExtraction.peak_threshold",
+                                     format_message(options.sift_peak_threshold)});
   return step;
+}
+
+std::string image_list_file_text(const ExtractionRun& run) {
+  std::string text;
+  for (const std::string& name : run.names) text += name + "\n";
+  return text;
 }
 
 std::vector<ColmapStep> matching_steps(const ColmapRunContext& context,
@@ -61,8 +84,10 @@ std::vector<ColmapStep> matching_steps(const ColmapRunContext& context,
   } else if (plan.matcher == "sequential") {
     match.args.insert(match.args.end(), {"--SequentialMatching.overlap", std::to_string(options.sequential_overlap)});
   } else if (plan.matcher == "spatial") {
-    match.args.insert(match.args.end(), {"--SpatialMatching.is_gps", "1", "--SpatialMatching.max_num_neighbors",
-                                         std::to_string(options.spatial_neighbors)});
+    // Without altitude (staged as 0) only latitude and longitude count.
+    match.args.insert(match.args.end(),
+                      {"--SpatialMatching.is_gps", "1", "--SpatialMatching.ignore_z", flag(plan.spatial_ignore_z),
+                       "--SpatialMatching.max_num_neighbors", std::to_string(options.spatial_neighbors)});
   } else if (plan.matcher == "vocab_tree") {
     // The tree is learnt from these photos' own descriptors: nothing is
     // downloaded, and its words fit the scene.
@@ -95,13 +120,15 @@ ColmapStep mapping_step(const ColmapRunContext& context, const SfmOptions& optio
   return step;
 }
 
-ColmapStep principal_point_step(const std::filesystem::path& input, const std::filesystem::path& output) {
-  return {
-      "bundle_adjuster",
-      {"--input_path", input.string(), "--output_path", output.string(), "--BundleAdjustment.refine_principal_point",
-       "1", "--BundleAdjustment.refine_focal_length", "1", "--BundleAdjustment.refine_extra_params", "1"},
-      "adjusting the principal point",
-      0};
+ColmapStep principal_point_step(const std::filesystem::path& input,
+                                const std::filesystem::path& output,
+                                bool refine_principal_point) {
+  return {"bundle_adjuster",
+          {"--input_path", input.string(), "--output_path", output.string(),
+           "--BundleAdjustment.refine_principal_point", flag(refine_principal_point),
+           "--BundleAdjustment.refine_focal_length", "1", "--BundleAdjustment.refine_extra_params", "1"},
+          "adjusting the principal point",
+          0};
 }
 
 }  // namespace hos::sfm

@@ -21,11 +21,21 @@ struct ColmapRunContext {
   std::filesystem::path sparse;      // mapper output folder
   std::filesystem::path vocab_tree;  // the tree built from the photos (vocab_tree matcher)
   bool gpu = false;                  // SIFT on the GPU
-  bool single_camera = false;        // one shared camera
   std::int64_t num_images = 0;
 };
 
-ColmapStep feature_extraction_step(const ColmapRunContext& context, const SfmPlan& plan, const SfmOptions& options);
+// The feature_extractor run over the photos listed in image_list (one
+// staged name a line, as image_list_file_text writes them), into the
+// shared database.
+ColmapStep feature_extraction_step(const ColmapRunContext& context,
+                                   const ExtractionRun& run,
+                                   const std::filesystem::path& image_list,
+                                   const SfmPlan& plan,
+                                   const SfmOptions& options);
+
+// The text of an image list file for COLMAP: the names relative to the
+// image folder (a name may hold '/', for photos from subfolders).
+std::string image_list_file_text(const ExtractionRun& run);
 
 // One command, or two for the vocabulary tree (vocab_tree_builder over the
 // photos' own features, then vocab_tree_matcher).
@@ -33,8 +43,11 @@ std::vector<ColmapStep> matching_steps(const ColmapRunContext& context, const Sf
 
 ColmapStep mapping_step(const ColmapRunContext& context, const SfmOptions& options);
 
-// A bundle adjustment of the model in input that also estimates the
-// principal point, written to output.
-ColmapStep principal_point_step(const std::filesystem::path& input, const std::filesystem::path& output);
+// A bundle adjustment of the model in input (focal lengths and distortion
+// refined; the principal points too when refine_principal_point), written
+// to output.
+ColmapStep principal_point_step(const std::filesystem::path& input,
+                                const std::filesystem::path& output,
+                                bool refine_principal_point);
 
 }  // namespace hos::sfm

@@ -4,16 +4,20 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <set>
 #include <sstream>
 
 #include "core/atomic_file.h"
 #include "core/colmap_io.h"
 #include "core/error.h"
+#include "core/json_report.h"
 #include "core/sparse_model.h"
 #include "core/stopwatch.h"
 #include "core/undistorted_workspace.h"
+#include "sfm/colmap_database.h"
 #include "sfm/colmap_runner.h"
 #include "sfm/colmap_steps.h"
 
@@ -27,6 +31,16 @@ std::string list_names(const std::vector<std::string>& names) {
   for (std::size_t i = 0; i < names.size() && i < kMaxListed; ++i) out += (i ? ", " : "") + names[i];
   if (names.size() > kMaxListed) out += format_message(" and ", names.size() - kMaxListed, " more");
   return out;
+}
+
+void add_step_time(SfmResult& result, const std::string& step, double seconds) {
+  for (auto& [name, total] : result.step_seconds) {
+    if (name == step) {
+      total += seconds;
+      return;
+    }
+  }
+  result.step_seconds.emplace_back(step, seconds);
 }
 
 bool has_model_files(const fs::path& dir) { return fs::exists(dir / "cameras.bin") || fs::exists(dir / "cameras.txt"); }
@@ -92,14 +106,14 @@ void undistort_with_colmap(const ColmapInfo& colmap,
                   num_images};
   const ColmapStepResult run = run_colmap_step(colmap, step, reporter);
   require_ok(run, "image_undistorter");
-  result.step_seconds.emplace_back("image_undistorter", run.seconds);
+  add_step_time(result, "image_undistorter", run.seconds);
   remove_colmap_extras(output);
 }
 
 void clear_previous_run(const SfmPaths& paths) {
   std::error_code ec;
   for (const auto& p : {paths.report, paths.undistorted, paths.sparse, paths.database, paths.vocab_tree, paths.images,
-                        paths.thumbnails}) {
+                        paths.thumbnails, paths.image_lists}) {
     fs::remove_all(p, ec);
   }
   fs::remove(paths.database.string() + "-shm", ec);
@@ -135,10 +149,7 @@ SfmResult import_existing_model(const SfmInput& input,
     model_dir = best_dir;
   }
   reporter.info("using the existing sparse model " + model_dir.string());
-  for (const auto& [id, image] : model.images) {
-    const fs::path file = input.images / image.name;
-    if (!fs::exists(file)) throw InputError(file.string(), "image of the sparse model is missing");
-  }
+  check_model_image_sizes(model, input.images);
   SfmResult result;
   result.matcher = "existing model";
   result.images_given = static_cast<int>(model.images.size());
@@ -184,38 +195,35 @@ void prepare_workspace(const SfmPaths& paths) {
 ImageInputs stage_photos(
     const SfmInput& input, const SfmOptions& options, const SfmPaths& paths, Reporter& reporter, SfmResult& result) {
   const auto started = Clock::now();
-  ImageInputs inputs = prepare_images(input.images, paths.images, options, reporter, paths.thumbnails);
+  // The workspace may lie inside the photo folder: its files are not photos.
+  ImageInputs inputs =
+      prepare_images(input.images, paths.images, options, reporter, paths.thumbnails, {input.workspace});
   result.step_seconds.emplace_back("prepare_images", seconds_since(started));
   result.skipped = inputs.skipped;
   result.images_given = static_cast<int>(inputs.images.size());
   return inputs;
 }
 
-PhotoSetFacts photo_set_facts(const ImageInputs& inputs) {
-  PhotoSetFacts facts;
-  facts.photos = static_cast<int>(inputs.images.size());
-  for (const StagedImage& image : inputs.images) {
-    facts.photos_with_gps += image.gps ? 1 : 0;
-    facts.longest_side_px = std::max({facts.longest_side_px, image.width, image.height});
-  }
-  return facts;
-}
-
 ColmapRunContext run_context(const ImageInputs& inputs,
                              const SfmOptions& options,
                              const ColmapInfo& colmap,
-                             const SfmPaths& paths,
-                             SfmResult& result) {
+                             const SfmPaths& paths) {
   ColmapRunContext context;
   context.database = paths.database;
   context.images = paths.images;
   context.sparse = paths.sparse;
   context.vocab_tree = paths.vocab_tree;
   context.gpu = options.use_gpu == "yes" || (options.use_gpu == "auto" && colmap.cuda);
-  context.single_camera = options.camera_mode == "single" || (options.camera_mode == "auto" && inputs.same_camera());
   context.num_images = static_cast<std::int64_t>(inputs.images.size());
-  result.single_camera = context.single_camera;
   return context;
+}
+
+int planned_cameras(const SfmPlan& plan) {
+  int cameras = 0;
+  for (const ExtractionRun& run : plan.extractions) {
+    cameras += run.single_camera ? 1 : static_cast<int>(run.names.size());
+  }
+  return cameras;
 }
 
 void announce_plan(const ColmapRunContext& context,
@@ -224,19 +232,65 @@ void announce_plan(const ColmapRunContext& context,
                    const SfmResult& result,
                    Reporter& reporter) {
   const SfmPlan& plan = result.plan;
-  reporter.info(format_message(
-      context.num_images, " photos, ", context.single_camera ? "one shared camera" : "one camera per photo", " (",
-      options.camera_model, "), COLMAP ", colmap.version, context.gpu ? " with GPU" : " on the CPU"));
-  reporter.info(format_message("SIFT at most ", plan.sift_max_image_size, " px", plan.sift_upsample ? " (and 2x)" : "",
-                               ", ", plan.max_num_features, " features per photo, ", plan.max_num_matches,
+  reporter.info(format_message(context.num_images, " photos, ", result.cameras_planned,
+                               result.cameras_planned == 1 ? " camera" : " cameras", " (", options.camera_model,
+                               ", sfm.camera_mode ", options.camera_mode, "), COLMAP ", colmap.version,
+                               context.gpu ? " with GPU" : " on the CPU"));
+  for (const ExtractionRun& run : plan.extractions) {
+    reporter.info(format_message("  ", run.description, ": ", run.single_camera ? "one camera" : "one camera per photo",
+                                 ", SIFT at most ", run.sift_max_image_size, " px",
+                                 run.sift_upsample ? " (and 2x)" : ""));
+  }
+  reporter.info(format_message(plan.max_num_features, " features per photo, ", plan.max_num_matches,
                                " matches per pair; ", plan.matcher, " matching (", plan.matcher_reason, ")"));
 }
 
-// Runs one COLMAP command, fails the stage on an error exit, keeps its time.
+// Runs one COLMAP command, fails the stage on an error exit, keeps its time
+// (summed over the runs of one command).
 void run_timed(const ColmapInfo& colmap, const ColmapStep& step, Reporter& reporter, SfmResult& result) {
   const ColmapStepResult run = run_colmap_step(colmap, step, reporter);
   require_ok(run, step.command);
-  result.step_seconds.emplace_back(step.command, run.seconds);
+  add_step_time(result, step.command, run.seconds);
+}
+
+// One feature_extractor run per planned extraction, all into one database:
+// each group of photos gets its SIFT size and its camera.
+void extract_features(const ColmapInfo& colmap,
+                      const ColmapRunContext& context,
+                      const SfmOptions& options,
+                      const SfmPaths& paths,
+                      Reporter& reporter,
+                      SfmResult& result) {
+  fs::create_directories(paths.image_lists);
+  for (std::size_t k = 0; k < result.plan.extractions.size(); ++k) {
+    const ExtractionRun& run = result.plan.extractions[k];
+    const fs::path list = paths.image_lists / format_message("extraction_", k, ".txt");
+    write_atomically(list, [&](const fs::path& tmp) {
+      std::ofstream out(tmp, std::ios::binary);
+      out << image_list_file_text(run);
+      if (!out) throw OutputError(list.string(), "cannot write");
+    });
+    run_timed(colmap, feature_extraction_step(context, run, list, result.plan, options), reporter, result);
+  }
+}
+
+// Spatial matching needs COLMAP to have read each photo's position: checks
+// the priors in the database and falls back when they are missing.
+void check_position_priors(const PhotoSetFacts& facts,
+                           const SfmOptions& options,
+                           const SfmPaths& paths,
+                           Reporter& reporter,
+                           SfmResult& result) {
+  if (facts.photos_with_gps == 0) return;
+  int priors = 0;
+  for (const DatabaseImage& image : read_database_images(paths.database)) priors += image.position_prior ? 1 : 0;
+  result.position_priors = priors;
+  reporter.debug(format_message(facts.photos_with_gps, " photos with GPS EXIF, ", priors,
+                                " position priors in COLMAP's database"));
+  if (fall_back_from_spatial(result.plan, facts, priors, options)) {
+    reporter.warn("sfm: " + result.plan.matcher + " matching instead of spatial: " + result.plan.matcher_reason);
+    result.matcher = result.plan.matcher;
+  }
 }
 
 // Reads every model the mapper wrote and picks the largest; returns its folder.
@@ -246,19 +300,27 @@ fs::path select_largest_model(const std::vector<std::pair<int, fs::path>>& model
                               SfmResult& result) {
   SparseModel best;
   fs::path best_dir;
+  std::vector<SparseModel> all;
   for (const auto& [index, dir] : models) {
-    SparseModel model = read_colmap_model(dir);
+    all.push_back(read_colmap_model(dir));
+    const SparseModel& model = all.back();
     result.models.push_back(
         {index, static_cast<int>(model.images.size()), static_cast<std::int64_t>(model.points.size())});
     if (best_dir.empty() || model.images.size() > best.images.size()) {
-      best = std::move(model);
+      best = model;
       best_dir = dir;
       result.used_model = index;
     }
   }
   fill_model_figures(best, result);
   for (const auto& image : inputs.images) {
-    if (!best.find_image(image.name)) result.unregistered.push_back(image.name);
+    if (best.find_image(image.name)) continue;
+    result.unregistered.push_back(image.name);
+    UnregisteredPhoto photo{image.name, 0, -1};
+    for (std::size_t k = 0; k < all.size(); ++k) {
+      if (all[k].find_image(image.name)) photo.other_model = result.models[k].index;
+    }
+    result.unregistered_photos.push_back(photo);
   }
   if (result.models.size() > 1) {
     std::string others;
@@ -272,17 +334,38 @@ fs::path select_largest_model(const std::vector<std::pair<int, fs::path>>& model
   return best_dir;
 }
 
+// Why each unregistered photo is missing: in another model, or matched no
+// other photo well (its most verified matches with any one photo).
+void explain_unregistered(const SfmPaths& paths, SfmResult& result) {
+  if (result.unregistered_photos.empty()) return;
+  const std::map<std::string, int> best = best_verified_matches(paths.database);
+  for (UnregisteredPhoto& photo : result.unregistered_photos) {
+    const auto found = best.find(photo.name);
+    photo.best_matches = found == best.end() ? 0 : found->second;
+  }
+}
+
+// How much of the capture the model uses; a loud warning below
+// options.registered_warning_fraction.
+void judge_coverage(const SfmOptions& options, Reporter& reporter, SfmResult& result) {
+  result.registered_fraction = result.images_given > 0 ? double(result.images_registered) / result.images_given : 0.0;
+  if (result.registered_fraction >= options.registered_warning_fraction) return;
+  result.coverage_warning = coverage_warning_text(result, options.min_pose_inliers);
+  reporter.warn("sfm: " + result.coverage_warning);
+}
+
 // The mapper, then the largest model; fails the stage when too few photos
 // registered. Returns the chosen model's folder.
 fs::path map_photos(const ColmapInfo& colmap,
                     const ColmapRunContext& context,
                     const SfmOptions& options,
                     const ImageInputs& inputs,
+                    const SfmPaths& paths,
                     Reporter& reporter,
                     SfmResult& result) {
   fs::create_directories(context.sparse);
   const ColmapStepResult mapped = run_colmap_step(colmap, mapping_step(context, options), reporter);
-  result.step_seconds.emplace_back("mapper", mapped.seconds);
+  add_step_time(result, "mapper", mapped.seconds);
   const auto models = numbered_models(context.sparse);
   if (models.empty()) {
     throw StageError("sfm", format_message("COLMAP could not register the photos (no model from ", context.num_images,
@@ -294,20 +377,57 @@ fs::path map_photos(const ColmapInfo& colmap,
   }
   require_ok(mapped, "mapper");
   fs::path best_dir = select_largest_model(models, inputs, reporter, result);
+  explain_unregistered(paths, result);
   if (result.images_registered < options.min_registered_images) {
     throw StageError("sfm", format_message("only ", result.images_registered, " of ", context.num_images,
                                            " photos registered (need ", options.min_registered_images,
                                            "): the photos may not overlap enough. Not registered: ",
                                            list_names(result.unregistered)));
   }
+  judge_coverage(options, reporter, result);
   return best_dir;
 }
 
-// The final bundle adjustment that also estimates the principal point,
-// whose model is kept when the estimate stays within
-// options.principal_point_max_offset of the image centre (an estimate
-// farther away means the photos did not constrain it). Returns the folder
-// of the model to use.
+// COLMAP's parameter layout: one focal length first for the SIMPLE_* and
+// RADIAL* models, two for the others; the principal point follows.
+void centre_principal_point(Camera& camera) {
+  const std::string name = camera_model_name(camera.model);
+  const std::size_t cx = name.rfind("SIMPLE_", 0) == 0 || name.rfind("RADIAL", 0) == 0 ? 1 : 2;
+  camera.params.at(cx) = 0.5 * camera.width;
+  camera.params.at(cx + 1) = 0.5 * camera.height;
+}
+
+// Which cameras may have their principal point estimated: those shared by
+// enough registered photos.
+std::vector<CameraPrincipalPoint> principal_point_candidates(const SparseModel& model, const SfmOptions& options) {
+  std::map<int, int> photos;
+  for (const auto& [id, image] : model.images) ++photos[image.camera_id];
+  std::vector<CameraPrincipalPoint> cameras;
+  for (const auto& [id, camera] : model.cameras) {
+    CameraPrincipalPoint c;
+    c.camera_id = id;
+    c.width = camera.width;
+    c.height = camera.height;
+    c.images = photos[id];
+    if (c.images < options.principal_point_min_images) {
+      c.reason = format_message("centre kept: ", c.images, c.images == 1 ? " photo" : " photos",
+                                " < sfm.principal_point_min_images (", options.principal_point_min_images, ")");
+    }
+    cameras.push_back(c);
+  }
+  return cameras;
+}
+
+bool is_candidate(const CameraPrincipalPoint& c) { return c.reason.empty(); }
+
+// The final bundle adjustment that also estimates the principal point of
+// each camera shared by at least options.principal_point_min_images photos,
+// kept when the estimate stays within options.principal_point_max_offset
+// of the image centre (an estimate farther away means the photos did not
+// constrain it). COLMAP refines every camera's principal point or none, so
+// when some cameras keep their centre, they get it back and a second
+// adjustment refines the rest of the model around it. Returns the folder of
+// the model to use.
 fs::path adjust_principal_point(const ColmapInfo& colmap,
                                 const fs::path& model_dir,
                                 const SfmOptions& options,
@@ -315,32 +435,124 @@ fs::path adjust_principal_point(const ColmapInfo& colmap,
                                 Reporter& reporter,
                                 SfmResult& result) {
   if (options.principal_point_max_offset <= 0) return model_dir;
-  fs::path adjusted_dir = paths.sparse / "principal_point";
+  result.principal_points = principal_point_candidates(read_colmap_model(model_dir), options);
+  auto& cameras = result.principal_points;
+  if (std::none_of(cameras.begin(), cameras.end(), is_candidate)) return model_dir;
+  const fs::path adjusted_dir = paths.sparse / "principal_point";
   fs::remove_all(adjusted_dir);
   fs::create_directories(adjusted_dir);
-  const ColmapStepResult run = run_colmap_step(colmap, principal_point_step(model_dir, adjusted_dir), reporter);
-  result.step_seconds.emplace_back("bundle_adjuster", run.seconds);
+  const ColmapStepResult run = run_colmap_step(colmap, principal_point_step(model_dir, adjusted_dir, true), reporter);
+  add_step_time(result, "bundle_adjuster", run.seconds);
   if (run.exit_code != 0) {
+    for (auto& c : cameras) c.reason = "centre kept: the bundle adjustment failed";
     reporter.warn("sfm: the principal point's bundle adjustment failed; the image centre is kept" +
                   format_tail(run.last_lines));
     return model_dir;
   }
-  const SparseModel adjusted = read_colmap_model(adjusted_dir);
-  const PrincipalPointOffset offset = largest_principal_point_offset(adjusted);
-  if (offset.fraction > options.principal_point_max_offset) {
-    reporter.warn(format_message("sfm: the principal point was estimated ", offset.pixels,
-                                 " px from the image centre, more than sfm.principal_point_max_offset (",
-                                 options.principal_point_max_offset,
-                                 " of the longer side): the photos do not constrain it; the image centre is kept"));
+  SparseModel adjusted = read_colmap_model(adjusted_dir);
+  for (auto& c : cameras) {
+    Camera& camera = adjusted.cameras.at(c.camera_id);
+    const double offset =
+        std::hypot(camera.principal_x() - 0.5 * camera.width, camera.principal_y() - 0.5 * camera.height);
+    if (is_candidate(c) && offset > options.principal_point_max_offset * std::max(camera.width, camera.height)) {
+      c.reason = format_message("centre kept: estimated ", offset,
+                                " px off centre, more than sfm.principal_point_max_offset (",
+                                options.principal_point_max_offset, " of the longer side)");
+      reporter.warn(format_message("sfm: the principal point of camera ", c.camera_id, " was estimated ", offset,
+                                   " px from the image centre: the photos do not constrain it; the centre is kept"));
+    }
+    c.estimated = is_candidate(c);
+    if (c.estimated) {
+      c.offset_px = offset;
+      result.principal_point_offset_px = std::max(result.principal_point_offset_px, offset);
+    } else {
+      centre_principal_point(camera);
+    }
+  }
+  const auto estimated = std::count_if(cameras.begin(), cameras.end(), [](const auto& c) { return c.estimated; });
+  if (estimated == 0) return model_dir;
+  result.principal_point_estimated = true;
+  if (estimated == static_cast<std::ptrdiff_t>(cameras.size())) {
+    fill_model_figures(adjusted, result);
+    return adjusted_dir;
+  }
+  // Some cameras keep the centre: the model again around it.
+  const fs::path centred_dir = paths.sparse / "principal_point_centred";
+  const fs::path final_dir = paths.sparse / "principal_point_final";
+  for (const fs::path& dir : {centred_dir, final_dir}) {
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+  }
+  write_colmap_model(adjusted, centred_dir, ColmapFormat::kBinary);
+  const ColmapStepResult again = run_colmap_step(colmap, principal_point_step(centred_dir, final_dir, false), reporter);
+  add_step_time(result, "bundle_adjuster", again.seconds);
+  if (again.exit_code != 0) {
+    reporter.warn("sfm: the bundle adjustment after the principal point failed; the image centre is kept" +
+                  format_tail(again.last_lines));
+    for (auto& c : cameras)
+      c = {c.camera_id, c.width, c.height, c.images, false, 0.0, "centre kept: adjustment failed"};
+    result.principal_point_estimated = false;
+    result.principal_point_offset_px = 0;
     return model_dir;
   }
-  fill_model_figures(adjusted, result);
-  result.principal_point_offset_px = offset.pixels;
-  result.principal_point_estimated = true;
-  return adjusted_dir;
+  fill_model_figures(read_colmap_model(final_dir), result);
+  return final_dir;
 }
 
 }  // namespace
+
+void check_model_image_sizes(const SparseModel& model, const fs::path& images) {
+  for (const auto& [id, image] : model.images) {
+    const fs::path file = images / image.name;
+    if (!fs::exists(file)) throw InputError(file.string(), "image of the sparse model is missing");
+    const Camera& camera = model.camera_of(image);
+    // The size COLMAP reads: the stored pixels, EXIF orientation not applied.
+    const cv::Mat photo = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
+    if (photo.empty()) throw InputError(file.string(), "image of the sparse model cannot be decoded");
+    if (photo.cols != camera.width || photo.rows != camera.height) {
+      throw InputError(file.string(),
+                       format_message("is ", photo.cols, "x", photo.rows, " pixels but its camera (", camera.id,
+                                      ") in the sparse model is ", camera.width, "x", camera.height,
+                                      ": the model was made from other (or resized) photos; give the photos "
+                                      "the model was made from, or run without --sparse"));
+    }
+  }
+}
+
+std::string coverage_warning_text(const SfmResult& r, int min_pose_inliers) {
+  std::vector<std::string> unmatched, separate, unplaced;
+  int most_matches = 0;
+  for (const UnregisteredPhoto& photo : r.unregistered_photos) {
+    if (photo.other_model >= 0) {
+      separate.push_back(photo.name);
+    } else if (photo.best_matches < min_pose_inliers) {
+      unmatched.push_back(photo.name);
+      most_matches = std::max(most_matches, photo.best_matches);
+    } else {
+      unplaced.push_back(photo.name);
+    }
+  }
+  const int percent = static_cast<int>(std::lround(100.0 * r.registered_fraction));
+  std::string text = format_message("only ", r.images_registered, " of ", r.images_given, " photos (", percent,
+                                    "%) registered: the model leaves out ", r.images_given - r.images_registered);
+  if (!unmatched.empty()) {
+    text +=
+        format_message("; ", unmatched.size(), " matched no other photo well (at most ", most_matches,
+                       " verified matches with any one photo, a photo needs sfm.min_pose_inliers = ", min_pose_inliers,
+                       "): ", list_names(unmatched));
+  }
+  if (!separate.empty()) {
+    text +=
+        format_message("; ", separate.size(),
+                       " form separate models that share too few matches with the used one: ", list_names(separate));
+  }
+  if (!unplaced.empty()) {
+    text += format_message("; ", unplaced.size(),
+                           " matched other photos but did not fit the model: ", list_names(unplaced));
+  }
+  return text +
+         ". Too little overlap: take more photos between these and the others (60-80% overlap between neighbours)";
+}
 
 PrincipalPointOffset largest_principal_point_offset(const SparseModel& model) {
   PrincipalPointOffset largest;
@@ -367,6 +579,7 @@ SfmPaths sfm_paths(const fs::path& workspace) {
   p.thumbnails = p.root / "thumbnails";
   p.database = p.root / "database.db";
   p.vocab_tree = p.root / "vocab_tree.bin";
+  p.image_lists = p.root / "image_lists";
   p.sparse = p.root / "sparse";
   p.undistorted = p.root / "undistorted";
   p.report = p.root / "report.json";
@@ -389,17 +602,20 @@ SfmResult run_sfm(const SfmInput& input, const SfmOptions& options, Reporter& re
   const ImageInputs inputs = stage_photos(input, options, paths, reporter, result);
   const ColmapInfo colmap = locate_colmap(options.colmap);
   result.colmap_version = colmap.version;
-  const ColmapRunContext context = run_context(inputs, options, colmap, paths, result);
-  result.plan = plan_sfm(photo_set_facts(inputs), options);
+  const ColmapRunContext context = run_context(inputs, options, colmap, paths);
+  const PhotoSetFacts facts = photo_set_facts(inputs.images, options.camera_mode);
+  result.plan = plan_sfm(facts, options);
   result.matcher = result.plan.matcher;
+  result.cameras_planned = planned_cameras(result.plan);
   announce_plan(context, colmap, options, result, reporter);
 
-  run_timed(colmap, feature_extraction_step(context, result.plan, options), reporter, result);
+  extract_features(colmap, context, options, paths, reporter, result);
+  check_position_priors(facts, options, paths, reporter, result);
   for (const ColmapStep& step : matching_steps(context, result.plan, options)) {
     run_timed(colmap, step, reporter, result);
   }
   const fs::path model_dir = adjust_principal_point(
-      colmap, map_photos(colmap, context, options, inputs, reporter, result), options, paths, reporter, result);
+      colmap, map_photos(colmap, context, options, inputs, paths, reporter, result), options, paths, reporter, result);
   // Undistortion into the workspace the later stages read.
   write_folder_atomically(paths.undistorted, [&](const fs::path& tmp) {
     undistort_with_colmap(colmap, paths.images, model_dir, tmp, result.images_registered, reporter, result);
@@ -414,28 +630,55 @@ void write_sfm_report(const SfmResult& r, const fs::path& file) {
   nlohmann::ordered_json j;
   j["images_given"] = r.images_given;
   j["images_registered"] = r.images_registered;
+  j["registered_fraction"] = r.registered_fraction;
+  if (!r.coverage_warning.empty()) j["warning"] = r.coverage_warning;
   j["unregistered"] = r.unregistered;
+  j["unregistered_photos"] = nlohmann::json::array();
+  for (const auto& p : r.unregistered_photos) {
+    j["unregistered_photos"].push_back(
+        {{"name", p.name}, {"best_verified_matches", p.best_matches}, {"other_model", p.other_model}});
+  }
   j["skipped"] = nlohmann::json::array();
   for (const auto& s : r.skipped) j["skipped"].push_back({{"file", s.file.string()}, {"reason", s.reason}});
   j["points"] = r.points;
   j["mean_reprojection_error_px"] = r.mean_reprojection_error_px;
   j["mean_track_length"] = r.mean_track_length;
-  j["principal_point"] = {{"estimated", r.principal_point_estimated}, {"offset_px", r.principal_point_offset_px}};
+  j["principal_point"] = {{"estimated", r.principal_point_estimated},
+                          {"offset_px", r.principal_point_offset_px},
+                          {"cameras", nlohmann::json::array()}};
+  for (const auto& c : r.principal_points) {
+    j["principal_point"]["cameras"].push_back({{"camera_id", c.camera_id},
+                                               {"width", c.width},
+                                               {"height", c.height},
+                                               {"images", c.images},
+                                               {"estimated", c.estimated},
+                                               {"offset_px", c.offset_px},
+                                               {"reason", c.reason}});
+  }
   j["models"] = nlohmann::json::array();
   for (const auto& m : r.models)
     j["models"].push_back({{"index", m.index}, {"images", m.images}, {"points", m.points}});
   j["used_model"] = r.used_model;
   j["matcher"] = r.matcher;
   if (!r.plan.matcher.empty()) {
+    nlohmann::ordered_json extractions = nlohmann::ordered_json::array();
+    for (const ExtractionRun& run : r.plan.extractions) {
+      extractions.push_back({{"photos", run.names.size()},
+                             {"description", run.description},
+                             {"single_camera", run.single_camera},
+                             {"sift_max_image_size", run.sift_max_image_size},
+                             {"sift_upsample", run.sift_upsample}});
+    }
     j["plan"] = {{"matcher", r.plan.matcher},
                  {"matcher_reason", r.plan.matcher_reason},
+                 {"spatial_ignore_z", r.plan.spatial_ignore_z},
                  {"max_num_features", r.plan.max_num_features},
                  {"max_num_matches", r.plan.max_num_matches},
-                 {"sift_max_image_size", r.plan.sift_max_image_size},
-                 {"sift_upsample", r.plan.sift_upsample},
-                 {"vocab_tree_words", r.plan.vocab_tree_words}};
+                 {"vocab_tree_words", r.plan.vocab_tree_words},
+                 {"extractions", extractions}};
   }
-  j["single_camera"] = r.single_camera;
+  j["cameras_planned"] = r.cameras_planned;
+  if (r.position_priors >= 0) j["position_priors"] = r.position_priors;
   j["colmap_version"] = r.colmap_version;
   nlohmann::ordered_json steps = nlohmann::ordered_json::object();
   for (const auto& [name, seconds] : r.step_seconds) steps[name] = seconds;
@@ -443,26 +686,54 @@ void write_sfm_report(const SfmResult& r, const fs::path& file) {
   j["total_seconds"] = r.total_seconds;
   write_atomically(file, [&](const fs::path& tmp) {
     std::ofstream out(tmp);
-    out << j.dump(2) << "\n";
+    out << json_text(j) << "\n";
     if (!out) throw OutputError(file.string(), "cannot write");
   });
 }
 
+namespace {
+
+// "principal point estimated for camera 1 (23.5 px off centre); camera 2: centre kept: 1 photo < ...".
+std::string principal_point_text(const SfmResult& r) {
+  std::ostringstream text;
+  text.precision(3);
+  text << "principal point";
+  for (const auto& c : r.principal_points) {
+    text << (&c == &r.principal_points.front() ? " " : "; ") << "camera " << c.camera_id << " (" << c.width << "x"
+         << c.height << ", " << c.images << (c.images == 1 ? " photo" : " photos") << "): ";
+    if (c.estimated) {
+      text << c.offset_px << " px off centre";
+    } else {
+      text << c.reason;
+    }
+  }
+  return text.str();
+}
+
+}  // namespace
+
 std::vector<std::string> sfm_summary_lines(const SfmResult& r) {
   std::vector<std::string> lines;
   lines.push_back(
-      format_message("registered ", r.images_registered, " of ", r.images_given, " photos",
-                     r.skipped.empty() ? std::string() : format_message(" (", r.skipped.size(), " files skipped)")));
+      format_message("registered ", r.images_registered, " of ", r.images_given, " photos (",
+                     static_cast<int>(std::lround(100.0 * r.registered_fraction)), "%)",
+                     r.skipped.empty() ? std::string() : format_message(", ", r.skipped.size(), " files skipped")));
+  if (!r.coverage_warning.empty()) lines.push_back("WARNING: " + r.coverage_warning);
   if (!r.unregistered.empty()) lines.push_back("not registered: " + list_names(r.unregistered));
   std::ostringstream figures;
   figures.precision(3);
   figures << r.points << " 3D points, mean reprojection error " << r.mean_reprojection_error_px
           << " px, mean track length " << r.mean_track_length;
-  if (r.principal_point_estimated) figures << ", principal point " << r.principal_point_offset_px << " px off centre";
   lines.push_back(figures.str());
+  if (!r.principal_points.empty()) lines.push_back(principal_point_text(r));
   if (!r.plan.matcher.empty()) {
     lines.push_back(format_message(r.plan.matcher, " matching (", r.plan.matcher_reason, "), ", r.plan.max_num_features,
-                                   " SIFT features per photo at most ", r.plan.sift_max_image_size, " px"));
+                                   " SIFT features per photo"));
+    for (const ExtractionRun& run : r.plan.extractions) {
+      lines.push_back(format_message("  ", run.description, ": ",
+                                     run.single_camera ? "one camera" : "one camera per photo", ", SIFT at most ",
+                                     run.sift_max_image_size, " px", run.sift_upsample ? " (and 2x)" : ""));
+    }
   }
   if (!r.step_seconds.empty()) lines.push_back(step_times_text(r));
   lines.push_back("undistorted workspace: " + r.undistorted.string());

@@ -31,6 +31,7 @@ struct SfmPaths {
   std::filesystem::path thumbnails;  // NAME.jpg per usable photo, for the run report
   std::filesystem::path database;
   std::filesystem::path vocab_tree;
+  std::filesystem::path image_lists;  // the photos of each feature_extractor run
   std::filesystem::path sparse;
   std::filesystem::path undistorted;
   std::filesystem::path report;
@@ -52,12 +53,36 @@ struct SfmModelSummary {
   std::int64_t points = 0;
 };
 
+// A usable photo the model does not contain, and what COLMAP made of it.
+struct UnregisteredPhoto {
+  std::string name;
+  int best_matches = 0;  // most verified matches with any one other photo
+  int other_model = -1;  // the model it is in instead, -1 if none
+};
+
+// One camera of the model and its principal point after the final
+// adjustment: estimated, or the centre kept and why.
+struct CameraPrincipalPoint {
+  int camera_id = 0;
+  int width = 0;
+  int height = 0;
+  int images = 0;  // registered photos of the camera
+  bool estimated = false;
+  double offset_px = 0.0;  // from the image centre, when estimated
+  std::string reason;      // why the centre was kept; empty when estimated
+};
+
 struct SfmResult {
   std::filesystem::path undistorted;  // the undistorted workspace
   int images_given = 0;
   int images_registered = 0;
-  std::vector<std::string> unregistered;  // names of usable photos COLMAP did not register
-  std::vector<SkippedInput> skipped;      // files of the folder that were not usable
+  std::vector<std::string> unregistered;               // names of usable photos COLMAP did not register
+  std::vector<UnregisteredPhoto> unregistered_photos;  // the same, with what COLMAP made of them
+  // images_registered / images_given, and a warning text when below
+  // options' registered_warning_fraction (coverage_warning_text).
+  double registered_fraction = 0.0;
+  std::string coverage_warning;
+  std::vector<SkippedInput> skipped;  // files of the folder that were not usable
   std::int64_t points = 0;
   double mean_reprojection_error_px = 0.0;
   double mean_track_length = 0.0;
@@ -66,12 +91,16 @@ struct SfmResult {
   // over the cameras (pixels; 0 when not estimated), and whether the estimate
   // was kept (else the centre was).
   double principal_point_offset_px = 0.0;
-  bool principal_point_estimated = false;
-  std::vector<SfmModelSummary> models;  // every model COLMAP produced
+  bool principal_point_estimated = false;              // for at least one camera
+  std::vector<CameraPrincipalPoint> principal_points;  // per camera (empty when the step did not run)
+  std::vector<SfmModelSummary> models;                 // every model COLMAP produced
   int used_model = 0;
-  std::string matcher;  // plan.matcher, or "existing model"
-  SfmPlan plan;         // what COLMAP was asked to do (empty for an existing model)
-  bool single_camera = false;
+  std::string matcher;      // plan.matcher, or "existing model"
+  SfmPlan plan;             // what COLMAP was asked to do (empty for an existing model)
+  int cameras_planned = 0;  // cameras the feature extraction runs create
+  // Photos with a position prior in COLMAP's database after feature
+  // extraction; -1 when not checked (no photo had GPS EXIF).
+  int position_priors = -1;
   std::string colmap_version;
   // Step -> wall time: "prepare_images", then each COLMAP command.
   std::vector<std::pair<std::string, double>> step_seconds;
@@ -86,6 +115,15 @@ struct PrincipalPointOffset {
   double fraction = 0.0;
 };
 PrincipalPointOffset largest_principal_point_offset(const SparseModel& model);
+
+// Throws InputError naming the photo and both sizes when a registered
+// image of an existing model (--sparse) is not the size of its camera.
+void check_model_image_sizes(const SparseModel& model, const std::filesystem::path& images);
+
+// "only 3 of 12 photos (25%) registered: ..." with why the others did not
+// (a separate model, too few verified matches with any one photo, or
+// matched but not placed) and what to do.
+std::string coverage_warning_text(const SfmResult& result, int min_pose_inliers);
 
 // Runs the stage. Throws InputError (bad photo folder or model), StageError
 // (COLMAP missing or failed, too few images registered), Cancelled.

@@ -33,13 +33,23 @@ void register_options(OptionSet& set, SfmOptions& o) {
   set.add_choice("camera_model", o.camera_model, {"SIMPLE_PINHOLE", "PINHOLE", "SIMPLE_RADIAL", "RADIAL", "OPENCV"},
                  "COLMAP camera model estimated by the mapper");
   set.add_choice("camera_mode", o.camera_mode, {"auto", "single", "per_image"},
-                 "auto: one camera if all photos share size and EXIF focal length");
+                 "auto: one camera per group of photos sharing size, EXIF focal length, make and model; "
+                 "single: one per photo size; per_image: one per photo");
   set.add_choice("matcher", o.matcher, {"auto", "exhaustive", "vocab_tree", "sequential", "spatial"},
                  "auto: exhaustive up to exhaustive_max_images photos, then spatial (GPS EXIF) or a "
                  "vocabulary tree built from the photos; sequential for video frames");
   set.add("exhaustive_max_images", o.exhaustive_max_images, "largest photo count matched exhaustively by matcher=auto",
           2, 100000);
   set.add("sequential_overlap", o.sequential_overlap, "neighbours matched per frame (sequential)", 1, 1000);
+  set.add("video_max_frames", o.video_max_frames, "frames kept per video clip at most (evenly thinned beyond)", 3,
+          100000);
+  set.add("video_min_motion", o.video_min_motion,
+          "a video frame is kept once tracked features moved this fraction of the longer side (median) since the "
+          "last kept frame",
+          0.001, 1.0);
+  set.add("video_blur_ratio", o.video_blur_ratio,
+          "video frames sharper than this fraction of their neighbours' median sharpness only; 0 = keep blurred", 0.0,
+          1.0);
   set.add("vocab_tree_neighbors", o.vocab_tree_neighbors, "photos retrieved and matched per photo (vocab_tree)", 2,
           10000);
   set.add("vocab_tree_words", o.vocab_tree_words,
@@ -72,6 +82,10 @@ void register_options(OptionSet& set, SfmOptions& o) {
           "after mapping, estimate the principal point (COLMAP keeps the image centre); an estimate farther "
           "than this fraction of the longer side from the centre is discarded; 0 = keep the centre",
           0.0, 0.5);
+  set.add("principal_point_min_images", o.principal_point_min_images,
+          "estimate the principal point only of cameras shared by at least this many registered photos", 2, 1000000);
+  set.add("registered_warning_fraction", o.registered_warning_fraction,
+          "warn when fewer than this fraction of the usable photos registered", 0.0, 1.0);
   set.add("min_registered_images", o.min_registered_images, "fewer registered photos fail the stage", 3, 1000000);
   set.add("random_seed", o.random_seed, "COLMAP random seed (repeatable runs)", 0, 2147483647);
 }

@@ -13,8 +13,9 @@ struct SfmOptions {
   std::string colmap = "colmap";
   // COLMAP camera model for feature extraction (undistortion makes it PINHOLE).
   std::string camera_model = "SIMPLE_RADIAL";
-  // "auto": one shared camera when all photos have the same size and EXIF
-  // focal length; "single": always one; "per_image": one camera per photo.
+  // "auto": one camera per group of photos with the same size, EXIF focal
+  // length, make and model (sfm_plan.h, camera_groups); "single": one camera
+  // per photo size, EXIF ignored; "per_image": one camera per photo.
   std::string camera_mode = "auto";
   // How photo pairs are chosen for matching (sfm/sfm_plan.h):
   // "auto": exhaustive up to exhaustive_max_images photos; above that spatial
@@ -26,6 +27,15 @@ struct SfmOptions {
   // tree matched 251 of the 630 pairs in half the CPU time.
   int exhaustive_max_images = 30;
   int sequential_overlap = 10;  // neighbours matched per frame by the sequential matcher
+  // Video clips among the photos (sfm/video_frames.h): at most
+  // video_max_frames frames a clip (evenly thinned when more qualify); a
+  // frame is kept once the median tracked feature has moved video_min_motion
+  // of the longer image side since the last kept frame, unless its sharpness
+  // (variance of the Laplacian) is below video_blur_ratio of the median of
+  // its neighbours' (motion blur; 0 keeps blurred frames).
+  int video_max_frames = 120;
+  double video_min_motion = 0.05;
+  double video_blur_ratio = 0.6;
   // Vocabulary tree matching: photos retrieved (and matched) per photo, and
   // the tree's visual words (0 = auto: sfm_plan.h, vocab_tree_words_for).
   int vocab_tree_neighbors = 12;
@@ -73,6 +83,14 @@ struct SfmOptions {
   // centre is taken as unconstrained by the photos and discarded. 0 = keep
   // the centre.
   double principal_point_max_offset = 0.1;
+  // The principal point of a camera is estimated only when at least this
+  // many registered photos share it: one or two photos cannot tell a shifted
+  // centre from a turned camera (a per-photo estimate was 38.8 px off
+  // centre with a 3.9 degree rotation error). Other cameras keep the centre.
+  int principal_point_min_images = 5;
+  // A warning (terminal, report.json, run report) when fewer than this
+  // fraction of the usable photos registered.
+  double registered_warning_fraction = 0.9;
   int min_registered_images = 3;  // fewer registered photos is a failure
   int random_seed = 0;            // COLMAP's random seed, for repeatable runs
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "core/error.h"
+#include "core/reporter.h"
 
 namespace hos::sfm {
 namespace {
@@ -26,25 +27,64 @@ ColmapRunContext context() {
   return c;
 }
 
+PhotoSetFacts facts(int photos, int with_gps, int longest_side_px) {
+  CameraGroup group;
+  group.width = longest_side_px;
+  group.height = longest_side_px / 2;
+  for (int i = 0; i < photos; ++i) group.names.push_back(format_message("p", i, ".jpg"));
+  return {photos, with_gps, 0, {group}};
+}
+
 TEST(ColmapSteps, ExtractionIsBoundedAndUsesEveryCore) {
   const SfmOptions options;
-  const SfmPlan plan = plan_sfm({11, 0, 3072}, options);
-  const ColmapStep step = feature_extraction_step(context(), plan, options);
+  const SfmPlan plan = plan_sfm(facts(11, 0, 3072), options);
+  const ColmapStep step = feature_extraction_step(context(), plan.extractions.at(0), "lists/0.txt", plan, options);
   EXPECT_EQ(step.command, "feature_extractor");
   EXPECT_EQ(arg(step, "SiftExtraction.max_image_size"), "2400");
   EXPECT_EQ(arg(step, "SiftExtraction.first_octave"), "0");
   EXPECT_EQ(arg(step, "SiftExtraction.max_num_features"), "4096");
   EXPECT_EQ(arg(step, "SiftExtraction.num_threads"), "-1");
   EXPECT_EQ(arg(step, "SiftExtraction.use_gpu"), "0");
+  EXPECT_EQ(arg(step, "image_list_path"), "lists/0.txt");
+  EXPECT_EQ(arg(step, "ImageReader.single_camera"), "1");
+  EXPECT_EQ(step.total, 11);
   // Small photos keep COLMAP's upsampled first octave.
-  EXPECT_EQ(
-      arg(feature_extraction_step(context(), plan_sfm({36, 0, 800}, options), options), "SiftExtraction.first_octave"),
-      "-1");
+  const SfmPlan small = plan_sfm(facts(36, 0, 800), options);
+  EXPECT_EQ(arg(feature_extraction_step(context(), small.extractions.at(0), "l", small, options),
+                "SiftExtraction.first_octave"),
+            "-1");
+}
+
+// A run per camera group: each with its own size plan and camera rule.
+TEST(ColmapSteps, EachGroupIsExtractedWithItsOwnPlan) {
+  SfmOptions options;
+  std::vector<StagedImage> images(5);
+  for (int i = 0; i < 5; ++i) {
+    images[i].name = format_message("sub/dir/small", i, ".jpg");
+    images[i].width = 400;
+    images[i].height = 300;
+  }
+  images[4].name = "large.jpg";
+  images[4].width = 1600;
+  images[4].height = 1200;
+  const SfmPlan plan = plan_sfm(photo_set_facts(images, "auto"), options);
+  ASSERT_EQ(plan.extractions.size(), 2u);
+  // In the order of the groups' first names: large.jpg, then sub/...
+  const ColmapStep large = feature_extraction_step(context(), plan.extractions[0], "0.txt", plan, options);
+  const ColmapStep small = feature_extraction_step(context(), plan.extractions[1], "1.txt", plan, options);
+  EXPECT_EQ(arg(small, "SiftExtraction.first_octave"), "-1");
+  EXPECT_EQ(arg(small, "ImageReader.single_camera"), "1");
+  EXPECT_EQ(arg(large, "SiftExtraction.first_octave"), "0");
+  EXPECT_EQ(arg(large, "ImageReader.single_camera"), "0");
+  // Names from subfolders, one a line, relative to the image folder.
+  EXPECT_EQ(image_list_file_text(plan.extractions[1]),
+            "sub/dir/small0.jpg\nsub/dir/small1.jpg\nsub/dir/small2.jpg\nsub/dir/small3.jpg\n");
+  EXPECT_EQ(image_list_file_text(plan.extractions[0]), "large.jpg\n");
 }
 
 TEST(ColmapSteps, ExhaustiveMatchingIsOneCommandWithTheMatchCap) {
   const SfmOptions options;
-  const auto steps = matching_steps(context(), plan_sfm({11, 0, 3072}, options), options);
+  const auto steps = matching_steps(context(), plan_sfm(facts(11, 0, 3072), options), options);
   ASSERT_EQ(steps.size(), 1u);
   EXPECT_EQ(steps[0].command, "exhaustive_matcher");
   EXPECT_EQ(arg(steps[0], "SiftMatching.max_num_matches"), "2048");
@@ -54,7 +94,7 @@ TEST(ColmapSteps, ExhaustiveMatchingIsOneCommandWithTheMatchCap) {
 
 TEST(ColmapSteps, VocabularyTreeIsBuiltFromThePhotosFirst) {
   const SfmOptions options;
-  const SfmPlan plan = plan_sfm({100, 0, 800}, options);
+  const SfmPlan plan = plan_sfm(facts(100, 0, 800), options);
   const auto steps = matching_steps(context(), plan, options);
   ASSERT_EQ(steps.size(), 2u);
   EXPECT_EQ(steps[0].command, "vocab_tree_builder");
@@ -71,14 +111,19 @@ TEST(ColmapSteps, VocabularyTreeIsBuiltFromThePhotosFirst) {
 
 TEST(ColmapSteps, SpatialAndSequentialMatching) {
   SfmOptions options;
-  auto steps = matching_steps(context(), plan_sfm({100, 100, 4000}, options), options);
+  PhotoSetFacts with_gps = facts(100, 100, 4000);
+  auto steps = matching_steps(context(), plan_sfm(with_gps, options), options);
   ASSERT_EQ(steps.size(), 1u);
   EXPECT_EQ(steps[0].command, "spatial_matcher");
   EXPECT_EQ(arg(steps[0], "SpatialMatching.is_gps"), "1");
+  EXPECT_EQ(arg(steps[0], "SpatialMatching.ignore_z"), "0");
   EXPECT_EQ(arg(steps[0], "SpatialMatching.max_num_neighbors"), "20");
+  // Some photos without altitude (staged as altitude 0): height ignored.
+  with_gps.photos_without_altitude = 3;
+  EXPECT_EQ(arg(matching_steps(context(), plan_sfm(with_gps, options), options)[0], "SpatialMatching.ignore_z"), "1");
   options.matcher = "sequential";
   options.sequential_overlap = 7;
-  steps = matching_steps(context(), plan_sfm({100, 0, 800}, options), options);
+  steps = matching_steps(context(), plan_sfm(facts(100, 0, 800), options), options);
   ASSERT_EQ(steps.size(), 1u);
   EXPECT_EQ(steps[0].command, "sequential_matcher");
   EXPECT_EQ(arg(steps[0], "SequentialMatching.overlap"), "7");
@@ -102,12 +147,14 @@ TEST(ColmapSteps, MapperAdjustsOnBothCoresAndLessOften) {
 }
 
 TEST(ColmapSteps, PrincipalPointStepAdjustsTheMappedModelIntoAnotherFolder) {
-  const ColmapStep step = principal_point_step("ws/sfm/sparse/0", "ws/sfm/sparse/principal_point");
+  const ColmapStep step = principal_point_step("ws/sfm/sparse/0", "ws/sfm/sparse/principal_point", true);
   EXPECT_EQ(step.command, "bundle_adjuster");
   EXPECT_EQ(arg(step, "input_path"), "ws/sfm/sparse/0");
   EXPECT_EQ(arg(step, "output_path"), "ws/sfm/sparse/principal_point");
   EXPECT_EQ(arg(step, "BundleAdjustment.refine_principal_point"), "1");
   EXPECT_EQ(arg(step, "BundleAdjustment.refine_focal_length"), "1");
+  // The second adjustment, around principal points that were reset.
+  EXPECT_EQ(arg(principal_point_step("a", "b", false), "BundleAdjustment.refine_principal_point"), "0");
 }
 
 }  // namespace
