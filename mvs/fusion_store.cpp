@@ -3,6 +3,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <string>
 #include <system_error>
@@ -90,10 +93,22 @@ void FusionViewStore::fit_budget(const std::vector<bool>& pinned, std::size_t in
 }
 
 // A new folder of the store's own (mkdtemp), so that stores never share one.
+// The system's temporary folder is looked up only now: a TMPDIR that cannot
+// be used costs nothing while every map fits in memory.
 void FusionViewStore::make_spill_folder() {
-  std::string name = (spill_parent_ / "hos-mvs-fusion-XXXXXX").string();
+  if (!spill_folder_.empty()) return;
+  const char* tmpdir = std::getenv("TMPDIR");
+  const bool from_tmpdir = spill_parent_.empty() && tmpdir != nullptr && *tmpdir != '\0';
+  const std::filesystem::path parent =
+      !spill_parent_.empty() ? spill_parent_ : std::filesystem::path(from_tmpdir ? tmpdir : "/tmp");
+  std::string name = (parent / "hos-mvs-fusion-XXXXXX").string();
   if (mkdtemp(name.data()) == nullptr) {
-    throw OutputError(spill_parent_.string(), "cannot make a folder for fusion's spilled depth maps");
+    const std::string reason =
+        "cannot make a folder for fusion's spilled depth maps in it: " + std::string(std::strerror(errno));
+    if (!from_tmpdir) throw OutputError(parent.string(), reason);
+    throw OutputError(parent.string(), reason +
+                                           "; the environment variable TMPDIR names this folder: set TMPDIR to a "
+                                           "writable folder, or raise mvs.fusion_memory_mb so that nothing spills");
   }
   spill_folder_ = name;
 }
@@ -104,7 +119,7 @@ void FusionViewStore::spill(std::size_t i) {
   Slot& slot = slots_[i];
   FusionView& view = views_[i];
   if (!slot.on_disk) {
-    if (spill_folder_.empty()) make_spill_folder();
+    make_spill_folder();
     const auto file = spill_file(i);
     std::ofstream out(file, std::ios::binary);
     for (const cv::Mat* m : spilled_mats(view)) write_raw_mat(out, *m);

@@ -25,17 +25,24 @@ double fusion_peak_bytes(const MvsOptions& options, double pixels, int views);
 class FusionViewStore {
  public:
   // budget_bytes 0: no limit (nothing is spilled). The spill folder is made
-  // in spill_parent on the first spill and removed with the store.
-  FusionViewStore(std::size_t budget_bytes, std::filesystem::path spill_parent);
+  // in spill_parent on the first spill and removed with the store; an empty
+  // spill_parent is the system's temporary folder (TMPDIR, else /tmp),
+  // looked up on the first spill, so an unusable TMPDIR matters only then.
+  FusionViewStore(std::size_t budget_bytes, std::filesystem::path spill_parent = {});
   ~FusionViewStore();
   FusionViewStore(const FusionViewStore&) = delete;
   FusionViewStore& operator=(const FusionViewStore&) = delete;
 
   // Appends a view with its maps; spills others if over the budget. Throws
-  // OutputError naming the spill folder's parent or a spill file that
-  // cannot be made or written.
+  // OutputError naming the spill folder's parent (and TMPDIR when it named
+  // it) or a spill file that cannot be made or written.
   void add(FusionView view);
   std::size_t size() const { return views_.size(); }
+
+  // Makes the spill folder now (it is made on the first spill otherwise),
+  // for a caller that knows the views will not fit: an unusable folder is
+  // then named before the work that fills the store. Throws as add.
+  void make_spill_folder();
 
   // Makes the maps of `held` resident and keeps them so until the next call
   // (the budget is exceeded when they alone do not fit). Throws InputError
@@ -61,7 +68,6 @@ class FusionViewStore {
   };
   static std::size_t bytes_of(const Slot& slot);
   std::filesystem::path spill_file(std::size_t i) const;
-  void make_spill_folder();
   void spill(std::size_t i);
   void read_back(std::size_t i);
   void fit_budget(const std::vector<bool>& pinned, std::size_t incoming);

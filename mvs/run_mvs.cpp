@@ -1,6 +1,7 @@
 #include "mvs/run_mvs.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <functional>
@@ -303,8 +304,26 @@ void match_views(const UndistortedWorkspace& workspace,
 struct FusionInput {
   FusionViewStore store;
   std::vector<std::size_t> plan_index;
-  explicit FusionInput(const MvsOptions& options)
-      : store(static_cast<std::size_t>(options.fusion_memory_mb) << 20U, std::filesystem::temp_directory_path()) {}
+  FusionInput(const MvsOptions& options, const UndistortedWorkspace& workspace, const MvsPlan& plan)
+      : store(static_cast<std::size_t>(options.fusion_memory_mb) << 20U) {
+    // Maps that will not all fit spill: a spill folder that cannot be made
+    // is named now rather than after the depth maps.
+    if (options.fusion_memory_mb > 0 &&
+        finest_map_bytes(workspace, plan) > double(options.fusion_memory_mb) * (1 << 20)) {
+      store.make_spill_folder();
+    }
+  }
+  // The store's bytes for every matched view's finest maps.
+  static double finest_map_bytes(const UndistortedWorkspace& workspace, const MvsPlan& plan) {
+    double pixels = 0;
+    for (const ViewPlan& view : plan.views) {
+      if (view.skipped) continue;
+      const Camera& camera = workspace.model.camera_of(*view.image);
+      const double scale = std::min(1.0, double(plan.sizes.back()) / std::max(camera.width, camera.height));
+      pixels += std::round(camera.width * scale) * std::round(camera.height * scale);
+    }
+    return pixels * fusion_bytes_per_pixel();
+  }
   void add(std::size_t view, const MvsView& ref, const DepthMap& map) {
     store.add(make_fusion_view(ref, map));
     plan_index.push_back(view);
@@ -360,7 +379,7 @@ MvsResult run_mvs(const UndistortedWorkspace& workspace,
   MvsResult result;
   const MvsPlan plan = make_plan(workspace, options, reporter, result.stats);
   if (!depth_map_folder.empty()) std::filesystem::create_directories(depth_map_folder);
-  FusionInput fusion(options);
+  FusionInput fusion(options, workspace, plan);
   match_views(workspace, options, plan, std::vector<bool>(plan.views.size(), true), reporter, result.stats,
               [&](std::size_t i, const MvsView& ref, const DepthMap& map) {
                 if (!depth_map_folder.empty()) write_depth_map(depth_map_folder, plan.views[i].image->name, map);
@@ -397,7 +416,7 @@ MvsResult fuse_depth_map_folder(const UndistortedWorkspace& workspace,
                                 const std::filesystem::path& folder) {
   MvsResult result;
   const MvsPlan plan = make_plan(workspace, options, reporter, result.stats);
-  FusionInput fusion(options);
+  FusionInput fusion(options, workspace, plan);
   reporter.begin("reading depth maps", static_cast<std::int64_t>(plan.views.size()));
   for (std::size_t i = 0; i < plan.views.size(); ++i) {
     const ViewPlan& view = plan.views[i];

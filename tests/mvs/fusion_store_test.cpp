@@ -3,12 +3,18 @@
 #include "mvs/fusion_store.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <optional>
 #include <string>
 
 #include "core/error.h"
+#include "mvs/run_mvs.h"
+#include "tests/mvs/synthetic_workspace.h"
 #include "tests/support/test_support.h"
 
 namespace hos::mvs {
@@ -99,6 +105,95 @@ TEST(FusionViewStore, AMissingSpillFolderIsNamed) {
   } catch (const OutputError& e) {
     EXPECT_NE(std::string(e.what()).find(missing.string()), std::string::npos) << e.what();
   }
+}
+
+// TMPDIR set for the scope of a test, restored after it.
+class ScopedTmpdir {
+ public:
+  explicit ScopedTmpdir(const std::string& value) {
+    if (const char* old = std::getenv("TMPDIR")) old_ = old;
+    ::setenv("TMPDIR", value.c_str(), 1);
+  }
+  ~ScopedTmpdir() {
+    if (old_) {
+      ::setenv("TMPDIR", old_->c_str(), 1);
+    } else {
+      ::unsetenv("TMPDIR");
+    }
+  }
+  ScopedTmpdir(const ScopedTmpdir&) = delete;
+  ScopedTmpdir& operator=(const ScopedTmpdir&) = delete;
+
+ private:
+  std::optional<std::string> old_;
+};
+
+std::string spill_error(FusionViewStore& store) {
+  try {
+    for (int i = 0; i < 2; ++i) store.add(noise_view(i));
+  } catch (const OutputError& e) {
+    return e.what();
+  }
+  return "<no OutputError>";
+}
+
+TEST(FusionViewStore, AMissingTmpdirMattersOnlyWhenSomethingSpills) {
+  const hos::testing::TempDir parent;
+  const auto missing = parent.path() / "gone";
+  const ScopedTmpdir tmpdir(missing.string());
+  FusionViewStore fits(2 * view_bytes());
+  for (int i = 0; i < 2; ++i) fits.add(noise_view(i));
+  EXPECT_EQ(fits.spilled_views(), 0);
+
+  FusionViewStore spills(view_bytes());
+  const std::string message = spill_error(spills);
+  EXPECT_NE(message.find("TMPDIR"), std::string::npos) << message;
+  EXPECT_NE(message.find(missing.string()), std::string::npos) << message;
+  EXPECT_NE(message.find("No such file or directory"), std::string::npos) << message;
+}
+
+TEST(FusionViewStore, ATmpdirThatIsAFileIsNamed) {
+  const hos::testing::TempDir parent;
+  const auto file = parent.path() / "a_file";  // unusable even for root
+  std::ofstream(file) << "not a folder";
+  const ScopedTmpdir tmpdir(file.string());
+  FusionViewStore store(view_bytes());
+  const std::string message = spill_error(store);
+  EXPECT_NE(message.find("TMPDIR"), std::string::npos) << message;
+  EXPECT_NE(message.find(file.string()), std::string::npos) << message;
+  EXPECT_NE(message.find("Not a directory"), std::string::npos) << message;
+}
+
+TEST(FusionViewStore, AReadOnlyTmpdirIsNamed) {
+  const hos::testing::TempDir parent;
+  const auto read_only = parent.path() / "read_only";
+  std::filesystem::create_directory(read_only);
+  std::filesystem::permissions(read_only, std::filesystem::perms::owner_read | std::filesystem::perms::owner_exec);
+  if (::access(read_only.c_str(), W_OK) == 0) GTEST_SKIP() << "this user may write to a read-only folder";
+  const ScopedTmpdir tmpdir(read_only.string());
+  FusionViewStore store(view_bytes());
+  const std::string message = spill_error(store);
+  EXPECT_NE(message.find("TMPDIR"), std::string::npos) << message;
+  EXPECT_NE(message.find("Permission denied"), std::string::npos) << message;
+}
+
+// Depth maps that will not fit the budget: an unusable TMPDIR is named
+// before the first of them is computed, not after the last.
+TEST(FusionViewStore, RunMvsNamesAnUnusableTmpdirBeforeTheDepthMaps) {
+  const auto& scene = mvs_testing::synthetic_workspace();  // 12 views of 320x240: 12 MB of maps
+  const hos::testing::TempDir dir;
+  const auto missing = dir.path() / "gone";
+  const ScopedTmpdir tmpdir(missing.string());
+  MvsOptions options;
+  options.fusion_memory_mb = 1;
+  try {
+    run_mvs(scene.workspace, options, null_reporter(), dir.path() / "depth_maps");
+    FAIL() << "spilling into a TMPDIR that does not exist succeeded";
+  } catch (const OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find("TMPDIR"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(missing.string()), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path() / "depth_maps"));
 }
 
 TEST(FusionViewStore, ALostSpillFileIsNamedWhenReadBack) {
