@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <fstream>
 #include <sstream>
 
@@ -91,6 +92,48 @@ TEST(PipelineConfig, ResolvedConfigReadsBackUnchanged) {
   for (const auto& stage : config.available_stages()) {
     EXPECT_EQ(reread.section_yaml(stage), config.section_yaml(stage)) << stage;
   }
+}
+
+TEST(PipelineConfig, NestedAliasesAreRefusedAtOnce) {
+  hos::testing::TempDir dir;
+  // 9^9 values from a few hundred bytes: refused before anything walks them.
+  std::string yaml = "recon:\n  a: &a [x, x, x, x, x, x, x, x, x]\n";
+  std::string before = "a";
+  for (const std::string name : {"b", "c", "d", "e", "f", "g", "h", "i"}) {
+    yaml += "  " + name + ": &" + name + " [*" + before;
+    for (int i = 1; i < 9; ++i) yaml += ", *" + before;
+    yaml += "]\n";
+    before = name;
+  }
+  std::ofstream(dir / "c.yaml") << yaml;
+  PipelineConfig config;
+  const auto start = std::chrono::steady_clock::now();
+  const std::string message = config_error([&] { config.apply_file((dir / "c.yaml").string()); });
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0.5);
+  EXPECT_THAT(message, HasSubstr("c.yaml"));
+  EXPECT_THAT(message, HasSubstr("aliases"));
+}
+
+TEST(PipelineConfig, ASecondDocumentIsRefused) {
+  hos::testing::TempDir dir;
+  std::ofstream(dir / "c.yaml") << "sfm:\n  matcher: exhaustive\n---\nrecon:\n  lambda: 0.3\n";
+  PipelineConfig config;
+  const std::string message = config_error([&] { config.apply_file((dir / "c.yaml").string()); });
+  EXPECT_THAT(message, HasSubstr("second YAML document"));
+  EXPECT_THAT(message, HasSubstr("line 4"));
+}
+
+TEST(PipelineConfig, SignedNumbersApplyAndUnderflowIsNamed) {
+  hos::testing::TempDir dir;
+  std::ofstream(dir / "c.yaml") << "recon:\n  lambda: +0.3\n";
+  PipelineConfig config;
+  config.apply_file((dir / "c.yaml").string());
+  EXPECT_THAT(config.section_yaml("recon"), HasSubstr("lambda: 0.3"));
+  std::ofstream(dir / "tiny.yaml") << "recon:\n  lambda: 1e-400\n";
+  const std::string message = config_error([&] { config.apply_file((dir / "tiny.yaml").string()); });
+  EXPECT_THAT(message, HasSubstr("recon.lambda"));
+  EXPECT_THAT(message, HasSubstr("tiny.yaml, line 2"));
+  EXPECT_THAT(message, HasSubstr("underflows"));
 }
 
 // Top-level sections of a config text: "name:" -> the lines under it.
