@@ -310,6 +310,7 @@ DriverResult run_pipeline(const DriverOptions& options, Reporter& reporter) {
   const StageRange range = select_stages(options);
   const PipelineConfig config = load_config(options);
   check_executables(options, range);
+  if (options.executor == "slurm") check_slurm_available();  // before the workspace is made
   const auto& specs = pipeline_stages();
   if (range.last == specs.size() - 1) check_writable_target(options.output);
 

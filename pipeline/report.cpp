@@ -86,6 +86,10 @@ void write_summary(std::ostream& html, const RunRecord& record, const StagePaths
   const Failure failure = find_failure(record);
   html << "<h1>hos run report</h1>\n<p>photos: <code>" << html_escape(relative_to_page(record.photos, paths))
        << "</code><br>result: <code>" << html_escape(relative_to_page(record.output, paths)) << "</code></p>\n";
+  if (record.stages.empty()) {
+    html << "<p id=\"outcome\">No stage has run in this workspace yet.</p>\n";
+    return;
+  }
   if (failure.stage.empty()) {
     html << "<p class=\"ok\" id=\"outcome\">The run finished.</p>\n";
     return;
@@ -267,8 +271,10 @@ div[id^=plot-] { display: inline-block; margin: 0.5em; }
 std::string run_report_html(const fs::path& workspace, const ReportOptions& options) {
   const StagePaths paths(workspace);
   std::error_code ec;
-  if (!fs::is_regular_file(paths.run_record, ec)) {
-    throw InputError(workspace.string(), "has no run.json: not a hos-pipeline workspace");
+  // hos-pipeline writes config.yaml before the first stage and run.json as
+  // it starts one: a workspace with only the first has run nothing yet.
+  if (!fs::is_regular_file(paths.run_record, ec) && !fs::is_regular_file(paths.config, ec)) {
+    throw InputError(workspace.string(), "has neither run.json nor config.yaml: not a hos-pipeline workspace");
   }
   const RunRecord record = load_run_record(paths.run_record);
   const nlohmann::json sfm_report = read_json_or_empty(paths.sfm_report);

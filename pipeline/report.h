@@ -15,11 +15,12 @@ struct ReportOptions {
   std::filesystem::path viewer_script;
 };
 
-// The page's HTML. Throws InputError if WS has no run.json.
+// The page's HTML. Throws InputError if WS has neither run.json nor
+// config.yaml (a workspace where no stage has run yet has only the second).
 std::string run_report_html(const std::filesystem::path& workspace, const ReportOptions& options = {});
 
 // Writes WS/report.html atomically and returns its path. Throws InputError
-// (no run.json), OutputError (cannot write).
+// (as run_report_html), OutputError (cannot write).
 std::filesystem::path write_run_report(const std::filesystem::path& workspace, const ReportOptions& options = {});
 
 }  // namespace hos::pipeline

@@ -629,6 +629,26 @@ SlurmOptions parse_slurm_options(const std::vector<std::string>& items) {
   return o;
 }
 
+void check_slurm_available() {
+  std::string missing;
+  for (const char* program : {"sbatch", "squeue", "scancel", "sinfo"}) {
+    if (find_executable(program).empty()) missing += (missing.empty() ? "" : ", ") + std::string(program);
+  }
+  if (!missing.empty()) {
+    throw ConfigError("--executor slurm", "Slurm's commands are not on PATH (missing: " + missing +
+                                              "); run on a machine of the cluster, install its client commands "
+                                              "(Debian: slurm-client), or use --executor local");
+  }
+  // sinfo asks the controller, as every later squeue and sbatch will.
+  const CommandOutput out = run_command({"sinfo", "--noheader", "--format=%P"});
+  if (out.exit_code != 0) {
+    throw ConfigError("--executor slurm", "sinfo cannot reach the Slurm controller (exit code " +
+                                              std::to_string(out.exit_code) + "): " + trimmed(out.text) +
+                                              "; check that slurmctld runs and that this machine's Slurm "
+                                              "configuration names it, or use --executor local");
+  }
+}
+
 bool run_on_slurm(const DriverOptions& driver,
                   const SlurmOptions& options,
                   std::size_t first,

@@ -55,6 +55,11 @@ struct SlurmOptions {
 // ones) or a bad value.
 SlurmOptions parse_slurm_options(const std::vector<std::string>& items);
 
+// Checks that Slurm can take jobs from here: sbatch, squeue, scancel and
+// sinfo are on PATH and sinfo reaches the controller. Throws ConfigError
+// saying which is missing, with sinfo's own message.
+void check_slurm_available();
+
 // Submits (or resumes) the stages first..last of pipeline_stages() on Slurm
 // and, with options.wait, waits for them and records each stage as done
 // (figures and fingerprints as a local run would, so a later local run finds

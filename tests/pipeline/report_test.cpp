@@ -245,10 +245,23 @@ TEST(RunReport, InterruptedRunIsNamed) {
   EXPECT_TRUE(contains(html, "id=\"failed-stage\">mvs</b>: it was interrupted"));
 }
 
-TEST(RunReport, WorkspaceWithoutRunRecordIsAnInputError) {
+TEST(RunReport, FolderThatIsNoWorkspaceIsAnInputError) {
   hos::testing::TempDir dir;
   EXPECT_THROW(write_run_report(dir.path()), InputError);
   EXPECT_FALSE(fs::exists(dir.path() / "report.html"));
+}
+
+// hos-pipeline writes config.yaml before the first stage: a run that stopped
+// before it (a Slurm that cannot be reached, a full disk) has only that.
+TEST(RunReport, WorkspaceWhereNothingRanYetSaysSo) {
+  hos::testing::TempDir dir;
+  const StagePaths paths(dir.path());
+  std::ofstream(paths.config) << "recon:\n  lambda: 0.2\n";
+  const std::string html = run_report_html(dir.path());
+  EXPECT_TRUE(contains(html, "No stage has run in this workspace yet")) << html;
+  EXPECT_FALSE(contains(html, "The run finished"));
+  EXPECT_TRUE(contains(html, "<td>sfm</td><td>not run</td>"));
+  EXPECT_TRUE(fs::exists(write_run_report(dir.path())));
 }
 
 TEST(SvgPlot, EscapesText) { EXPECT_EQ(html_escape("a<b & \"c\">"), "a&lt;b &amp; &quot;c&quot;&gt;"); }

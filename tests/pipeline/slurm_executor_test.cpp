@@ -10,6 +10,7 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <sstream>
 
@@ -47,6 +48,10 @@ exit 0
 constexpr const char* kFakeSacct = R"(#!/bin/sh
 cat "$HOS_FAKE_SLURM/sacct.txt" 2>/dev/null
 exit 0
+)";
+// sinfo answers a partition, as a reachable controller does.
+constexpr const char* kFakeSinfo = R"(#!/bin/sh
+echo debug
 )";
 constexpr const char* kFakeScancel = R"(#!/bin/sh
 echo "$*" >> "$HOS_FAKE_SLURM/scancel.log"
@@ -91,6 +96,7 @@ class SlurmExecutorTest : public ::testing::Test {
     write_executable(fake_ / "squeue", kFakeSqueue);
     write_executable(fake_ / "sacct", kFakeSacct);
     write_executable(fake_ / "scancel", kFakeScancel);
+    write_executable(fake_ / "sinfo", kFakeSinfo);
     for (const char* exe : {"hos-sfm", "hos-mvs", "hos-recon", "hos-refine", "hos-texture"}) {
       write_executable(bin_ / exe, kFakeStage);
     }
@@ -496,6 +502,36 @@ TEST_F(SlurmExecutorTest, UnknownExecutorOrExecutorOptionsOfTheLocalOneAreConfig
   EXPECT_THROW(run_pipeline(options_, log_), ConfigError);
   options_.executor = "local";
   EXPECT_THROW(run_pipeline(options_, log_), ConfigError);  // executor_options given
+  EXPECT_FALSE(fs::exists(fake_ / "sbatch.log"));
+}
+
+std::string config_error_of(const std::function<void()>& run) {
+  try {
+    run();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "<no ConfigError>";
+}
+
+TEST_F(SlurmExecutorTest, SlurmCommandsNotOnPathAreAConfigErrorBeforeTheWorkspace) {
+  fs::remove(fake_ / "sbatch");
+  // Only the fake commands: a Slurm installed on this machine must not count.
+  setenv("PATH", fake_.c_str(), 1);
+  const std::string message = config_error_of([&] { run_pipeline(options_, log_); });
+  EXPECT_THAT(message, HasSubstr("not on PATH (missing: sbatch)"));
+  EXPECT_FALSE(fs::exists(ws()));
+}
+
+TEST_F(SlurmExecutorTest, AnUnreachableControllerIsAConfigErrorBeforeTheWorkspace) {
+  write_executable(fake_ / "sinfo", R"sh(#!/bin/sh
+echo "sinfo: error: Unable to contact slurm controller (connect failure)" >&2
+exit 1
+)sh");
+  const std::string message = config_error_of([&] { run_pipeline(options_, log_); });
+  EXPECT_THAT(message, HasSubstr("cannot reach the Slurm controller"));
+  EXPECT_THAT(message, HasSubstr("Unable to contact slurm controller"));
+  EXPECT_FALSE(fs::exists(ws()));
   EXPECT_FALSE(fs::exists(fake_ / "sbatch.log"));
 }
 
