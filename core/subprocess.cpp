@@ -73,6 +73,8 @@ class LineSplitter {
   std::string pending_;
 };
 
+double seconds_of(const timeval& t) { return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec) * 1e-6; }
+
 }  // namespace
 
 std::string find_executable(const std::string& program) {
@@ -185,6 +187,7 @@ ProcessResult run_process(const ProcessOptions& options) {
     ::close(out_pipe[0]);
   }
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.cpu_seconds = seconds_of(usage.ru_utime) + seconds_of(usage.ru_stime);
   result.peak_rss_bytes = static_cast<std::int64_t>(usage.ru_maxrss) * 1024;  // Linux: kilobytes
   if (exec_failed) {
     throw StageError(options.argv[0], "cannot execute " + program + ": " + std::strerror(exec_errno));

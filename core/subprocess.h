@@ -1,6 +1,6 @@
 // Running an external program (COLMAP, a stage executable) as a child
 // process: output captured line by line or passed through, cooperative
-// cancellation, exit status, wall time and peak memory of the child.
+// cancellation, exit status, wall and CPU time and peak memory of the child.
 #pragma once
 
 #include <cstdint>
@@ -33,6 +33,10 @@ struct ProcessResult {
   int signal = 0;          // signal that ended the child, 0 if it exited
   bool cancelled = false;  // we stopped it because cancellation was requested
   double wall_seconds = 0.0;
+  // User plus system CPU time of the child and the processes it waited for
+  // (wait4's rusage): on a shared machine the figure that does not depend
+  // on the load.
+  double cpu_seconds = 0.0;
   std::int64_t peak_rss_bytes = 0;  // of the child and the processes it waited for
   bool ok() const { return exit_code == 0 && !cancelled; }
 };

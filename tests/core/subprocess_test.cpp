@@ -48,6 +48,25 @@ TEST(Subprocess, MissingProgramIsStageErrorNamingIt) {
   EXPECT_FALSE(find_executable("sh").empty());
 }
 
+// CPU time counts the child and what it waited for, and never more than
+// its cores could give in its wall time.
+TEST(Subprocess, CpuTimeOfTheChildAndItsChildren) {
+  ProcessOptions options;
+  // The work runs in a grandchild: only a count that includes the processes
+  // the child waited for sees it.
+  options.argv = {"sh", "-c", "sh -c 'i=0; while [ $i -lt 200000 ]; do i=$((i + 1)); done'"};
+  const ProcessResult result = run_process(options);
+  ASSERT_TRUE(result.ok());
+  EXPECT_GT(result.cpu_seconds, 0.05);
+  const double cores = std::thread::hardware_concurrency();
+  EXPECT_LE(result.cpu_seconds, result.wall_seconds * cores + 0.05);
+
+  options.argv = {"sleep", "0.3"};
+  const ProcessResult idle = run_process(options);
+  EXPECT_GE(idle.wall_seconds, 0.3);
+  EXPECT_LT(idle.cpu_seconds, 0.1) << "sleeping costs no CPU";
+}
+
 class FlagReporter : public Reporter {
  public:
   bool cancel_requested() const override { return flag.load(); }
