@@ -14,6 +14,7 @@
 #include "core/colmap_io.h"
 #include "core/error.h"
 #include "core/exit_codes.h"
+#include "core/json_report.h"
 #include "core/ply_io.h"
 #include "eval/alignment.h"
 #if HOS_EVAL_HAS_RENDER
@@ -90,7 +91,7 @@ struct Output {
         std::any_of(json_options.begin(), json_options.end(), [](CLI::Option* o) { return o->count() > 0; });
     if (json_requested && json_path.empty()) {
       std::cerr << table;
-      std::cout << j.dump(2) << "\n";
+      std::cout << hos::json_text(j) << "\n";
       return;
     }
     std::cout << table;
@@ -99,7 +100,7 @@ struct Output {
       if (fs::path(json_path).has_parent_path()) fs::create_directories(fs::path(json_path).parent_path());
       hos::write_atomically(json_path, [&](const fs::path& tmp) {
         std::ofstream out(tmp);
-        out << j.dump(2) << "\n";
+        out << hos::json_text(j) << "\n";
         if (!out) throw hos::OutputError(json_path, "could not write");
       });
     }

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_file.h"
@@ -32,9 +33,17 @@ inline Histogram histogram_from_json(const nlohmann::json& j) {
   return h;
 }
 
+// j as indented JSON text. File names are bytes, not always UTF-8 (Latin-1
+// from an unzipped Windows archive): such bytes become U+FFFD instead of
+// nlohmann's exception.
+template <typename Json>
+std::string json_text(const Json& j, int indent = 2) {
+  return j.dump(indent, ' ', false, Json::error_handler_t::replace);
+}
+
 // Writes j (indented) atomically; throws OutputError.
 inline void write_json_report(const std::filesystem::path& path, const nlohmann::ordered_json& j) {
-  const std::string text = j.dump(2);
+  const std::string text = json_text(j);
   write_atomically(path, [&](const std::filesystem::path& tmp) {
     std::ofstream out(tmp);
     out << text << "\n";
