@@ -2,6 +2,7 @@
 // folder (layout: synth/dataset.h, docs/synth.md).
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <vector>
 
 #include "apps/stage_main.h"
 #include "core/exit_codes.h"
@@ -32,6 +33,13 @@ int main(int argc, char** argv) {
   app.add_option("--holdout", options.holdout, "extra held-out views under holdout/");
   app.add_option("--points", options.num_points, "ground-truth sparse points to write");
   app.add_option("--exposure-gains", options.exposure_gains, "per-view exposure gains (one per view)")->delimiter(',');
+  app.add_option("--tilt", options.tilt_deg, "turn every camera up (positive) or down by this many degrees");
+  std::vector<double> gps;
+  app.add_option("--gps", gps,
+                 "LAT,LON,ALT: write the views' true positions as GPS EXIF, the scene origin here (--jpeg)")
+      ->delimiter(',')
+      ->expected(3);
+  app.add_option("--metres-per-unit", options.metres_per_unit, "metres of a scene unit for --gps");
   app.add_option("--progress", flags.progress, "auto|bar|plain|json|none");
   app.add_option("--log", flags.log_file, "log file");
   app.add_flag("--verbose", flags.verbose, "show debug messages");
@@ -41,6 +49,7 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? hos::kExitSuccess : hos::kExitUsage;
   }
 
+  if (!gps.empty()) options.gps_origin = hos::GeoPosition{gps[0], gps[1], gps[2]};
   return hos::apps::run_stage_main("synth", flags, [&](hos::Reporter& reporter) {
     scene_options.validate();
     options.validate();

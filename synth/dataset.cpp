@@ -15,6 +15,7 @@
 #include "core/colmap_io.h"
 #include "core/error.h"
 #include "core/ply_io.h"
+#include "synth/geo_tags.h"
 
 namespace hos::synth {
 namespace fs = std::filesystem;
@@ -35,6 +36,18 @@ ImageRecord look_at(int id, const Eigen::Vector3d& centre, const Eigen::Vector3d
   image.camera_id = 1;
   image.cam_from_world_rotation = Eigen::Quaterniond(R).normalized();
   image.cam_from_world_translation = -R * centre;
+  return image;
+}
+
+// The camera turned about its x axis, its view up by tilt_deg (its centre
+// kept): the rotation by -tilt about x takes its z axis towards -y, up.
+ImageRecord tilted(ImageRecord image, double tilt_deg) {
+  if (tilt_deg == 0.0) return image;
+  const Eigen::Vector3d centre = image.center();
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(-tilt_deg * kPi / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Matrix3d rotation = turn * image.rotation();
+  image.cam_from_world_rotation = Eigen::Quaterniond(rotation).normalized();
+  image.cam_from_world_translation = -rotation * centre;
   return image;
 }
 
@@ -204,6 +217,10 @@ void DatasetOptions::validate() const {
   if (num_points < 0) throw ConfigError("num_points", "must be >= 0");
   if (!exposure_gains.empty() && static_cast<int>(exposure_gains.size()) != num_views)
     throw ConfigError("exposure_gains", "needs one gain per view");
+  if (!(std::abs(tilt_deg) <= 60.0)) throw ConfigError("tilt_deg", "must be within -60..60 degrees");
+  if (gps_origin && !jpeg) throw ConfigError("gps", "GPS EXIF needs JPEG views (--jpeg)");
+  if (!(metres_per_unit > 0) || !std::isfinite(metres_per_unit))
+    throw ConfigError("metres_per_unit", "must be a positive number");
   for (const float g : exposure_gains)
     if (!(g > 0) || !std::isfinite(g)) throw ConfigError("exposure_gains", "gains must be positive");
 }
@@ -235,7 +252,7 @@ std::vector<ImageRecord> place_cameras(const Scene& scene, const DatasetOptions&
     ImageRecord probe = look_at(0, ring_position(scene, 1.0, elevation, azimuth), target, up);
     probe.cam_from_world_translation = -(probe.rotation() * target);
     const double distance = fit_distance(scene, probe, camera);
-    images.push_back(look_at(0, ring_position(scene, distance, elevation, azimuth), target, up));
+    images.push_back(tilted(look_at(0, ring_position(scene, distance, elevation, azimuth), target, up), o.tilt_deg));
   }
   return images;
 }
@@ -313,7 +330,13 @@ void write_dataset(const fs::path& folder,
   write_folder_atomically(folder, [&](const fs::path& tmp) {
     fs::create_directories(tmp / "images");
     std::size_t i = 0;
-    for (const auto& [id, image] : data.model.images) write_image(tmp / "images" / image.name, data.views[i++].color);
+    for (const auto& [id, image] : data.model.images) {
+      write_image(tmp / "images" / image.name, data.views[i++].color);
+      if (o.gps_origin) {
+        write_gps_exif(tmp / "images" / image.name,
+                       scene_gps_position(image.center(), *o.gps_origin, o.metres_per_unit));
+      }
+    }
     write_colmap_model(data.model, tmp / "sparse", ColmapFormat::kText);
     auto stem = [](std::size_t k) { return fs::path(view_name(static_cast<int>(k), false)).stem().string(); };
     if (o.write_depth) {
@@ -351,6 +374,12 @@ void write_dataset(const fs::path& folder,
                          {"bbox_max", vec_json(b.max)}});
     }
     const render::Lighting lighting;
+    nlohmann::json gps_origin;  // null without GPS
+    if (o.gps_origin) {
+      gps_origin = {{"latitude_deg", o.gps_origin->latitude_deg},
+                    {"longitude_deg", o.gps_origin->longitude_deg},
+                    {"altitude_m", o.gps_origin->altitude_m.value_or(0.0)}};
+    }
     const nlohmann::json json = {{"seed", scene_options.seed},
                                  {"scene", scene_options.name},
                                  {"ground_plane", scene_options.ground_plane},
@@ -371,6 +400,9 @@ void write_dataset(const fs::path& folder,
                                  {"focal", focal_of(o)},
                                  {"supersampling", o.supersampling},
                                  {"exposure_gains", o.exposure_gains},
+                                 {"tilt_deg", o.tilt_deg},
+                                 {"gps_origin", gps_origin},
+                                 {"metres_per_unit", o.metres_per_unit},
                                  {"sparse_points", data.model.points.size()}};
     std::ofstream out(tmp / "scene.json");
     out << json.dump(2) << "\n";

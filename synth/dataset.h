@@ -19,7 +19,9 @@
 //   DIR/holdout/images, DIR/holdout/sparse
 //                                   held-out views, not in DIR/images (holdout > 0)
 //   DIR/scene.json                  seed, objects, bounding box, diagonal, up
-//                                   axis, light direction
+//                                   axis, light direction, camera tilt, GPS
+//                                   origin and metres per unit
+// With gps_origin the JPEG views carry their true camera centres as EXIF GPS.
 // World up is -y. The folder is written atomically (a temporary folder
 // renamed over DIR), so a half-written DIR never looks finished. An existing
 // DIR is replaced only if it is empty or holds a scene.json (an earlier
@@ -28,8 +30,10 @@
 
 #include <filesystem>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <vector>
 
+#include "core/geodesy.h"
 #include "core/reporter.h"
 #include "core/sparse_model.h"
 #include "render/rasterizer.h"
@@ -51,6 +55,14 @@ struct DatasetOptions {
   int num_points = 3000;  // target size of the sparse ground-truth model
   // Per-view exposure gains (empty = all 1, else num_views entries).
   std::vector<float> exposure_gains;
+  // Every camera turned up (positive) or down (negative) by this angle
+  // about its x axis after looking at the scene centre, as photos of a
+  // facade taken from the street look up; -60..60 degrees.
+  double tilt_deg = 0.0;
+  // GPS EXIF in the JPEG views (synth/geo_tags.h): the scene origin's
+  // position on Earth and the metres of a scene unit.
+  std::optional<GeoPosition> gps_origin;
+  double metres_per_unit = 1.0;
   void validate() const;  // throws ConfigError
 };
 
