@@ -5,8 +5,8 @@
 
 #include <filesystem>
 #include <fstream>
-#include <string>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "core/atomic_file.h"
 #include "core/error.h"

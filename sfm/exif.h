@@ -1,15 +1,20 @@
-// The EXIF fields the sfm stage needs from a JPEG: the orientation (so a
-// photo taken in portrait is fed to COLMAP upright), the focal length (to
-// decide whether all photos share one camera) and whether a GPS position is
-// present (to match photos by position, COLMAP's spatial matcher). A small reader of the TIFF
-// structure inside the APP1 segment; nothing else of EXIF is interpreted.
+// A photo's EXIF: the fields the sfm stage needs (orientation, so a photo
+// taken in portrait is fed to COLMAP upright; focal length and camera make and
+// model, to group photos into cameras; GPS position, for spatial matching and
+// placement), and the whole block, kept so every staged copy carries it.
+// Reading and writing go through libexiv2.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
+
+namespace Exiv2 {
+class ExifData;
+}
 
 namespace hos::sfm {
 
@@ -17,7 +22,7 @@ namespace hos::sfm {
 struct GpsPosition {
   double latitude_deg = 0.0;         // north positive
   double longitude_deg = 0.0;        // east positive
-  std::optional<double> altitude_m;  // above sea level; many phones omit it
+  std::optional<double> altitude_m;  // above sea level (negative below); many phones omit it
 };
 
 struct ExifInfo {
@@ -28,9 +33,53 @@ struct ExifInfo {
   std::string camera_model;        // EXIF Model, trimmed; empty when absent
 };
 
-// Parses EXIF from the bytes of a JPEG file. Files without EXIF (or not
-// JPEG) give the defaults; malformed EXIF is ignored, never fatal.
+// The whole EXIF block of one photo (empty when it has none).
+class ExifBlock {
+ public:
+  ExifBlock();
+  ~ExifBlock();
+  ExifBlock(ExifBlock&&) noexcept;
+  ExifBlock& operator=(ExifBlock&&) noexcept;
+  ExifBlock(const ExifBlock&) = delete;
+  ExifBlock& operator=(const ExifBlock&) = delete;
+
+  bool empty() const;
+  // The fields the stage uses; malformed values are left at their defaults.
+  ExifInfo info() const;
+
+  const Exiv2::ExifData& data() const { return *data_; }
+  Exiv2::ExifData& data() { return *data_; }
+
+ private:
+  std::unique_ptr<Exiv2::ExifData> data_;
+};
+
+// The EXIF of a photo file's bytes (JPEG, PNG, TIFF, ...: whatever exiv2
+// recognises). Files without EXIF give an empty block; malformed EXIF is
+// ignored, never fatal.
+ExifBlock read_exif(const std::vector<std::uint8_t>& file_bytes);
+
+// The EXIF of a bare TIFF structure (as a HEIF file's Exif item holds it,
+// after its offset field); malformed data gives an empty block.
+ExifBlock read_exif_tiff(const std::uint8_t* tiff, std::size_t size);
+
+// read_exif(jpeg).info().
 ExifInfo parse_jpeg_exif(const std::vector<std::uint8_t>& jpeg);
+
+// What changed between a photo and its staged copy, for the copy's EXIF.
+struct StagedCopyChanges {
+  int width = 0;  // the copy's size in pixels
+  int height = 0;
+  double scale = 1.0;                // copy pixels per original pixel (downscaling)
+  bool transposed = false;           // turned by 90 degrees (width and height swapped)
+  bool write_zero_altitude = false;  // GPS without altitude: write 0 m so COLMAP takes the position
+};
+
+// Writes the original's EXIF into the staged copy (a JPEG, PNG or TIFF file
+// already written): Orientation 1 (the copy's pixels are upright), the
+// copy's pixel size, the focal plane resolution scaled with the pixels, no
+// stale thumbnail. Throws OutputError naming the copy.
+void write_staged_exif(const ExifBlock& original, const StagedCopyChanges& changes, const std::filesystem::path& copy);
 
 // True if the JPEG's structure is complete: the markers up to the first
 // start-of-scan are well formed and an end-of-image marker follows the scan

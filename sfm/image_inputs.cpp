@@ -1,29 +1,32 @@
 #include "sfm/image_inputs.h"
 
 #include <algorithm>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <set>
 
 #include "core/error.h"
 #include "sfm/exif.h"
+#include "sfm/heif_decoder.h"
+#include "sfm/photo_format.h"
 
 namespace hos::sfm {
 namespace fs = std::filesystem;
 namespace {
 
 constexpr int kMinUsableImages = 3;
+constexpr const char* kReadFormats = "JPEG, PNG, TIFF, BMP or HEIC/HEIF";
 
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
   return s;
 }
 
-bool is_jpeg_extension(const std::string& ext) { return ext == ".jpg" || ext == ".jpeg"; }
-
 std::string join_skipped(const std::vector<SkippedInput>& skipped) {
   std::string out;
   for (const auto& s : skipped) {
-    out += "\n  " + s.file.filename().string() + ": " + s.reason;
+    out += "\n  " + s.file.string() + ": " + s.reason;
   }
   return out;
 }
@@ -51,18 +54,38 @@ cv::Mat to_8_bits(const cv::Mat& image) {
   return out;
 }
 
-}  // namespace
-
-const std::vector<std::string>& supported_image_extensions() {
-  static const std::vector<std::string> kExtensions{".jpg", ".jpeg", ".png", ".tif", ".tiff", ".bmp"};
-  return kExtensions;
+bool is_hidden(const fs::path& path) {
+  const std::string name = path.filename().string();
+  return !name.empty() && name[0] == '.';
 }
+
+// The excluded folders as the search meets them (resolved), so that
+// "photos/ws", "./photos/ws/" and a link to it all match.
+std::vector<fs::path> resolved(const std::vector<fs::path>& folders) {
+  std::vector<fs::path> out;
+  for (const fs::path& folder : folders) {
+    std::error_code ec;
+    const fs::path p = fs::weakly_canonical(fs::absolute(folder, ec), ec);
+    if (!ec && !p.empty()) out.push_back(p.lexically_normal());
+  }
+  return out;
+}
+
+bool is_excluded_folder(const fs::path& folder, const std::vector<fs::path>& excluded) {
+  if (is_hidden(folder) || is_hos_workspace(folder)) return true;
+  std::error_code ec;
+  const fs::path p = fs::weakly_canonical(folder, ec).lexically_normal();
+  return !ec && std::find(excluded.begin(), excluded.end(), p) != excluded.end();
+}
+
+}  // namespace
 
 bool ImageInputs::same_camera() const {
   if (images.empty()) return true;
   const StagedImage& first = images.front();
   return std::all_of(images.begin(), images.end(), [&](const StagedImage& image) {
-    return image.width == first.width && image.height == first.height && image.focal_length_mm == first.focal_length_mm;
+    return image.width == first.width && image.height == first.height &&
+           image.focal_length_mm == first.focal_length_mm && image.video_clip == first.video_clip;
   });
 }
 
@@ -100,41 +123,89 @@ cv::Mat apply_exif_orientation(const cv::Mat& image, int orientation) {
   return out;
 }
 
-namespace {
-
-// The entries at the top level of folder that may be photos, sorted.
-std::vector<fs::path> list_photo_candidates(const fs::path& folder) {
+bool is_hos_workspace(const fs::path& folder) {
   std::error_code ec;
-  if (!fs::exists(folder, ec)) throw InputError(folder.string(), "photo folder does not exist");
-  if (!fs::is_directory(folder, ec)) throw InputError(folder.string(), "is not a folder of photos");
+  return fs::exists(folder / "run.json", ec) || fs::exists(folder / "sfm" / "report.json", ec) ||
+         fs::exists(folder / "sfm" / "database.db", ec);
+}
+
+std::vector<fs::path> list_input_files(const fs::path& folder, const std::vector<fs::path>& excluded) {
+  const std::vector<fs::path> excluded_folders = resolved(excluded);
   std::vector<fs::path> files;
-  for (const auto& entry : fs::directory_iterator(folder, ec)) {
-    const std::string name = entry.path().filename().string();
-    if (name.empty() || name[0] == '.') continue;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(folder, fs::directory_options::skip_permission_denied, ec);
+       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    std::error_code entry_ec;
+    const bool is_folder = it->is_directory(entry_ec);
+    if (is_folder && (it->is_symlink(entry_ec) || is_excluded_folder(it->path(), excluded_folders))) {
+      it.disable_recursion_pending();
+      continue;
+    }
     // An entry that cannot be examined (a symlink loop, a dangling link) is
     // kept here and skipped later with the reason.
-    std::error_code entry_ec;
-    if (entry.is_directory(entry_ec)) continue;
-    files.push_back(entry.path());
+    if (is_folder || is_hidden(it->path())) continue;
+    files.push_back(it->path());
   }
-  if (ec) throw InputError(folder.string(), "cannot list the folder: " + ec.message());
   std::sort(files.begin(), files.end());
   return files;
 }
 
+std::vector<fs::path> list_photo_files(const fs::path& folder, const std::vector<fs::path>& excluded) {
+  std::error_code ec;
+  if (fs::is_regular_file(folder, ec)) return {folder};  // a single video clip
+  std::vector<fs::path> photos;
+  for (const fs::path& file : list_input_files(folder, excluded)) {
+    if (photo_format_of_file(file) != PhotoFormat::kUnknown || is_video_file(file)) photos.push_back(file);
+  }
+  return photos;
+}
+
+namespace {
+
+void require_photo_folder(const fs::path& folder) {
+  std::error_code ec;
+  if (!fs::exists(folder, ec)) throw InputError(folder.string(), "photo folder does not exist");
+  if (!fs::is_directory(folder, ec)) throw InputError(folder.string(), "is not a folder of photos");
+  fs::directory_iterator probe(folder, ec);
+  if (ec) throw InputError(folder.string(), "cannot list the folder: " + ec.message());
+}
+
 struct DecodedPhoto {
-  cv::Mat image;  // as stored: not yet upright, any bit depth
-  ExifInfo exif;
+  PhotoFormat format = PhotoFormat::kUnknown;
+  cv::Mat image;        // not yet upright (but for HEIF), any bit depth
+  ExifBlock exif;       // the whole block, for the staged copy
+  ExifInfo info;        // what the stage uses of it
+  int orientation = 1;  // the turn still to apply (HEIF: already applied by the decoder)
 };
 
-// Reads and decodes one file; on failure returns nothing and sets reason.
-std::optional<DecodedPhoto> decode_photo(const fs::path& file, const SfmOptions& options, std::string& reason) {
-  const std::string ext = lower(file.extension().string());
-  const auto& exts = supported_image_extensions();
-  if (std::find(exts.begin(), exts.end(), ext) == exts.end()) {
-    reason = "not a photo (supported: .jpg .jpeg .png .tif .tiff .bmp)";
-    return std::nullopt;
+// Decodes bytes of a format OpenCV reads (JPEG, PNG, TIFF, BMP).
+bool decode_with_opencv(const std::vector<std::uint8_t>& bytes, DecodedPhoto& photo) {
+  // Orientation is applied when staging, from our own EXIF reading, so the
+  // decoder must not apply it a second time.
+  try {
+    photo.image = cv::imdecode(bytes, cv::IMREAD_COLOR | cv::IMREAD_ANYDEPTH | cv::IMREAD_IGNORE_ORIENTATION);
+  } catch (const cv::Exception&) {
+    photo.image.release();
   }
+  photo.exif = read_exif(bytes);
+  photo.info = photo.exif.info();
+  photo.orientation = photo.info.orientation;
+  return !photo.image.empty();
+}
+
+bool decode_heif_photo(const std::vector<std::uint8_t>& bytes, DecodedPhoto& photo, std::string& reason) {
+  std::optional<HeifPhoto> heif = decode_heif(bytes, reason);
+  if (!heif) return false;
+  photo.image = std::move(heif->image);
+  photo.exif = std::move(heif->exif);
+  photo.info = photo.exif.info();
+  photo.orientation = 1;  // libheif turned it already
+  return true;
+}
+
+// Reads and decodes one file by its content; on failure returns nothing and
+// sets reason.
+std::optional<DecodedPhoto> decode_photo(const fs::path& file, const SfmOptions& options, std::string& reason) {
   std::error_code ec;
   const auto size = fs::file_size(file, ec);
   if (ec) {
@@ -153,23 +224,25 @@ std::optional<DecodedPhoto> decode_photo(const fs::path& file, const SfmOptions&
     return std::nullopt;
   }
   DecodedPhoto photo;
-  if (is_jpeg_extension(ext)) {
-    if (!jpeg_is_complete(bytes)) {
-      reason = "truncated or corrupt JPEG (no complete image data)";
+  photo.format = photo_format_of(bytes.data(), bytes.size());
+  switch (photo.format) {
+    case PhotoFormat::kUnknown:
+      reason = std::string("not a photo (its content is not ") + kReadFormats + ")";
       return std::nullopt;
-    }
-    photo.exif = parse_jpeg_exif(bytes);
-  }
-  // Orientation is applied when staging, from our own EXIF reading, so the
-  // decoder must not apply it a second time.
-  try {
-    photo.image = cv::imdecode(bytes, cv::IMREAD_COLOR | cv::IMREAD_ANYDEPTH | cv::IMREAD_IGNORE_ORIENTATION);
-  } catch (const cv::Exception&) {
-    photo.image.release();
-  }
-  if (photo.image.empty()) {
-    reason = "cannot be decoded as an image (corrupt or unsupported format)";
-    return std::nullopt;
+    case PhotoFormat::kHeif:
+      if (!decode_heif_photo(bytes, photo, reason)) return std::nullopt;
+      break;
+    case PhotoFormat::kJpeg:
+      if (!jpeg_is_complete(bytes)) {
+        reason = "truncated or corrupt JPEG (no complete image data)";
+        return std::nullopt;
+      }
+      [[fallthrough]];
+    default:
+      if (!decode_with_opencv(bytes, photo)) {
+        reason = "cannot be decoded as an image (corrupt " + photo_format_name(photo.format) + ")";
+        return std::nullopt;
+      }
   }
   if (std::min(photo.image.cols, photo.image.rows) < options.min_image_size) {
     reason = "too small (" + std::to_string(photo.image.cols) + "x" + std::to_string(photo.image.rows) +
@@ -178,6 +251,133 @@ std::optional<DecodedPhoto> decode_photo(const fs::path& file, const SfmOptions&
   }
   return photo;
 }
+
+// The staged name: the path relative to the photo folder; a HEIC becomes a
+// JPEG (COLMAP cannot read HEIC), so its name says so.
+std::string staged_name(const std::string& relative, PhotoFormat format) {
+  if (format != PhotoFormat::kHeif) return relative;
+  const std::string ext = lower(fs::path(relative).extension().string());
+  return ext == ".jpg" || ext == ".jpeg" ? relative : relative + ".jpg";
+}
+
+// The encoding of a re-encoded copy: the photo's own (JPEG stays JPEG, PNG
+// and TIFF stay lossless), but JPEG for a HEIC, which COLMAP cannot read.
+std::string copy_encoding(PhotoFormat format) {
+  switch (format) {
+    case PhotoFormat::kPng:
+      return ".png";
+    case PhotoFormat::kTiff:
+      return ".tif";
+    case PhotoFormat::kBmp:
+      return ".bmp";
+    default:
+      return ".jpg";
+  }
+}
+
+void write_encoded(const cv::Mat& image, PhotoFormat format, const fs::path& target, const fs::path& source) {
+  std::vector<std::uint8_t> bytes;
+  const std::string encoding = copy_encoding(format);
+  const std::vector<int> params =
+      encoding == ".jpg" ? std::vector<int>{cv::IMWRITE_JPEG_QUALITY, 95} : std::vector<int>{};
+  std::ofstream out;
+  if (cv::imencode(encoding, image, bytes, params)) {
+    out.open(target, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  }
+  if (!out) throw OutputError(target.string(), "cannot write the upright/downscaled copy of " + source.string());
+}
+
+// Puts the photo into staging_dir as COLMAP must see it: 8 bits, upright,
+// at most sfm.max_image_size, JPEG rather than HEIC, with the photo's EXIF
+// (and a GPS altitude when it has a position without one); a link to the
+// user's file when nothing changes.
+StagedImage stage_photo(const fs::path& file,
+                        const std::string& name,
+                        DecodedPhoto photo,
+                        const fs::path& staging_dir,
+                        const fs::path& thumbnail_dir,
+                        const SfmOptions& options,
+                        Reporter& reporter) {
+  StagedImage staged;
+  staged.name = name;
+  staged.source = file;
+  staged.focal_length_mm = photo.info.focal_length_mm;
+  staged.gps = photo.info.gps;
+  staged.gps_altitude_missing = staged.gps && !staged.gps->altitude_m;
+  staged.camera_make = photo.info.camera_make;
+  staged.camera_model = photo.info.camera_model;
+  cv::Mat image = std::move(photo.image);
+  StagedCopyChanges changes;
+  staged.rewritten = photo.format == PhotoFormat::kHeif;
+  if (image.depth() != CV_8U) {
+    image = to_8_bits(image);
+    staged.rewritten = true;
+  }
+  if (photo.orientation != 1) {
+    image = apply_exif_orientation(image, photo.orientation);
+    changes.transposed = photo.orientation >= 5;
+    staged.rewritten = true;
+  }
+  const int longest = std::max(image.cols, image.rows);
+  if (options.max_image_size > 0 && longest > options.max_image_size) {
+    changes.scale = double(options.max_image_size) / longest;
+    cv::Mat small;
+    cv::resize(image, small, cv::Size(), changes.scale, changes.scale, cv::INTER_AREA);
+    image = small;
+    staged.rewritten = true;
+  }
+  staged.width = changes.width = image.cols;
+  staged.height = changes.height = image.rows;
+  changes.write_zero_altitude = staged.gps_altitude_missing;
+  if (!thumbnail_dir.empty()) {
+    const fs::path thumbnail = thumbnail_dir / (staged.name + ".jpg");
+    fs::create_directories(thumbnail.parent_path());
+    write_thumbnail(image, thumbnail);
+  }
+  const fs::path target = staging_dir / staged.name;
+  fs::create_directories(target.parent_path());
+  std::error_code ec;
+  fs::remove(target, ec);
+  const bool copy_exif = staged.rewritten || changes.write_zero_altitude;
+  if (staged.rewritten) {
+    write_encoded(image, photo.format, target, file);
+  } else if (copy_exif) {
+    fs::copy_file(file, target, fs::copy_options::overwrite_existing);  // bytes as they are; EXIF below
+  } else {
+    fs::create_symlink(fs::absolute(file), target, ec);
+    if (ec) fs::copy_file(file, target, fs::copy_options::overwrite_existing);
+  }
+  if (copy_exif) {
+    try {
+      write_staged_exif(photo.exif, changes, target);
+    } catch (const OutputError& e) {
+      // The pixels are fine; COLMAP then only lacks the focal length prior.
+      reporter.warn(std::string(e.what()) + " (staged without EXIF)");
+    }
+  }
+  return staged;
+}
+
+void require_enough_photos(const fs::path& folder, const ImageInputs& inputs) {
+  if (inputs.images.empty() && inputs.skipped.empty()) {
+    throw InputError(folder.string(), std::string("contains no photos (searched with its subfolders; ") + kReadFormats +
+                                          " files are read, by content)");
+  }
+  if (static_cast<int>(inputs.images.size()) < kMinUsableImages) {
+    throw InputError(folder.string(),
+                     "only " + std::to_string(inputs.images.size()) + " usable photo(s), at least " +
+                         std::to_string(kMinUsableImages) + " are needed" +
+                         (inputs.skipped.empty() ? std::string() : "; skipped:" + join_skipped(inputs.skipped)));
+  }
+}
+
+void skip(const fs::path& file, const std::string& reason, Reporter& reporter, ImageInputs& inputs) {
+  inputs.skipped.push_back({file, reason});
+  reporter.warn("skipping " + file.string() + ": " + reason);
+}
+
+}  // namespace
 
 // The upright photo kThumbnailWidth wide as a small JPEG.
 void write_thumbnail(const cv::Mat& image, const fs::path& file) {
@@ -189,92 +389,50 @@ void write_thumbnail(const cv::Mat& image, const fs::path& file) {
   }
 }
 
-// Puts the photo into staging_dir as COLMAP must see it: 8 bits, upright and
-// at most sfm.max_image_size; a link to the user's file when nothing changes.
-StagedImage stage_photo(const fs::path& file,
-                        DecodedPhoto photo,
-                        const fs::path& staging_dir,
-                        const fs::path& thumbnail_dir,
-                        const SfmOptions& options) {
-  StagedImage staged;
-  staged.name = file.filename().string();
-  staged.source = file;
-  staged.focal_length_mm = photo.exif.focal_length_mm;
-  staged.gps = photo.exif.gps;
-  staged.camera_make = photo.exif.camera_make;
-  staged.camera_model = photo.exif.camera_model;
-  cv::Mat image = std::move(photo.image);
-  if (image.depth() != CV_8U) {
-    image = to_8_bits(image);
-    staged.rewritten = true;
-  }
-  if (photo.exif.orientation != 1) {
-    image = apply_exif_orientation(image, photo.exif.orientation);
-    staged.rewritten = true;
-  }
-  const int longest = std::max(image.cols, image.rows);
-  if (options.max_image_size > 0 && longest > options.max_image_size) {
-    const double scale = double(options.max_image_size) / longest;
-    cv::Mat small;
-    cv::resize(image, small, cv::Size(), scale, scale, cv::INTER_AREA);
-    image = small;
-    staged.rewritten = true;
-  }
-  staged.width = image.cols;
-  staged.height = image.rows;
-  if (!thumbnail_dir.empty()) write_thumbnail(image, thumbnail_dir / (staged.name + ".jpg"));
-  const fs::path target = staging_dir / staged.name;
-  std::error_code ec;
-  fs::remove(target, ec);
-  if (staged.rewritten) {
-    const std::vector<int> params{cv::IMWRITE_JPEG_QUALITY, 95};
-    if (!cv::imwrite(target.string(), image, params)) {
-      throw OutputError(target.string(), "cannot write the upright/downscaled copy of " + file.string());
-    }
-  } else {
-    fs::create_symlink(fs::absolute(file), target, ec);
-    if (ec) fs::copy_file(file, target, fs::copy_options::overwrite_existing);
-  }
-  return staged;
-}
-
-void require_enough_photos(const fs::path& folder, const ImageInputs& inputs) {
-  if (inputs.images.empty() && inputs.skipped.empty()) {
-    throw InputError(folder.string(), "contains no photos (supported: .jpg .jpeg .png .tif .tiff .bmp)");
-  }
-  if (static_cast<int>(inputs.images.size()) < kMinUsableImages) {
-    throw InputError(folder.string(),
-                     "only " + std::to_string(inputs.images.size()) + " usable photo(s), at least " +
-                         std::to_string(kMinUsableImages) + " are needed" +
-                         (inputs.skipped.empty() ? std::string() : "; skipped:" + join_skipped(inputs.skipped)));
-  }
-}
-
-}  // namespace
-
 ImageInputs prepare_images(const fs::path& folder,
                            const fs::path& staging_dir,
                            const SfmOptions& options,
                            Reporter& reporter,
-                           const fs::path& thumbnail_dir) {
-  const std::vector<fs::path> files = list_photo_candidates(folder);
+                           const fs::path& thumbnail_dir,
+                           const std::vector<fs::path>& excluded) {
+  // A single video clip stands for a folder holding only it.
+  const bool single_clip = is_video_file(folder);
+  if (!single_clip) require_photo_folder(folder);
+  std::vector<fs::path> excluded_here = excluded;
+  excluded_here.push_back(staging_dir);
+  if (!thumbnail_dir.empty()) excluded_here.push_back(thumbnail_dir);
+  const std::vector<fs::path> files =
+      single_clip ? std::vector<fs::path>{folder} : list_input_files(folder, excluded_here);
   ImageInputs inputs;
   fs::create_directories(staging_dir);
   if (!thumbnail_dir.empty()) fs::create_directories(thumbnail_dir);
+  std::set<std::string> staged_names;
   reporter.begin("checking photos", static_cast<std::int64_t>(files.size()));
   for (const auto& file : files) {
     reporter.throw_if_cancelled();
     reporter.advance();
+    const std::string relative =
+        single_clip ? file.filename().string() : file.lexically_relative(folder).generic_string();
+    if (is_video_file(file)) {
+      stage_video(file, relative, staging_dir, thumbnail_dir, options, reporter, inputs);
+      continue;
+    }
     std::string reason;
     std::optional<DecodedPhoto> photo = decode_photo(file, options, reason);
     if (!photo) {
-      inputs.skipped.push_back({file, reason});
-      reporter.warn("skipping " + file.string() + ": " + reason);
+      skip(file, reason, reporter, inputs);
       continue;
     }
-    inputs.images.push_back(stage_photo(file, std::move(*photo), staging_dir, thumbnail_dir, options));
+    const std::string name = staged_name(relative, photo->format);
+    if (!staged_names.insert(name).second) {
+      skip(file, "its staged name " + name + " is taken by another photo", reporter, inputs);
+      continue;
+    }
+    inputs.images.push_back(stage_photo(file, name, std::move(*photo), staging_dir, thumbnail_dir, options, reporter));
   }
   reporter.end();
+  std::sort(inputs.images.begin(), inputs.images.end(),
+            [](const StagedImage& a, const StagedImage& b) { return a.name < b.name; });
   require_enough_photos(folder, inputs);
   return inputs;
 }

@@ -29,6 +29,47 @@ TEST(Exif, GpsPositionIsDetectedInBothByteOrders) {
   }
 }
 
+// A phone's EXIF as exiv2 writes it: make and model (padded as cameras pad
+// them), GPS south and west with an altitude below sea level.
+TEST(Exif, ReadsMakeModelAndSignedGpsWithAltitude) {
+  testing::PhoneExif fields;
+  fields.make = "Apple  ";
+  fields.model = "iPhone 12 mini";
+  fields.latitude_deg = -33.8568;
+  fields.longitude_deg = -70.6483;
+  fields.altitude_m = -12.5;
+  const ExifInfo info = parse_jpeg_exif(testing::jpeg_with_phone_exif(testing::gradient_image(64, 48), fields));
+  EXPECT_EQ(info.camera_make, "Apple");
+  EXPECT_EQ(info.camera_model, "iPhone 12 mini");
+  ASSERT_TRUE(info.focal_length_mm.has_value());
+  EXPECT_NEAR(*info.focal_length_mm, 4.2, 1e-9);
+  ASSERT_TRUE(info.gps.has_value());
+  EXPECT_NEAR(info.gps->latitude_deg, -33.8568, 1e-6);
+  EXPECT_NEAR(info.gps->longitude_deg, -70.6483, 1e-6);
+  ASSERT_TRUE(info.gps->altitude_m.has_value());
+  EXPECT_NEAR(*info.gps->altitude_m, -12.5, 1e-9);
+}
+
+TEST(Exif, GpsWithoutAltitudeHasNone) {
+  testing::PhoneExif fields;
+  fields.latitude_deg = 46.52;
+  fields.longitude_deg = 6.63;
+  const ExifInfo info = parse_jpeg_exif(testing::jpeg_with_phone_exif(testing::gradient_image(64, 48), fields));
+  ASSERT_TRUE(info.gps.has_value());
+  EXPECT_NEAR(info.gps->latitude_deg, 46.52, 1e-6);
+  EXPECT_NEAR(info.gps->longitude_deg, 6.63, 1e-6);
+  EXPECT_FALSE(info.gps->altitude_m.has_value());
+}
+
+// The hand-written fixture's position: 46 31' 12" N, 6 38' 5" E (no Ref tags:
+// north and east).
+TEST(Exif, GpsPositionValueFromDegreesMinutesSeconds) {
+  const ExifInfo info = parse_jpeg_exif(testing::jpeg_with_gps(testing::gradient_image(64, 48), true));
+  ASSERT_TRUE(info.gps.has_value());
+  EXPECT_NEAR(info.gps->latitude_deg, 46.0 + 31.0 / 60 + 12.0 / 3600, 1e-9);
+  EXPECT_NEAR(info.gps->longitude_deg, 6.0 + 38.0 / 60 + 5.0 / 3600, 1e-9);
+}
+
 TEST(Exif, NoExifGivesDefaults) {
   std::vector<std::uint8_t> jpeg;
   cv::imencode(".jpg", testing::gradient_image(32, 32), jpeg);

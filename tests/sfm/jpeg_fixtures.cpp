@@ -1,7 +1,13 @@
 #include "tests/sfm/jpeg_fixtures.h"
 
+#include <libheif/heif.h>
+
 #include <cmath>
+#include <cstring>
+#include <fstream>
+#include <memory>
 #include <opencv2/imgcodecs.hpp>
+#include <stdexcept>
 
 namespace hos::sfm::testing {
 namespace {
@@ -126,6 +132,139 @@ std::vector<std::uint8_t> jpeg_with_gps(const cv::Mat& image, bool little_endian
   }
   insert_exif(t.bytes, jpeg);
   return jpeg;
+}
+
+namespace {
+
+// Degrees as degrees, minutes and seconds (three rationals).
+Exiv2::URationalValue dms(double degrees) {
+  const double a = std::abs(degrees);
+  const auto d = static_cast<std::uint32_t>(a);
+  const auto m = static_cast<std::uint32_t>((a - d) * 60.0);
+  const double sec = (a - d - m / 60.0) * 3600.0;
+  Exiv2::URationalValue v;
+  v.value_ = {{d, 1}, {m, 1}, {static_cast<std::uint32_t>(std::lround(sec * 10000.0)), 10000}};
+  return v;
+}
+
+}  // namespace
+
+Exiv2::ExifData exif_data(const PhoneExif& f) {
+  Exiv2::ExifData exif;
+  exif["Exif.Image.Orientation"] = static_cast<std::uint16_t>(f.orientation);
+  if (!f.make.empty()) exif["Exif.Image.Make"] = f.make;
+  if (!f.model.empty()) exif["Exif.Image.Model"] = f.model;
+  if (f.focal_mm > 0) {
+    exif["Exif.Photo.FocalLength"] = Exiv2::URational(static_cast<std::uint32_t>(std::lround(f.focal_mm * 100.0)), 100);
+  }
+  if (f.focal_35mm > 0) exif["Exif.Photo.FocalLengthIn35mmFilm"] = static_cast<std::uint16_t>(f.focal_35mm);
+  if (f.focal_plane_x_resolution > 0) {
+    const Exiv2::URational r(static_cast<std::uint32_t>(std::lround(f.focal_plane_x_resolution)), 1);
+    exif["Exif.Photo.FocalPlaneXResolution"] = r;
+    exif["Exif.Photo.FocalPlaneYResolution"] = r;
+    exif["Exif.Photo.FocalPlaneResolutionUnit"] = std::uint16_t{2};  // inch
+  }
+  if (f.latitude_deg && f.longitude_deg) {
+    exif["Exif.GPSInfo.GPSLatitudeRef"] = std::string(*f.latitude_deg < 0 ? "S" : "N");
+    exif["Exif.GPSInfo.GPSLatitude"] = dms(*f.latitude_deg);
+    exif["Exif.GPSInfo.GPSLongitudeRef"] = std::string(*f.longitude_deg < 0 ? "W" : "E");
+    exif["Exif.GPSInfo.GPSLongitude"] = dms(*f.longitude_deg);
+  }
+  if (f.altitude_m) {
+    exif["Exif.GPSInfo.GPSAltitudeRef"] = std::string(*f.altitude_m < 0 ? "1" : "0");
+    exif["Exif.GPSInfo.GPSAltitude"] =
+        Exiv2::URational(static_cast<std::uint32_t>(std::lround(std::abs(*f.altitude_m) * 100.0)), 100);
+  }
+  return exif;
+}
+
+Exiv2::ExifData read_exif_data(const std::filesystem::path& file) {
+  auto image = Exiv2::ImageFactory::open(file.string());
+  image->readMetadata();
+  return image->exifData();
+}
+
+void write_phone_exif(const std::filesystem::path& file, const PhoneExif& fields) {
+  auto image = Exiv2::ImageFactory::open(file.string());
+  image->readMetadata();
+  image->setExifData(exif_data(fields));
+  image->writeMetadata();
+}
+
+std::vector<std::uint8_t> jpeg_with_phone_exif(const cv::Mat& image, const PhoneExif& fields) {
+  std::vector<std::uint8_t> jpeg;
+  cv::imencode(".jpg", image, jpeg, {cv::IMWRITE_JPEG_QUALITY, 98});
+  auto io = Exiv2::ImageFactory::open(jpeg.data(), static_cast<long>(jpeg.size()));
+  io->readMetadata();
+  io->setExifData(exif_data(fields));
+  io->writeMetadata();
+  Exiv2::BasicIo& mem = io->io();
+  mem.seek(0, Exiv2::BasicIo::beg);
+  const Exiv2::DataBuf buf = mem.read(static_cast<long>(mem.size()));
+  return std::vector<std::uint8_t>(buf.pData_, buf.pData_ + buf.size_);
+}
+
+namespace {
+
+struct HeifContextFree {
+  void operator()(heif_context* c) const { heif_context_free(c); }
+};
+struct HeifImageRelease {
+  void operator()(heif_image* i) const { heif_image_release(i); }
+};
+
+heif_error append_bytes(heif_context*, const void* data, size_t size, void* userdata) {
+  auto* out = static_cast<std::vector<std::uint8_t>*>(userdata);
+  const auto* bytes = static_cast<const std::uint8_t*>(data);
+  out->insert(out->end(), bytes, bytes + size);
+  return heif_error{heif_error_Ok, heif_suberror_Unspecified, "ok"};
+}
+
+void check(heif_error error) {
+  if (error.code != heif_error_Ok) throw std::runtime_error(std::string("libheif: ") + error.message);
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> heic_with_exif(const cv::Mat& image, int orientation, const PhoneExif& fields) {
+  const std::unique_ptr<heif_context, HeifContextFree> context(heif_context_alloc());
+  heif_encoder* encoder = nullptr;
+  if (heif_context_get_encoder_for_format(context.get(), heif_compression_HEVC, &encoder).code != heif_error_Ok) {
+    return {};
+  }
+  heif_encoder_set_lossy_quality(encoder, 95);
+  heif_image* raw = nullptr;
+  check(heif_image_create(image.cols, image.rows, heif_colorspace_RGB, heif_chroma_interleaved_RGB, &raw));
+  const std::unique_ptr<heif_image, HeifImageRelease> rgb(raw);
+  check(heif_image_add_plane(rgb.get(), heif_channel_interleaved, image.cols, image.rows, 8));
+  int stride = 0;
+  std::uint8_t* plane = heif_image_get_plane(rgb.get(), heif_channel_interleaved, &stride);
+  for (int y = 0; y < image.rows; ++y) {
+    for (int x = 0; x < image.cols; ++x) {
+      const cv::Vec3b bgr = image.at<cv::Vec3b>(y, x);
+      std::uint8_t* p = plane + y * stride + 3 * x;
+      p[0] = bgr[2];
+      p[1] = bgr[1];
+      p[2] = bgr[0];
+    }
+  }
+  heif_encoding_options* options = heif_encoding_options_alloc();
+  options->image_orientation = static_cast<heif_orientation>(orientation);
+  heif_image_handle* handle = nullptr;
+  const heif_error encoded = heif_context_encode_image(context.get(), rgb.get(), encoder, options, &handle);
+  heif_encoding_options_free(options);
+  heif_encoder_release(encoder);
+  check(encoded);
+  Exiv2::Blob tiff;
+  Exiv2::ExifParser::encode(tiff, nullptr, 0, Exiv2::littleEndian, exif_data(fields));
+  const heif_error exif =
+      heif_context_add_exif_metadata(context.get(), handle, tiff.data(), static_cast<int>(tiff.size()));
+  heif_image_handle_release(handle);
+  check(exif);
+  std::vector<std::uint8_t> bytes;
+  heif_writer writer{1, &append_bytes};
+  check(heif_context_write(context.get(), &writer, &bytes));
+  return bytes;
 }
 
 }  // namespace hos::sfm::testing
