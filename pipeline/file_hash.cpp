@@ -61,8 +61,12 @@ void Fingerprint::add_file_contents(const fs::path& file) {
 }
 
 void Fingerprint::add_folder_listing(const fs::path& folder, const std::vector<fs::path>& excluded) {
+  add_file_listing(folder, sorted_files(folder, excluded));
+}
+
+void Fingerprint::add_file_listing(const fs::path& folder, const std::vector<fs::path>& files) {
   add("<listing>");
-  for (const auto& file : sorted_files(folder, excluded)) {
+  for (const auto& file : files) {
     std::error_code ec;
     const auto size = fs::file_size(file, ec);
     const auto time = fs::last_write_time(file, ec).time_since_epoch().count();

@@ -20,6 +20,9 @@ class Fingerprint {
   // sorted), not their contents: cheap for folders of large photos. Files
   // and folders in `excluded` (absolute, normalised) are left out.
   void add_folder_listing(const std::filesystem::path& folder, const std::vector<std::filesystem::path>& excluded = {});
+  // Names (relative to folder), sizes and modification times of the given
+  // files, in their order.
+  void add_file_listing(const std::filesystem::path& folder, const std::vector<std::filesystem::path>& files);
   // Contents of every file of a folder (recursively, sorted by path).
   void add_folder_contents(const std::filesystem::path& folder);
   std::string hex() const;

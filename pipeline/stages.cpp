@@ -7,6 +7,7 @@
 #include "pipeline/output_checks.h"
 #include "recon/recon_options.h"
 #include "refine/refine_options.h"
+#include "sfm/image_inputs.h"
 #include "sfm/sfm_options.h"
 #include "texture/texture_options.h"
 
@@ -34,7 +35,9 @@ const std::vector<StageSpec>& pipeline_stages() {
          return args;
        },
        [](Fingerprint& f, const DriverOptions& o, const StagePaths& p) {
-         f.add_folder_listing(o.photos, pipeline_files_in_photos(o.photos, o.output, p.root));
+         // What hos-sfm reads: the photos (by content), not sidecars or notes.
+         f.add_file_listing(o.photos,
+                            sfm::list_photo_files(o.photos, pipeline_files_in_photos(o.photos, o.output, p.root)));
          if (!o.existing_model.empty()) f.add_folder_contents(o.existing_model);
        },
        [](const StagePaths& p) { return fs::exists(p.undistorted / "sparse") && fs::exists(p.sfm_report); },

@@ -4,6 +4,9 @@
 
 #include <fstream>
 
+#include "pipeline/driver.h"
+#include "pipeline/stage_paths.h"
+#include "pipeline/stages.h"
 #include "tests/support/test_support.h"
 
 namespace hos::pipeline {
@@ -50,6 +53,39 @@ TEST(FileHash, SeparatesParts) {
   b.add("bc");
   EXPECT_NE(a.hex(), b.hex());
   EXPECT_EQ(a.hex().size(), 16u);
+}
+
+// The sfm stage's fingerprint covers the photos it reads and nothing else:
+// a sidecar, a note or .DS_Store next to the photos (or in a subfolder)
+// does not re-run COLMAP; a changed or added photo does, in a subfolder too.
+TEST(FileHash, SfmFingerprintCoversOnlyThePhotos) {
+  hos::testing::TempDir dir;
+  fs::create_directories(dir / "photos" / "DCIM");
+  const auto jpeg = [](const fs::path& file, const std::string& payload) {
+    std::ofstream(file, std::ios::binary) << std::string("\xFF\xD8\xFF\xE0", 4) << payload;
+  };
+  jpeg(dir / "photos" / "a.jpg", "one");
+  jpeg(dir / "photos" / "DCIM" / "b.JPG", "two");
+  DriverOptions options;
+  options.photos = dir / "photos";
+  options.output = dir / "out.glb";
+  const StagePaths paths(dir / "ws");
+  const auto fingerprint = [&] {
+    Fingerprint f;
+    pipeline_stages().at(stage_index("sfm", "--from")).inputs(f, options, paths);
+    return f.hex();
+  };
+  const std::string before = fingerprint();
+  std::ofstream(dir / "photos" / ".DS_Store") << "finder";
+  std::ofstream(dir / "photos" / "a.xmp") << "<x:xmpmeta/>";
+  std::ofstream(dir / "photos" / "DCIM" / "b.AAE") << "<?xml version=\"1.0\"?>";
+  std::ofstream(dir / "photos" / "notes.txt") << "a note";
+  EXPECT_EQ(fingerprint(), before);
+  jpeg(dir / "photos" / "DCIM" / "b.JPG", "two, edited");
+  const std::string edited = fingerprint();
+  EXPECT_NE(edited, before);
+  jpeg(dir / "photos" / "c.heic.jpg", "three");
+  EXPECT_NE(fingerprint(), edited);
 }
 
 }  // namespace
