@@ -71,6 +71,21 @@ std::string image_list_file_text(const ExtractionRun& run) {
   return text;
 }
 
+namespace {
+
+// The tree is learnt from these photos' own descriptors: nothing is
+// downloaded, and its words fit the scene.
+ColmapStep vocab_tree_builder_step(const ColmapRunContext& context, const SfmPlan& plan, const SfmOptions& options) {
+  return {"vocab_tree_builder",
+          {"--random_seed", std::to_string(options.random_seed), "--database_path", context.database.string(),
+           "--vocab_tree_path", context.vocab_tree.string(), "--num_visual_words",
+           std::to_string(plan.vocab_tree_words), "--branching", std::to_string(kVocabTreeBranching)},
+          "building the vocabulary tree",
+          0};
+}
+
+}  // namespace
+
 std::vector<ColmapStep> matching_steps(const ColmapRunContext& context,
                                        const SfmPlan& plan,
                                        const SfmOptions& options) {
@@ -83,20 +98,22 @@ std::vector<ColmapStep> matching_steps(const ColmapRunContext& context,
     match.total = blocks * blocks;
   } else if (plan.matcher == "sequential") {
     match.args.insert(match.args.end(), {"--SequentialMatching.overlap", std::to_string(options.sequential_overlap)});
+    if (plan.loop_detection) {
+      // Every loop_detection_period-th frame retrieves similar frames from
+      // the whole set: a clip coming back to its start closes the loop.
+      steps.push_back(vocab_tree_builder_step(context, plan, options));
+      match.args.insert(match.args.end(),
+                        {"--SequentialMatching.loop_detection", "1", "--SequentialMatching.vocab_tree_path",
+                         context.vocab_tree.string(), "--SequentialMatching.loop_detection_num_images",
+                         std::to_string(options.vocab_tree_neighbors)});
+    }
   } else if (plan.matcher == "spatial") {
     // Without altitude (staged as 0) only latitude and longitude count.
     match.args.insert(match.args.end(),
                       {"--SpatialMatching.is_gps", "1", "--SpatialMatching.ignore_z", flag(plan.spatial_ignore_z),
                        "--SpatialMatching.max_num_neighbors", std::to_string(options.spatial_neighbors)});
   } else if (plan.matcher == "vocab_tree") {
-    // The tree is learnt from these photos' own descriptors: nothing is
-    // downloaded, and its words fit the scene.
-    steps.push_back({"vocab_tree_builder",
-                     {"--random_seed", std::to_string(options.random_seed), "--database_path",
-                      context.database.string(), "--vocab_tree_path", context.vocab_tree.string(), "--num_visual_words",
-                      std::to_string(plan.vocab_tree_words), "--branching", std::to_string(kVocabTreeBranching)},
-                     "building the vocabulary tree",
-                     0});
+    steps.push_back(vocab_tree_builder_step(context, plan, options));
     match.args.insert(match.args.end(),
                       {"--VocabTreeMatching.vocab_tree_path", context.vocab_tree.string(),
                        "--VocabTreeMatching.num_images", std::to_string(options.vocab_tree_neighbors + 1)});

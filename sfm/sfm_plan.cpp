@@ -41,6 +41,12 @@ std::string choose_matcher(const PhotoSetFacts& facts, const SfmOptions& options
     return options.matcher;
   }
   if (facts.photos <= options.exhaustive_max_images) return matcher_without_positions(facts, options, reason);
+  // Video frames are ordered: each overlaps its neighbours in the clip.
+  if (facts.video_frames == facts.photos) {
+    reason =
+        format_message(facts.photos, " video frames > sfm.exhaustive_max_images (", options.exhaustive_max_images, ")");
+    return "sequential";
+  }
   // Spatial matching needs a position for every photo: one without would be
   // matched as if it stood at the origin.
   if (facts.photos_with_gps == facts.photos) {
@@ -55,7 +61,7 @@ std::string choose_matcher(const PhotoSetFacts& facts, const SfmOptions& options
 bool same_camera(const CameraGroup& group, const StagedImage& image, bool size_only) {
   if (group.width != image.width || group.height != image.height) return false;
   return size_only || (group.focal_length_mm == image.focal_length_mm && group.camera_make == image.camera_make &&
-                       group.camera_model == image.camera_model);
+                       group.camera_model == image.camera_model && group.video_clip == image.video_clip);
 }
 
 ExtractionRun run_of(const CameraGroup& group, bool single_camera, const SfmOptions& options) {
@@ -110,6 +116,7 @@ std::string CameraGroup::describe() const {
   const std::string camera =
       camera_make.empty() || camera_model.empty() ? camera_make + camera_model : camera_make + " " + camera_model;
   if (!camera.empty()) text += ", " + camera;
+  if (!video_clip.empty()) text += ", frames of " + video_clip;
   return text;
 }
 
@@ -129,6 +136,7 @@ std::vector<CameraGroup> camera_groups(const std::vector<StagedImage>& images, c
         created.focal_length_mm = image.focal_length_mm;
         created.camera_make = image.camera_make;
         created.camera_model = image.camera_model;
+        created.video_clip = image.video_clip;
       }
       groups.push_back(created);
       group = groups.end() - 1;
@@ -144,6 +152,7 @@ PhotoSetFacts photo_set_facts(const std::vector<StagedImage>& images, const std:
   for (const StagedImage& image : images) {
     facts.photos_with_gps += image.gps ? 1 : 0;
     facts.photos_without_altitude += image.gps && !image.gps->altitude_m ? 1 : 0;
+    facts.video_frames += image.video_clip.empty() ? 0 : 1;
   }
   facts.groups = camera_groups(images, camera_mode);
   return facts;
@@ -163,9 +172,15 @@ int vocab_tree_words_for(int photos, long long features) {
 
 namespace {
 
+// Sequential matching already pairs every frame with its overlap
+// neighbours; loops need a set several times longer than that.
+bool wants_loop_detection(const SfmPlan& plan, const PhotoSetFacts& facts, const SfmOptions& options) {
+  return plan.matcher == "sequential" && facts.photos > 2 * (options.sequential_overlap + 1);
+}
+
 void set_vocab_tree_words(SfmPlan& plan, const PhotoSetFacts& facts, const SfmOptions& options) {
   plan.vocab_tree_words = 0;
-  if (plan.matcher != "vocab_tree") return;
+  if (plan.matcher != "vocab_tree" && !plan.loop_detection) return;
   plan.vocab_tree_words =
       options.vocab_tree_words > 0
           ? options.vocab_tree_words
@@ -181,6 +196,8 @@ SfmPlan plan_sfm(const PhotoSetFacts& facts, const SfmOptions& options) {
   plan.max_num_features =
       options.max_num_features > 0 ? options.max_num_features : features_for_photo_count(facts.photos);
   plan.max_num_matches = options.max_num_matches > 0 ? options.max_num_matches : plan.max_num_features / 2;
+  plan.loop_detection = wants_loop_detection(plan, facts, options);
+  if (plan.loop_detection) plan.matcher_reason += ", loop closures by a vocabulary tree";
   set_vocab_tree_words(plan, facts, options);
   plan.extractions = plan_extractions(facts, options);
   return plan;

@@ -22,6 +22,7 @@ struct CameraGroup {
   std::optional<double> focal_length_mm;
   std::string camera_make;
   std::string camera_model;
+  std::string video_clip;          // the clip whose frames these are; empty for photos
   std::vector<std::string> names;  // staged names, sorted
 
   int longest_side_px() const { return width > height ? width : height; }
@@ -30,8 +31,9 @@ struct CameraGroup {
 };
 
 // The groups of images (in the order of their first photo's name).
-// camera_mode auto and per_image group by size, EXIF focal length, make and
-// model; single by size only (one COLMAP camera cannot span two sizes).
+// camera_mode auto and per_image group by size, EXIF focal length, make,
+// model and video clip (each clip its own camera); single by size only (one
+// COLMAP camera cannot span two sizes).
 std::vector<CameraGroup> camera_groups(const std::vector<StagedImage>& images, const std::string& camera_mode);
 
 // What the stage knows about the staged photos before COLMAP runs.
@@ -40,6 +42,7 @@ struct PhotoSetFacts {
   int photos_with_gps = 0;          // EXIF GPS latitude and longitude present
   int photos_without_altitude = 0;  // of those, without an EXIF altitude
   std::vector<CameraGroup> groups;  // camera_groups of the photos
+  int video_frames = 0;             // of the photos, frames of video clips
 };
 PhotoSetFacts photo_set_facts(const std::vector<StagedImage>& images, const std::string& camera_mode);
 
@@ -63,9 +66,12 @@ struct SfmPlan {
   // Spatial matching by latitude and longitude only: some photos carry no
   // EXIF altitude (their staged copies hold altitude 0).
   bool spatial_ignore_z = false;
+  // Sequential matching also retrieves loop closures with a vocabulary
+  // tree learnt from the photos (vocab_tree_words words).
+  bool loop_detection = false;
   int max_num_features = 0;  // SIFT features per photo
   int max_num_matches = 0;   // verified matches kept per pair
-  int vocab_tree_words = 0;  // visual words of the tree (vocab_tree only)
+  int vocab_tree_words = 0;  // visual words of the tree (vocab_tree, or loop_detection)
   // One per camera group with several photos; groups of one photo (and
   // every group with camera_mode per_image) that share a SIFT plan share a
   // run with one camera per photo.

@@ -123,9 +123,16 @@ TEST(ColmapSteps, SpatialAndSequentialMatching) {
   EXPECT_EQ(arg(matching_steps(context(), plan_sfm(with_gps, options), options)[0], "SpatialMatching.ignore_z"), "1");
   options.matcher = "sequential";
   options.sequential_overlap = 7;
+  // 100 frames are many overlaps long: loop closures from a vocabulary tree.
   steps = matching_steps(context(), plan_sfm(facts(100, 0, 800), options), options);
+  ASSERT_EQ(steps.size(), 2u);
+  EXPECT_EQ(steps[0].command, "vocab_tree_builder");
+  EXPECT_EQ(steps[1].command, "sequential_matcher");
+  EXPECT_EQ(arg(steps[1], "SequentialMatching.overlap"), "7");
+  EXPECT_EQ(arg(steps[1], "SequentialMatching.loop_detection"), "1");
+  // 10 frames: every pair is within the overlap.
+  steps = matching_steps(context(), plan_sfm(facts(10, 0, 800), options), options);
   ASSERT_EQ(steps.size(), 1u);
-  EXPECT_EQ(steps[0].command, "sequential_matcher");
   EXPECT_EQ(arg(steps[0], "SequentialMatching.overlap"), "7");
   SfmPlan bad;
   bad.matcher = "nearest";

@@ -10,7 +10,9 @@
 #include <opencv2/videoio.hpp>
 
 #include "core/error.h"
+#include "sfm/colmap_steps.h"
 #include "sfm/image_inputs.h"
+#include "sfm/sfm_plan.h"
 #include "tests/support/test_support.h"
 
 namespace hos::sfm {
@@ -235,6 +237,81 @@ TEST(VideoFrames, AnUnreadableClipIsSkippedWithTheReason) {
   ASSERT_EQ(inputs.skipped.size(), 1u);
   EXPECT_EQ(inputs.skipped[0].file.filename(), "broken.mp4");
   EXPECT_THAT(inputs.skipped[0].reason, HasSubstr("video"));
+}
+
+}  // namespace
+}  // namespace hos::sfm
+
+namespace hos::sfm {
+namespace {
+
+std::vector<StagedImage> frames_of(const std::string& clip, int count, int width = 640) {
+  std::vector<StagedImage> images;
+  for (int i = 0; i < count; ++i) {
+    StagedImage image;
+    image.name = video_frame_name(clip, 3 * i);
+    image.width = width;
+    image.height = 480;
+    image.video_clip = clip;
+    images.push_back(image);
+  }
+  return images;
+}
+
+TEST(VideoFramesPlan, EachClipIsItsOwnCameraApartFromPhotosOfTheSameSize) {
+  std::vector<StagedImage> images = frames_of("a.mp4", 5);
+  const std::vector<StagedImage> b = frames_of("b.mp4", 4);
+  images.insert(images.end(), b.begin(), b.end());
+  StagedImage photo;
+  photo.name = "photo.jpg";
+  photo.width = 640;
+  photo.height = 480;
+  images.push_back(photo);
+  const std::vector<CameraGroup> groups = camera_groups(images, "auto");
+  ASSERT_EQ(groups.size(), 3u);
+  EXPECT_EQ(groups[0].video_clip, "a.mp4");
+  EXPECT_EQ(groups[0].names.size(), 5u);
+  EXPECT_EQ(groups[1].video_clip, "b.mp4");
+  EXPECT_EQ(groups[1].names.size(), 4u);
+  EXPECT_EQ(groups[2].video_clip, "");
+  EXPECT_THAT(groups[0].describe(), HasSubstr("frames of a.mp4"));
+}
+
+TEST(VideoFramesPlan, ManyVideoFramesAreMatchedSequentiallyWithLoopDetection) {
+  SfmOptions options;
+  const PhotoSetFacts facts = photo_set_facts(frames_of("clip.mp4", 80), options.camera_mode);
+  EXPECT_EQ(facts.video_frames, 80);
+  const SfmPlan plan = plan_sfm(facts, options);
+  EXPECT_EQ(plan.matcher, "sequential");
+  EXPECT_TRUE(plan.loop_detection);
+  EXPECT_GT(plan.vocab_tree_words, 0);
+  ColmapRunContext context;
+  context.vocab_tree = "ws/vocab_tree.bin";
+  const std::vector<ColmapStep> steps = matching_steps(context, plan, options);
+  ASSERT_EQ(steps.size(), 2u);
+  EXPECT_EQ(steps[0].command, "vocab_tree_builder");
+  EXPECT_EQ(steps[1].command, "sequential_matcher");
+  const auto& args = steps[1].args;
+  const auto loop = std::find(args.begin(), args.end(), "--SequentialMatching.loop_detection");
+  ASSERT_NE(loop, args.end());
+  EXPECT_EQ(*(loop + 1), "1");
+  const auto tree = std::find(args.begin(), args.end(), "--SequentialMatching.vocab_tree_path");
+  ASSERT_NE(tree, args.end());
+  EXPECT_EQ(*(tree + 1), "ws/vocab_tree.bin");
+}
+
+TEST(VideoFramesPlan, FewFramesOrPhotosAmongThemKeepTheUsualMatcher) {
+  SfmOptions options;
+  EXPECT_EQ(plan_sfm(photo_set_facts(frames_of("clip.mp4", 20), options.camera_mode), options).matcher, "exhaustive");
+  std::vector<StagedImage> images = frames_of("clip.mp4", 80);
+  StagedImage photo;
+  photo.name = "photo.jpg";
+  photo.width = 640;
+  photo.height = 480;
+  images.push_back(photo);
+  const SfmPlan plan = plan_sfm(photo_set_facts(images, options.camera_mode), options);
+  EXPECT_EQ(plan.matcher, "vocab_tree");
+  EXPECT_FALSE(plan.loop_detection);
 }
 
 }  // namespace
