@@ -199,6 +199,7 @@ void run_stage_process(const StageSpec& spec,
   reporter.debug("$" + command);
   const ProcessResult run = run_process(process);
   stage_record.wall_seconds = run.wall_seconds;
+  stage_record.cpu_seconds = run.cpu_seconds;
   stage_record.peak_memory_bytes = run.peak_rss_bytes;
   stage_record.exit_code = run.exit_code;
   stage_record.finished_at = utc_timestamp();
@@ -358,7 +359,7 @@ std::vector<std::string> summary_table(const DriverResult& result) {
   std::vector<std::string> lines;
   std::ostringstream header;
   header << std::left << std::setw(9) << "stage" << std::setw(12) << "state" << std::setw(11) << "time" << std::setw(11)
-         << "peak mem"
+         << "cpu" << std::setw(11) << "peak mem"
          << "figures";
   lines.push_back(header.str());
   for (const auto& s : result.stages) {
@@ -366,6 +367,7 @@ std::vector<std::string> summary_table(const DriverResult& result) {
     const bool has_record = s.record.state == "done";
     row << std::left << std::setw(9) << s.stage << std::setw(12) << s.state << std::setw(11)
         << (has_record ? format_seconds(s.record.wall_seconds) : "-") << std::setw(11)
+        << (has_record && s.record.cpu_seconds > 0 ? format_seconds(s.record.cpu_seconds) : "-") << std::setw(11)
         << (has_record && s.record.peak_memory_bytes > 0 ? format_memory(s.record.peak_memory_bytes) : "-")
         << (has_record ? figures_text(s.stage, s.record.figures) : "");
     lines.push_back(row.str());

@@ -5,6 +5,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/json_report.h"
 #include "pipeline/stage_config.h"
 
 namespace hos::pipeline {
@@ -25,6 +26,7 @@ RunRecord load_run_record(const fs::path& file) {
         r.input_hash = s.value("input_hash", "");
         r.config_hash = s.value("config_hash", "");
         r.wall_seconds = s.value("wall_seconds", 0.0);
+        r.cpu_seconds = s.value("cpu_seconds", 0.0);
         r.peak_memory_bytes = s.value("peak_memory_bytes", std::int64_t{0});
         r.exit_code = s.value("exit_code", 0);
         r.finished_at = s.value("finished_at", "");
@@ -52,6 +54,7 @@ void save_run_record(const RunRecord& record, const fs::path& file) {
                     {"input_hash", r.input_hash},
                     {"config_hash", r.config_hash},
                     {"wall_seconds", r.wall_seconds},
+                    {"cpu_seconds", r.cpu_seconds},
                     {"peak_memory_bytes", r.peak_memory_bytes},
                     {"exit_code", r.exit_code},
                     {"finished_at", r.finished_at},
@@ -61,7 +64,7 @@ void save_run_record(const RunRecord& record, const fs::path& file) {
   if (!record.slurm.empty()) j["slurm"] = record.slurm;
   write_atomically(file, [&](const fs::path& tmp) {
     std::ofstream out(tmp);
-    out << j.dump(2) << "\n";
+    out << json_text(j) << "\n";
     if (!out) throw OutputError(file.string(), "cannot write the run record");
   });
 }

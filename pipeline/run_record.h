@@ -1,5 +1,5 @@
 // The run record WS/run.json: per stage its state, the fingerprints of its
-// inputs and config section, timings, peak memory and key figures. It is
+// inputs and config section, wall and CPU time, peak memory and key figures. It is
 // what lets a re-run skip the stages that are up to date.
 #pragma once
 
@@ -16,6 +16,7 @@ struct StageRecord {
   std::string input_hash;   // Fingerprint of the stage's input files
   std::string config_hash;  // Fingerprint of its resolved config section
   double wall_seconds = 0.0;
+  double cpu_seconds = 0.0;  // user + system of the stage and its children; 0: not measured (Slurm)
   std::int64_t peak_memory_bytes = 0;
   int exit_code = 0;
   std::string finished_at;  // UTC, ISO 8601

@@ -171,8 +171,12 @@ std::string job_script(const Job& job,
     const auto at = status_text.rfind(".0.exit");
     status_text.replace(at, 7, ".'\"$task\"'.exit");
   }
+  // The shell's `times` (its children's user and system time, the stage's
+  // CPU time) must run in the script's own shell, not in a $(...) subshell.
   s << "\ncode=$?\n";
-  s << "echo \"$code $(($(date +%s) - start))\" > " << status_text << "\n";
+  s << "times > " << status_text << ".times\n";
+  s << "echo \"$code $(($(date +%s) - start)) $(tail -n 1 " << status_text << ".times)\" > " << status_text << "\n";
+  s << "rm -f " << status_text << ".times\n";
   s << "exit \"$code\"\n";
   return s.str();
 }
@@ -237,8 +241,20 @@ struct TaskStatus {
   TaskState state = TaskState::kFailed;
   int exit_code = 0;
   std::string reason;
-  double seconds = 0;  // the job's wall time, from its status file
+  double seconds = 0;      // the job's wall time, from its status file
+  double cpu_seconds = 0;  // its user + system time, from its status file (0: not there)
 };
+
+// Seconds of one of `times`' figures: "1m2.5s" (dash, bash).
+double times_seconds(const std::string& figure) {
+  const auto m = figure.find('m');
+  if (m == std::string::npos || figure.empty() || figure.back() != 's') return 0;
+  try {
+    return std::stod(figure.substr(0, m)) * 60 + std::stod(figure.substr(m + 1, figure.size() - m - 2));
+  } catch (const std::exception&) {
+    return 0;  // a figure hos cannot read only leaves the CPU time out
+  }
+}
 
 TaskStatus task_status(const std::string& id, const fs::path& status, const std::set<std::string>& active) {
   if (active.count(id)) return {TaskState::kActive, 0, ""};
@@ -246,9 +262,11 @@ TaskStatus task_status(const std::string& id, const fs::path& status, const std:
   int code = -1;
   double seconds = 0;
   if (in >> code) {
-    in >> seconds;
-    if (code == 0) return {TaskState::kCompleted, 0, "", seconds};
-    return {TaskState::kFailed, code, "exit code " + std::to_string(code), seconds};
+    std::string user, system;
+    in >> seconds >> user >> system;
+    const double cpu = times_seconds(user) + times_seconds(system);
+    if (code == 0) return {TaskState::kCompleted, 0, "", seconds, cpu};
+    return {TaskState::kFailed, code, "exit code " + std::to_string(code), seconds, cpu};
   }
   const std::string state = sacct_state(id);
   return {TaskState::kFailed, -1,
@@ -364,15 +382,19 @@ class SlurmRun {
     r.finished_at = utc_timestamp();
     r.figures = stage_figures(spec.name, paths_.root);
     // Wall time: the stage's jobs one after the other, an array's tasks side
-    // by side (the longest counts). Peak memory needs the cluster's
-    // accounting, which hos does not rely on: not recorded.
+    // by side (the longest counts); CPU time: every task's. Peak memory
+    // needs the cluster's accounting, which hos does not rely on: not
+    // recorded.
     r.wall_seconds = 0;
+    r.cpu_seconds = 0;
     r.peak_memory_bytes = 0;
     for (const Job& job : jobs_) {
       if (job.stage != stage) continue;
       double longest = 0;
       for (const auto& [t, id] : recorded_tasks(entry(job))) {
-        longest = std::max(longest, task_status(id, status_file(paths_, job, t), {}).seconds);
+        const TaskStatus status = task_status(id, status_file(paths_, job, t), {});
+        longest = std::max(longest, status.seconds);
+        r.cpu_seconds += status.cpu_seconds;
       }
       r.wall_seconds += longest;
     }

@@ -13,6 +13,9 @@
 #include <atomic>
 #include <cstdlib>
 #include <fstream>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+#include <sstream>
 #include <thread>
 
 #include "core/error.h"
@@ -29,7 +32,8 @@ using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 
 // Each fake appends its name to $HOS_FAKE_CALLS, fails with $HOS_FAKE_EXIT if
-// $HOS_FAKE_FAIL names it, sleeps if $HOS_FAKE_SLEEP names it, and writes its
+// $HOS_FAKE_FAIL names it, sleeps if $HOS_FAKE_SLEEP names it, burns CPU in
+// a child of its own if $HOS_FAKE_BURN names it, and writes its
 // output (content derived from its input so changes propagate).
 constexpr const char* kFakeStage = R"(#!/bin/sh
 stage="$1"; shift
@@ -45,6 +49,7 @@ done
 echo "$stage" >> "$HOS_FAKE_CALLS"
 if [ "$HOS_FAKE_SLEEP" = "$stage" ]; then echo $$ > "$HOS_FAKE_CALLS.pid"; exec sleep 30; fi
 if [ "$HOS_FAKE_FAIL" = "$stage" ]; then echo "$stage: failing on purpose" >&2; exit "$HOS_FAKE_EXIT"; fi
+if [ "$HOS_FAKE_BURN" = "$stage" ]; then sh -c 'i=0; while [ $i -lt 200000 ]; do i=$((i + 1)); done'; fi
 case "$stage" in
   sfm)
     mkdir -p "$ws/sfm/undistorted/sparse" "$ws/sfm/undistorted/images"
@@ -78,6 +83,7 @@ class DriverTest : public ::testing::Test {
     ::setenv("HOS_FAKE_PHOTOS", (dir_ / "photos").c_str(), 1);
     ::unsetenv("HOS_FAKE_FAIL");
     ::unsetenv("HOS_FAKE_SLEEP");
+    ::unsetenv("HOS_FAKE_BURN");
     options_.photos = dir_ / "photos";
     options_.output = dir_ / "out.glb";
     options_.bin_dir = bin_;
@@ -258,6 +264,25 @@ TEST_F(DriverTest, SummaryTableListsEveryStage) {
   EXPECT_THAT(lines[1], HasSubstr("up to date"));
   EXPECT_THAT(lines[1], HasSubstr("3/4 images registered"));
   EXPECT_THAT(lines.back(), HasSubstr("out.glb"));
+}
+
+// A stage's CPU time counts its children too, and never exceeds what the
+// cores could give in its wall time.
+TEST_F(DriverTest, RunRecordHoldsEachStagesCpuTimeBesideItsWallTime) {
+  ::setenv("HOS_FAKE_BURN", "mvs", 1);
+  const DriverResult result = run_pipeline(options_, null_reporter());
+  ::unsetenv("HOS_FAKE_BURN");
+  const nlohmann::json stages = nlohmann::json::parse(testing::read_text(workspace() / "run.json"))["stages"];
+  const double cores = std::thread::hardware_concurrency();
+  const double mvs_cpu = stages["mvs"]["cpu_seconds"], mvs_wall = stages["mvs"]["wall_seconds"];
+  EXPECT_GT(mvs_cpu, 0.05);
+  EXPECT_LE(mvs_cpu, mvs_wall * cores + 0.05);
+  EXPECT_LT(stages["recon"]["cpu_seconds"].get<double>(), mvs_cpu) << "recon burns nothing";
+  const auto lines = summary_table(result);
+  EXPECT_THAT(lines[0], HasSubstr("time       cpu"));
+  std::ostringstream cpu;
+  cpu << std::fixed << std::setprecision(1) << mvs_cpu << " s";
+  EXPECT_THAT(lines[2], HasSubstr(cpu.str()));
 }
 
 // ---- reliability (issue #14) -------------------------------------------------

@@ -219,8 +219,10 @@ TEST_F(SlurmExecutorTest, ArrayTaskScriptRunsItsViewChunkAndRecordsItsExitCode) 
   EXPECT_THAT(calls, HasSubstr(std::string("hos-mvs --workspace ") + (ws() / "sfm" / "undistorted").string() +
                                std::string(" --views 4-7 --depth-maps ") + (ws() / "mvs" / "depth_maps").string()));
   EXPECT_THAT(calls, HasSubstr(std::string("--log ") + (ws() / "logs" / "mvs-depth.1.log").string()));
-  // Exit code and wall seconds.
-  EXPECT_THAT(read_text(ws() / "slurm" / "status" / "mvs-depth.1.exit"), ::testing::MatchesRegex("0 [0-9]+\n"));
+  // Exit code, wall seconds, and the user and system time of `times`.
+  EXPECT_THAT(read_text(ws() / "slurm" / "status" / "mvs-depth.1.exit"),
+              ::testing::MatchesRegex("0 [0-9]+ [0-9]+m[0-9.]+s [0-9]+m[0-9.]+s\n"));
+  EXPECT_FALSE(fs::exists(ws() / "slurm" / "status" / "mvs-depth.1.exit.times"));
 }
 
 TEST_F(SlurmExecutorTest, TextureTaskScriptsComputeTheirViewChunkAndTheJoinReadsTheFolder) {
@@ -454,12 +456,13 @@ TEST_F(SlurmExecutorTest, FailedTaskFailsTheRunWithItsCauseAndLogAndCancelsTheJo
 
 TEST_F(SlurmExecutorTest, WaitsUntilEveryJobCompletedAndCopiesTheResult) {
   options_.executor_options = {"mvs_tasks=3", "poll_seconds=0"};
-  // Status files hold the exit code and the wall seconds.
-  on_squeue_call(
-      2,
-      {"sfm=0 1", "mvs-depth.0=0 5", "mvs-depth.1=0 9", "mvs-depth.2=0 4", "mvs-fuse=0 2", "recon=0 3", "refine=0 1",
-       "texture-views.0=0 3", "texture-views.1=0 2", "texture-views.2=0 4", "texture-views.3=0 1", "texture-atlas=0 3"},
-      true);
+  // Status files hold the exit code, the wall seconds and the CPU time as
+  // `times` prints it (mvs-depth.2's as a status file without it).
+  on_squeue_call(2,
+                 {"sfm=0 1", "mvs-depth.0=0 5 0m4.00s 0m1.00s", "mvs-depth.1=0 9 0m8.5s 0m0.5s", "mvs-depth.2=0 4",
+                  "mvs-fuse=0 2 1m0.25s 0m0.000s", "recon=0 3", "refine=0 1", "texture-views.0=0 3",
+                  "texture-views.1=0 2", "texture-views.2=0 4", "texture-views.3=0 1", "texture-atlas=0 3"},
+                 true);
   for (const char* file : {"mvs/points.ply", "recon/mesh.ply", "refine/mesh.ply", "texture/model.glb"}) {
     fs::create_directories((ws() / file).parent_path());
     std::ofstream(ws() / file) << "result " << file;
@@ -470,6 +473,9 @@ TEST_F(SlurmExecutorTest, WaitsUntilEveryJobCompletedAndCopiesTheResult) {
   // An array's tasks run side by side: the longest one, then the fusion.
   EXPECT_EQ(run_json()["stages"]["mvs"]["wall_seconds"], 11.0);
   EXPECT_EQ(run_json()["stages"]["texture"]["wall_seconds"], 7.0);
+  // CPU time: every task's.
+  EXPECT_DOUBLE_EQ(run_json()["stages"]["mvs"]["cpu_seconds"].get<double>(), 5 + 9 + 60.25);
+  EXPECT_EQ(run_json()["stages"]["recon"]["cpu_seconds"], 0.0);
 }
 
 // The texture join has left the queue, but its status file shows up only at
