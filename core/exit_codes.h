@@ -8,7 +8,7 @@ enum ExitCode : int {
   kExitUsage = 2,         // bad command line or configuration (ConfigError)
   kExitBadInput = 3,      // missing, unreadable or malformed input (InputError)
   kExitStageFailed = 4,   // a stage could not produce its result (StageError, NumericalError)
-  kExitOutputFailed = 5,  // an output could not be written (OutputError)
+  kExitOutputFailed = 5,  // an output (or a temporary folder, TMPDIR) could not be written (OutputError)
   kExitInternal = 70,     // an unexpected error (a bug)
   kExitInterrupted = 130  // stopped by SIGINT/SIGTERM (Cancelled)
 };
