@@ -8,12 +8,15 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <random>
 
 #include "core/colmap_io.h"
 #include "core/exit_codes.h"
+#include "core/reporter.h"
 #include "core/sparse_model.h"
 #include "core/subprocess.h"
 #include "tests/support/test_support.h"
@@ -228,6 +231,134 @@ TEST_F(SfmTest, VocabularyTreeAndBoundedSiftKeepFullSizeCameras) {
   }
   const fs::path first = ws / "sfm" / "undistorted" / "images" / result.images.begin()->second.name;
   EXPECT_GT(cv::imread(first.string()).cols, 0.9 * true_camera.width);
+}
+
+// The scene's photos copied into folder, each through edit (name, image).
+void copy_photos(const fs::path& scene,
+                 const fs::path& folder,
+                 const std::function<cv::Mat(const std::string&, const cv::Mat&)>& edit) {
+  fs::create_directories(folder);
+  for (const auto& entry : fs::directory_iterator(scene / "images")) {
+    const std::string name = entry.path().filename().string();
+    cv::imwrite((folder / name).string(), edit(name, cv::imread(entry.path().string())));
+  }
+}
+
+// One 1600x1200 photo among 400x300 ones used to turn off SIFT's upsampled
+// octave for all of them (6 of 24 registered; with these 16 photos no model
+// at all): each camera group now has its own extraction run and SIFT plan.
+TEST_F(SfmTest, OneLargePhotoDoesNotDegradeTheSmallOnes) {
+  if (!have_colmap()) GTEST_SKIP() << "colmap is not installed";
+  const fs::path scene = synth_scene(16, {400, 300});
+  if (scene.empty()) GTEST_SKIP() << "hos-synth is not built";
+  copy_photos(scene, dir_ / "photos", [](const std::string& name, const cv::Mat& image) {
+    cv::Mat out = image;
+    if (name == "view_000.png") cv::resize(image, out, cv::Size(1600, 1200), 0, 0, cv::INTER_CUBIC);
+    return out;
+  });
+  const fs::path ws = dir_ / "ws";
+  const int code =
+      run_sfm_exe("--images " + shell_quote((dir_ / "photos").string()) + " --workspace " + shell_quote(ws.string()),
+                  dir_ / "sfm.out");
+  const std::string out = read_text(dir_ / "sfm.out");
+  ASSERT_EQ(code, 0) << out;
+  EXPECT_THAT(out, HasSubstr("15 photos 400x300: one camera, SIFT at most 2400 px (and 2x)"));
+  EXPECT_THAT(out, HasSubstr("1 photo 1600x1200: one camera per photo, SIFT at most 2400 px\n"));
+  const SparseModel truth = read_colmap_model(scene / "sparse");
+  const SparseModel result = read_colmap_model(ws / "sfm" / "undistorted" / "sparse");
+  ASSERT_EQ(result.images.size(), truth.images.size()) << "every view registers";
+  const PoseErrors errors = pose_errors(truth, result);
+  EXPECT_LT(errors.worst_centre, 0.01);
+  EXPECT_LT(errors.worst_rotation_deg, 1.0);
+}
+
+// Photos of two sizes without EXIF (frames of two videos) used to get one
+// camera per photo, and per-photo principal points: now one camera per
+// size, each with its principal point estimated from its 8 photos.
+TEST_F(SfmTest, PhotosOfTwoSizesShareOneCameraPerSize) {
+  if (!have_colmap()) GTEST_SKIP() << "colmap is not installed";
+  const fs::path scene = synth_scene(16, {480, 360});
+  if (scene.empty()) GTEST_SKIP() << "hos-synth is not built";
+  // Every other view cropped about its centre: the principal point stays at
+  // the centre of both sizes.
+  int cropped = 0;
+  copy_photos(scene, dir_ / "photos", [&](const std::string&, const cv::Mat& image) {
+    if (cropped++ % 2) return image;
+    return cv::Mat(image(cv::Rect(40, 30, 400, 300)).clone());
+  });
+  const fs::path ws = dir_ / "ws";
+  const int code =
+      run_sfm_exe("--images " + shell_quote((dir_ / "photos").string()) + " --workspace " + shell_quote(ws.string()),
+                  dir_ / "sfm.out");
+  const std::string out = read_text(dir_ / "sfm.out");
+  ASSERT_EQ(code, 0) << out;
+  const SparseModel truth = read_colmap_model(scene / "sparse");
+  const SparseModel mapped = read_colmap_model(ws / "sfm" / "sparse" / "0");
+  EXPECT_EQ(mapped.cameras.size(), 2u) << "one camera per size";
+  const SparseModel result = read_colmap_model(ws / "sfm" / "undistorted" / "sparse");
+  ASSERT_EQ(result.images.size(), truth.images.size()) << "every view registers";
+  const PoseErrors errors = pose_errors(truth, result);
+  EXPECT_LT(errors.worst_centre, 0.01);
+  EXPECT_LT(errors.worst_rotation_deg, 1.0);
+  std::cout << "worst centre error " << errors.worst_centre * 100 << "% of the scene size, worst rotation error "
+            << errors.worst_rotation_deg << " deg\n";
+  std::ifstream in(ws / "sfm" / "report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  ASSERT_EQ(report["principal_point"]["cameras"].size(), 2u);
+  for (const auto& camera : report["principal_point"]["cameras"]) {
+    EXPECT_EQ(camera["images"], 8);
+    // The true principal point is the centre of both sizes.
+    if (camera["estimated"].get<bool>()) {
+      EXPECT_LT(camera["offset_px"].get<double>(), 4.0) << camera.dump();
+    }
+  }
+}
+
+// A COLMAP stack trace used to be all the user saw for a model whose
+// camera sizes do not match the photos.
+TEST_F(SfmTest, ExistingModelOfOtherSizedPhotosIsBadInput) {
+  const fs::path scene = synth_scene(4);
+  if (scene.empty()) GTEST_SKIP() << "hos-synth is not built";
+  copy_photos(scene, dir_ / "photos", [](const std::string&, const cv::Mat& image) {
+    cv::Mat half;
+    cv::resize(image, half, cv::Size(320, 240), 0, 0, cv::INTER_AREA);
+    return half;
+  });
+  const int code =
+      run_sfm_exe("--images " + shell_quote((dir_ / "photos").string()) + " --sparse " +
+                      shell_quote((scene / "sparse").string()) + " --workspace " + shell_quote((dir_ / "ws").string()),
+                  dir_ / "sfm.out");
+  const std::string out = read_text(dir_ / "sfm.out");
+  EXPECT_EQ(code, kExitBadInput) << out;
+  EXPECT_THAT(out, HasSubstr("view_000.png: is 320x240 pixels but its camera"));
+  EXPECT_THAT(out, HasSubstr("is 640x480"));
+  EXPECT_THAT(out, ::testing::Not(HasSubstr("Check failed")));
+  expect_no_result(dir_ / "ws");
+}
+
+// The 16 views of the scene among 6 unrelated images: the run succeeds,
+// and says loudly how much of the capture was used and why.
+TEST_F(SfmTest, SparseCaptureSaysHowMuchWasUsedAndWhy) {
+  if (!have_colmap()) GTEST_SKIP() << "colmap is not installed";
+  const fs::path scene = synth_scene(16, {400, 300});
+  if (scene.empty()) GTEST_SKIP() << "hos-synth is not built";
+  const fs::path photos = unrelated_images(6);
+  for (const auto& entry : fs::directory_iterator(scene / "images")) {
+    fs::copy_file(entry.path(), photos / entry.path().filename());
+  }
+  const fs::path ws = dir_ / "ws";
+  const int code = run_sfm_exe("--images " + shell_quote(photos.string()) + " --workspace " + shell_quote(ws.string()),
+                               dir_ / "sfm.out");
+  const std::string out = read_text(dir_ / "sfm.out");
+  ASSERT_EQ(code, 0) << out;
+  EXPECT_THAT(out, HasSubstr("only 16 of 22 photos (73%) registered"));
+  EXPECT_THAT(out, HasSubstr("6 matched no other photo well"));
+  EXPECT_THAT(out, HasSubstr("img0.png"));
+  EXPECT_THAT(out, HasSubstr("overlap"));
+  std::ifstream in(ws / "sfm" / "report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_NEAR(report["registered_fraction"].get<double>(), 16.0 / 22, 1e-9);
+  EXPECT_THAT(report["warning"].get<std::string>(), HasSubstr("only 16 of 22 photos"));
 }
 
 TEST_F(SfmTest, ExistingUndistortedModelIsUsedAsIs) {
