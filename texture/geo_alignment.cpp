@@ -1,0 +1,283 @@
+#include "texture/geo_alignment.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/reporter.h"
+
+namespace hos::texture {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+template <int Dim>
+struct Fit {
+  double scale = 1.0;
+  Eigen::Matrix<double, Dim, Dim> rotation = Eigen::Matrix<double, Dim, Dim>::Identity();
+  Eigen::Matrix<double, Dim, 1> translation = Eigen::Matrix<double, Dim, 1>::Zero();
+  std::vector<int> inliers;
+  Eigen::Matrix<double, Dim, 1> operator()(const Eigen::Matrix<double, Dim, 1>& x) const {
+    return scale * (rotation * x) + translation;
+  }
+};
+
+template <int Dim>
+using Points = Eigen::Matrix<double, Dim, Eigen::Dynamic>;
+
+// Umeyama's least-squares similarity taking the chosen columns of from onto
+// to (Umeyama 1991, Eqs. 40-42).
+template <int Dim>
+std::optional<Fit<Dim>> fit_similarity(const Points<Dim>& from, const Points<Dim>& to, const std::vector<int>& which) {
+  using Vector = Eigen::Matrix<double, Dim, 1>;
+  using Matrix = Eigen::Matrix<double, Dim, Dim>;
+  const double n = static_cast<double>(which.size());
+  Vector mean_from = Vector::Zero(), mean_to = Vector::Zero();
+  for (int i : which) mean_from += from.col(i), mean_to += to.col(i);
+  mean_from /= n;
+  mean_to /= n;
+  Matrix covariance = Matrix::Zero();
+  double variance = 0.0;
+  for (int i : which) {
+    covariance += (to.col(i) - mean_to) * (from.col(i) - mean_from).transpose();
+    variance += (from.col(i) - mean_from).squaredNorm();
+  }
+  covariance /= n;
+  variance /= n;
+  if (!(variance > 1e-24)) return std::nullopt;
+  // Dynamic sizes: GCC 12 warns falsely inside Eigen's fixed 2x2 SVD.
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(Eigen::MatrixXd(covariance), Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::VectorXd sign = Eigen::VectorXd::Ones(Dim);
+  if (svd.matrixU().determinant() * svd.matrixV().determinant() < 0) sign[Dim - 1] = -1.0;
+  Fit<Dim> fit;
+  fit.rotation = Matrix(svd.matrixU() * sign.asDiagonal() * svd.matrixV().transpose());
+  fit.scale = svd.singularValues().dot(sign) / variance;
+  fit.translation = mean_to - fit.scale * (fit.rotation * mean_from);
+  if (!(fit.scale > 1e-12) || !fit.rotation.allFinite() || !fit.translation.allFinite()) return std::nullopt;
+  return fit;
+}
+
+// Within threshold horizontally and, in 3D, kVerticalTolerance times it
+// vertically: GPS altitude is several times noisier than the position.
+constexpr double kVerticalTolerance = 3.0;
+
+template <int Dim>
+bool is_inlier(const Eigen::Matrix<double, Dim, 1>& residual, double threshold) {
+  if constexpr (Dim == 3) {
+    return residual.template head<2>().norm() <= threshold && std::abs(residual.z()) <= kVerticalTolerance * threshold;
+  } else {
+    return residual.norm() <= threshold;
+  }
+}
+
+template <int Dim>
+std::vector<int> inliers_of(const Fit<Dim>& fit, const Points<Dim>& from, const Points<Dim>& to, double threshold) {
+  std::vector<int> out;
+  for (Eigen::Index i = 0; i < from.cols(); ++i) {
+    if (is_inlier<Dim>(fit(from.col(i)) - to.col(i), threshold)) out.push_back(static_cast<int>(i));
+  }
+  return out;
+}
+
+// RANSAC over minimal sets (Dim points), then least squares on the inliers
+// until they no longer change (at most a few rounds).
+template <int Dim>
+std::optional<Fit<Dim>> robust_similarity(const Points<Dim>& from,
+                                          const Points<Dim>& to,
+                                          double threshold,
+                                          int iterations) {
+  const int n = static_cast<int>(from.cols());
+  if (n < Dim) return std::nullopt;
+  std::mt19937 rng(7);
+  std::optional<Fit<Dim>> best;
+  for (int it = 0; it < iterations; ++it) {
+    std::vector<int> sample(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) sample[std::size_t(i)] = i;
+    std::shuffle(sample.begin(), sample.end(), rng);
+    sample.resize(Dim);
+    auto fit = fit_similarity<Dim>(from, to, sample);
+    if (!fit) continue;
+    fit->inliers = inliers_of(*fit, from, to, threshold);
+    if (!best || fit->inliers.size() > best->inliers.size()) best = fit;
+  }
+  if (!best || static_cast<int>(best->inliers.size()) < Dim) return std::nullopt;
+  for (int round = 0; round < 5; ++round) {
+    auto refined = fit_similarity<Dim>(from, to, best->inliers);
+    if (!refined) break;
+    refined->inliers = inliers_of(*refined, from, to, threshold);
+    const bool same = refined->inliers == best->inliers;
+    if (static_cast<int>(refined->inliers.size()) < Dim) break;
+    best = refined;
+    if (same) break;
+  }
+  return best;
+}
+
+double median(std::vector<double> values) {
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2), values.end());
+  return values[values.size() / 2];
+}
+
+std::string rounded_metres(double m) {
+  std::ostringstream out;
+  out.precision(m < 10 ? 2 : 3);
+  out << m;
+  return out.str();
+}
+
+}  // namespace
+
+std::vector<PhotoPosition> read_photo_positions(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw InputError(file.string(), "cannot be opened");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(file.string(), std::string("not valid JSON: ") + e.what());
+  }
+  if (!j.is_object()) throw InputError(file.string(), "is not a JSON object");
+  std::vector<PhotoPosition> out;
+  if (!j.contains("photos")) return out;  // e.g. the report of an sfm run on an existing model
+  if (!j["photos"].is_array()) throw InputError(file.string(), "\"photos\" is not an array");
+  for (const auto& photo : j["photos"]) {
+    if (!photo.is_object() || !photo.contains("name") || !photo["name"].is_string()) {
+      throw InputError(file.string(), "a photo without a \"name\"");
+    }
+    if (!photo.contains("gps") || photo["gps"].is_null()) continue;
+    const auto& gps = photo["gps"];
+    const std::string name = photo["name"].get<std::string>();
+    if (!gps.is_object() || !gps.contains("latitude_deg") || !gps.contains("longitude_deg") ||
+        !gps["latitude_deg"].is_number() || !gps["longitude_deg"].is_number()) {
+      throw InputError(file.string(), "photo " + name + ": \"gps\" needs numeric latitude_deg and longitude_deg");
+    }
+    PhotoPosition p;
+    p.name = name;
+    p.gps.latitude_deg = gps["latitude_deg"].get<double>();
+    p.gps.longitude_deg = gps["longitude_deg"].get<double>();
+    if (gps.contains("altitude_m") && gps["altitude_m"].is_number()) p.gps.altitude_m = gps["altitude_m"].get<double>();
+    if (!std::isfinite(p.gps.latitude_deg) || !std::isfinite(p.gps.longitude_deg) ||
+        std::abs(p.gps.latitude_deg) > 90.0 || std::abs(p.gps.longitude_deg) > 360.0) {
+      throw InputError(file.string(), "photo " + name + ": latitude or longitude out of range");
+    }
+    out.push_back(p);
+  }
+  return out;
+}
+
+GeoAlignment align_to_gps(const std::vector<CameraPose>& cameras,
+                          const std::vector<PhotoPosition>& positions,
+                          const Eigen::Vector3d& up_in_model,
+                          const GeoAlignmentOptions& options) {
+  GeoAlignment result;
+  std::map<std::string, GeoPosition> by_name;
+  for (const PhotoPosition& p : positions) by_name[p.name] = p.gps;
+  std::vector<Eigen::Vector3d> centres;
+  std::vector<GeoPosition> gps;
+  for (const CameraPose& c : cameras) {
+    const auto it = by_name.find(c.name);
+    if (it == by_name.end()) continue;
+    centres.push_back(c.centre);
+    gps.push_back(it->second);
+  }
+  result.photos_with_gps = static_cast<int>(gps.size());
+  if (gps.empty()) {
+    result.reason = "no GPS";
+    return result;
+  }
+  if (gps.size() < 3) {
+    result.reason = format_message("only ", gps.size(), " registered photos have GPS");
+    return result;
+  }
+
+  // The local frame at the mean position.
+  GeoPosition reference;
+  double altitude_sum = 0.0;
+  int altitudes = 0;
+  for (const GeoPosition& g : gps) {
+    reference.latitude_deg += g.latitude_deg / double(gps.size());
+    reference.longitude_deg += g.longitude_deg / double(gps.size());
+    if (g.altitude_m) altitude_sum += *g.altitude_m, ++altitudes;
+  }
+  if (altitudes > 0) reference.altitude_m = altitude_sum / altitudes;
+  result.frame = EnuFrame(reference);
+  const auto n = static_cast<Eigen::Index>(gps.size());
+  Points<3> enu(3, n), model(3, n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    enu.col(i) = result.frame.enu_from_geodetic(gps[std::size_t(i)]);
+    model.col(i) = centres[std::size_t(i)];
+  }
+
+  // Horizontal fit with the vertical from up_in_model.
+  const Eigen::Matrix3d level =
+      Eigen::Quaterniond::FromTwoVectors(up_in_model, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Points<3> levelled = level * model;
+  const Points<2> from2 = levelled.topRows<2>(), to2 = enu.topRows<2>();
+  const auto fit2 = robust_similarity<2>(from2, to2, options.inlier_threshold_m, options.ransac_iterations);
+  if (!fit2) {
+    result.reason = "the GPS positions fit no similarity of the cameras";
+    return result;
+  }
+  result.inliers = static_cast<int>(fit2->inliers.size());
+  for (std::size_t a = 0; a < fit2->inliers.size(); ++a) {
+    for (std::size_t b = a + 1; b < fit2->inliers.size(); ++b) {
+      result.spread_m = std::max(result.spread_m, (to2.col(fit2->inliers[a]) - to2.col(fit2->inliers[b])).norm());
+    }
+  }
+  if (result.spread_m < options.min_spread_m) {
+    result.reason =
+        "GPS spread " + rounded_metres(result.spread_m) + " m < " + rounded_metres(options.min_spread_m) + " m";
+    return result;
+  }
+  std::vector<double> heights;
+  double squared = 0.0;
+  for (int i : fit2->inliers) {
+    squared += ((*fit2)(from2.col(i)) - to2.col(i)).squaredNorm();
+    if (gps[std::size_t(i)].altitude_m) heights.push_back(enu(2, i) - fit2->scale * levelled(2, i));
+  }
+  result.usable = true;
+  result.has_altitude = !heights.empty();
+  result.rms_residual_m = std::sqrt(squared / double(fit2->inliers.size()));
+  Eigen::Matrix3d rotation2 = Eigen::Matrix3d::Identity();
+  rotation2.topLeftCorner<2, 2>() = fit2->rotation;
+  result.enu_from_model.scale = fit2->scale;
+  result.enu_from_model.rotation = rotation2 * level;
+  result.enu_from_model.translation << fit2->translation, heights.empty() ? 0.0 : median(heights);
+
+  // The full 3D fit, when every photo has an altitude and they fix the tilt
+  // well: the standard error of a plane's slope, vertical residual over the
+  // horizontal spread of the inliers.
+  if (altitudes != static_cast<int>(gps.size())) return result;
+  const auto fit3 = robust_similarity<3>(model, enu, options.inlier_threshold_m, options.ransac_iterations);
+  if (!fit3 || fit3->inliers.size() < 3) return result;
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (int i : fit3->inliers) centroid += enu.col(i).head<2>();
+  centroid /= double(fit3->inliers.size());
+  double vertical = 0.0, radius = 0.0, residual = 0.0;
+  for (int i : fit3->inliers) {
+    const Eigen::Vector3d r = (*fit3)(model.col(i)) - enu.col(i);
+    vertical += r.z() * r.z();
+    residual += r.squaredNorm();
+    radius += (enu.col(i).head<2>() - centroid).squaredNorm();
+  }
+  const double count = double(fit3->inliers.size());
+  result.tilt_uncertainty_deg =
+      std::atan(std::sqrt(vertical / count) / (std::sqrt(radius / count) * std::sqrt(count))) * 180.0 / kPi;
+  if (!(result.tilt_uncertainty_deg <= options.max_tilt_uncertainty_deg)) return result;
+  result.vertical_from_gps = true;
+  result.inliers = static_cast<int>(fit3->inliers.size());
+  result.rms_residual_m = std::sqrt(residual / count);
+  result.enu_from_model.scale = fit3->scale;
+  result.enu_from_model.rotation = fit3->rotation;
+  result.enu_from_model.translation = fit3->translation;
+  return result;
+}
+
+}  // namespace hos::texture
