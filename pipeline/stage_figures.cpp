@@ -114,6 +114,12 @@ nlohmann::ordered_json stage_figures(const std::string& stage, const fs::path& w
       nlohmann::ordered_json sizes = nlohmann::ordered_json::array();
       for (const auto& [w, h] : g.texture_sizes) sizes.push_back(std::to_string(w) + "x" + std::to_string(h));
       f["textures"] = sizes;
+      // How the model is placed: "units: metres from GPS (...)" or why the units are arbitrary.
+      std::ifstream in(paths.texture_report);
+      const nlohmann::json report = nlohmann::json::parse(in, nullptr, false);
+      if (report.is_object() && report.contains("placement") && report["placement"].contains("units_text")) {
+        f["units"] = report["placement"]["units_text"];
+      }
     }
   } catch (const std::exception&) {
     // Figures are informative only; a stage's own checks decide success.
@@ -145,6 +151,7 @@ std::string figures_text(const std::string& stage, const nlohmann::ordered_json&
       text << ", texture";
       for (const auto& s : f["textures"]) text << " " << s.get<std::string>();
     }
+    if (f.contains("units")) text << "; " << f["units"].get<std::string>();
   } else {
     text << f.dump();
   }

@@ -5,7 +5,10 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <vector>
+
+#include "core/geodesy.h"
 
 namespace hos::texture {
 
@@ -18,6 +21,10 @@ struct TexturedMesh {
   std::vector<cv::Mat> atlases;  // CV_8UC3, BGR
   // Column-major in glTF; maps model coordinates to the viewer's frame.
   Eigen::Matrix4d root_matrix = Eigen::Matrix4d::Identity();
+  // The root frame's units are metres (GPS or a measured distance), and
+  // where its origin is on Earth (GPS); written into the glTF's asset.extras.
+  bool metric = false;
+  std::optional<GeoPosition> geo_origin;
 };
 
 }  // namespace hos::texture
