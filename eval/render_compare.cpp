@@ -43,7 +43,10 @@ RenderComparison compare_renders(const render::RenderObject& object,
       cv::insertChannel(view.mask, render_with_mask, 3);
       cv::cvtColor(photo, photo_opaque, cv::COLOR_BGR2BGRA);
       cv::hconcat(render_with_mask, photo_opaque, side_by_side);
-      const std::filesystem::path target = save_dir / (std::filesystem::path(image.name).stem().string() + ".png");
+      // Image names may hold folders ("DCIM/100APPLE/IMG_1.jpg"): kept, so
+      // equal file names in two folders stay two files.
+      const std::filesystem::path target = save_dir / std::filesystem::path(image.name).replace_extension(".png");
+      std::filesystem::create_directories(target.parent_path());
       if (!cv::imwrite(target.string(), side_by_side)) throw OutputError(target.string(), "cannot write the image");
     }
     const std::size_t pixels = static_cast<std::size_t>(cv::countNonZero(view.mask));
