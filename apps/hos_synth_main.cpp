@@ -1,6 +1,7 @@
 // hos-synth: renders a procedural scene with known truth into a dataset
 // folder (layout: synth/dataset.h, docs/synth.md).
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <iostream>
 #include <vector>
 
@@ -8,6 +9,7 @@
 #include "core/exit_codes.h"
 #include "synth/dataset.h"
 #include "synth/scene.h"
+#include "synth/video.h"
 
 int main(int argc, char** argv) {
   hos::synth::SceneOptions scene_options;
@@ -40,6 +42,12 @@ int main(int argc, char** argv) {
       ->delimiter(',')
       ->expected(3);
   app.add_option("--metres-per-unit", options.metres_per_unit, "metres of a scene unit for --gps");
+  hos::synth::VideoOptions video;
+  app.add_option("--video", video.name,
+                 "also film the scene: OUTPUT/video/NAME (.mp4 .mov .mkv .avi) and its frames' true cameras in "
+                 "OUTPUT/video/sparse");
+  app.add_option("--video-frames", video.frames, "frames of the --video clip (one turn around the scene)");
+  app.add_option("--video-fps", video.fps, "frame rate of the --video clip");
   app.add_option("--progress", flags.progress, "auto|bar|plain|json|none");
   app.add_option("--log", flags.log_file, "log file");
   app.add_flag("--verbose", flags.verbose, "show debug messages");
@@ -53,8 +61,13 @@ int main(int argc, char** argv) {
   return hos::apps::run_stage_main("synth", flags, [&](hos::Reporter& reporter) {
     scene_options.validate();
     options.validate();
+    if (app.count("--video") > 0) video.validate();
     const hos::synth::Scene scene = hos::synth::make_scene(scene_options);
     hos::synth::write_dataset(output, scene, scene_options, options, reporter);
+    if (app.count("--video") > 0) {
+      hos::synth::write_video(std::filesystem::path(output) / "video", scene, options, video, reporter);
+      reporter.info("wrote " + std::to_string(video.frames) + " video frames to " + output + "/video/" + video.name);
+    }
     reporter.info("wrote " + std::to_string(options.num_views) + " views to " + output);
   });
 }

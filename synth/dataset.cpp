@@ -225,6 +225,18 @@ void DatasetOptions::validate() const {
     if (!(g > 0) || !std::isfinite(g)) throw ConfigError("exposure_gains", "gains must be positive");
 }
 
+Camera dataset_camera(const DatasetOptions& o) { return make_camera(o); }
+
+ImageRecord view_towards_centre(const Scene& scene, const Camera& camera, double elevation, double azimuth) {
+  const Eigen::Vector3d target = scene.centre.cast<double>();
+  const Eigen::Vector3d up = scene.up.cast<double>();
+  // The orientation does not depend on the distance: fit with the camera at the centre.
+  ImageRecord probe = look_at(0, ring_position(scene, 1.0, elevation, azimuth), target, up);
+  probe.cam_from_world_translation = -(probe.rotation() * target);
+  const double distance = fit_distance(scene, probe, camera);
+  return look_at(0, ring_position(scene, distance, elevation, azimuth), target, up);
+}
+
 namespace {
 
 // Directions (elevation, azimuth) of the training views, then of the held-out
@@ -244,15 +256,9 @@ std::vector<std::pair<double, double>> view_directions(const DatasetOptions& o) 
 // All cameras (training then held-out), each as close as keeps every object
 // in its frame (so the objects fill the photos; distances differ per view).
 std::vector<ImageRecord> place_cameras(const Scene& scene, const DatasetOptions& o, const Camera& camera) {
-  const Eigen::Vector3d target = scene.centre.cast<double>();
-  const Eigen::Vector3d up = scene.up.cast<double>();
   std::vector<ImageRecord> images;
   for (const auto& [elevation, azimuth] : view_directions(o)) {
-    // The orientation does not depend on the distance: fit with the camera at the centre.
-    ImageRecord probe = look_at(0, ring_position(scene, 1.0, elevation, azimuth), target, up);
-    probe.cam_from_world_translation = -(probe.rotation() * target);
-    const double distance = fit_distance(scene, probe, camera);
-    images.push_back(tilted(look_at(0, ring_position(scene, distance, elevation, azimuth), target, up), o.tilt_deg));
+    images.push_back(tilted(view_towards_centre(scene, camera, elevation, azimuth), o.tilt_deg));
   }
   return images;
 }

@@ -76,6 +76,13 @@ struct RenderedDataset {
 // The camera poses: rings around the scene centre, looking at it, objects in frame.
 SparseModel make_cameras(const Scene& scene, const DatasetOptions& options);
 
+// The one camera of the views (PINHOLE, focal_of, principal point centred).
+Camera dataset_camera(const DatasetOptions& options);
+
+// A view looking at the scene centre from this elevation (above the
+// horizon) and azimuth (radians), as close as keeps every object in frame.
+ImageRecord view_towards_centre(const Scene& scene, const Camera& camera, double elevation, double azimuth);
+
 RenderedDataset render_dataset(const Scene& scene, const DatasetOptions& options, Reporter& reporter = null_reporter());
 
 // Renders and writes the layout above. Throws OutputError.
