@@ -7,8 +7,10 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <exiv2/exiv2.hpp>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -19,6 +21,7 @@
 #include "core/reporter.h"
 #include "core/sparse_model.h"
 #include "core/subprocess.h"
+#include "sfm/colmap_database.h"
 #include "tests/support/test_support.h"
 
 namespace hos::sfm {
@@ -359,6 +362,72 @@ TEST_F(SfmTest, SparseCaptureSaysHowMuchWasUsedAndWhy) {
   const nlohmann::json report = nlohmann::json::parse(in);
   EXPECT_NEAR(report["registered_fraction"].get<double>(), 16.0 / 22, 1e-9);
   EXPECT_THAT(report["warning"].get<std::string>(), HasSubstr("only 16 of 22 photos"));
+}
+
+// "D/1 M/1 S/10000" for EXIF's degrees, minutes, seconds.
+std::string exif_dms(double degrees) {
+  const int d = static_cast<int>(degrees);
+  const int m = static_cast<int>((degrees - d) * 60);
+  const long long s = std::llround(((degrees - d) * 60 - m) * 60 * 10000);
+  return format_message(d, "/1 ", m, "/1 ", s, "/10000");
+}
+
+// Writes an EXIF GPS position without altitude (as many phones do) into a JPEG.
+void write_gps_without_altitude(const fs::path& jpeg, double latitude, double longitude) {
+  auto image = Exiv2::ImageFactory::open(jpeg.string());
+  image->readMetadata();
+  Exiv2::ExifData exif;
+  exif["Exif.GPSInfo.GPSVersionID"] = "2 3 0 0";
+  exif["Exif.GPSInfo.GPSLatitudeRef"] = "N";
+  exif["Exif.GPSInfo.GPSLatitude"] = exif_dms(latitude);
+  exif["Exif.GPSInfo.GPSLongitudeRef"] = "E";
+  exif["Exif.GPSInfo.GPSLongitude"] = exif_dms(longitude);
+  image->setExifData(exif);
+  image->writeMetadata();
+}
+
+// Photos with GPS but no altitude used to reach COLMAP without a position
+// (it records one only with an altitude): their priors must now be in the
+// database, and spatial matching must ignore height.
+TEST_F(SfmTest, GpsWithoutAltitudeReachesColmapAndSpatialMatchingIgnoresHeight) {
+  if (!have_colmap()) GTEST_SKIP() << "colmap is not installed";
+  const fs::path scene = synth_scene(16, {400, 300});
+  if (scene.empty()) GTEST_SKIP() << "hos-synth is not built";
+  const fs::path photos = dir_ / "photos";
+  fs::create_directories(photos);
+  int k = 0;
+  std::map<std::string, std::pair<double, double>> positions;
+  for (const auto& entry : fs::directory_iterator(scene / "images")) {
+    const std::string name = entry.path().stem().string() + ".jpg";
+    cv::imwrite((photos / name).string(), cv::imread(entry.path().string()), {cv::IMWRITE_JPEG_QUALITY, 95});
+    // About a metre apart, on a line.
+    positions[name] = {46.5 + 1e-5 * k, 6.6 + 1e-5 * k};
+    write_gps_without_altitude(photos / name, positions[name].first, positions[name].second);
+    ++k;
+  }
+  const fs::path ws = dir_ / "ws";
+  const int code = run_sfm_exe("--images " + shell_quote(photos.string()) + " --workspace " + shell_quote(ws.string()) +
+                                   " --set sfm.matcher=spatial",
+                               dir_ / "sfm.out");
+  const std::string out = read_text(dir_ / "sfm.out");
+  ASSERT_EQ(code, 0) << out;
+  EXPECT_THAT(out, HasSubstr("16 without altitude: matched by latitude and longitude only"));
+  EXPECT_THAT(read_text(ws / "logs" / "sfm.log"), HasSubstr("--SpatialMatching.ignore_z 1"));
+  std::ifstream in(ws / "sfm" / "report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["matcher"], "spatial");
+  EXPECT_EQ(report["position_priors"], 16);
+  EXPECT_EQ(report["plan"]["spatial_ignore_z"], true);
+  // COLMAP's own record of the positions: latitude, longitude (as COLMAP
+  // rounds the seconds: within 0.2 m; neighbours are 1 m apart), altitude 0.
+  const auto images = read_database_images(ws / "sfm" / "database.db");
+  ASSERT_EQ(images.size(), 16u);
+  for (const DatabaseImage& image : images) {
+    ASSERT_TRUE(image.position_prior) << image.name;
+    EXPECT_NEAR((*image.position_prior)[0], positions.at(image.name).first, 2e-6) << image.name;
+    EXPECT_NEAR((*image.position_prior)[1], positions.at(image.name).second, 2e-6) << image.name;
+    EXPECT_EQ((*image.position_prior)[2], 0.0) << image.name;
+  }
 }
 
 TEST_F(SfmTest, ExistingUndistortedModelIsUsedAsIs) {
