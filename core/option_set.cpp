@@ -48,7 +48,14 @@ std::string number_problem(const std::string& text) {
   long double wide = 0;  // holds what T cannot: tells underflow from overflow
   const char* end = digits.data() + digits.size();
   const auto [ptr, ec] = std::from_chars(digits.data(), end, wide);
-  if (ec != std::errc() || ptr != end) return "is not a number";
+  if (ptr != end || (ec != std::errc() && ec != std::errc::result_out_of_range)) return "is not a number";
+  if (ec == std::errc::result_out_of_range) {
+    // Beyond even long double ("1e-99999"): the exponent's sign tells which way.
+    const auto e = digits.find_first_of("eE");
+    wide = e != std::string_view::npos && e + 1 < digits.size() && digits[e + 1] == '-'
+               ? std::numeric_limits<long double>::denorm_min()
+               : std::numeric_limits<long double>::max();
+  }
   if constexpr (std::is_integral_v<T>) {
     if (wide != std::trunc(wide)) return "is not an integer";
     if (wide >= std::numeric_limits<T>::min() && wide <= std::numeric_limits<T>::max()) {

@@ -168,6 +168,8 @@ TEST(OptionSet, NumbersWithAPlusParseAndUnderflowIsNamed) {
   };
   EXPECT_NE(message("lambda", "1e-400").find("underflows"), std::string::npos) << message("lambda", "1e-400");
   EXPECT_NE(message("lambda", "1e400").find("overflows"), std::string::npos);
+  EXPECT_NE(message("lambda", "1e-99999").find("underflows"), std::string::npos) << "beyond even a long double";
+  EXPECT_NE(message("lambda", "-1e99999").find("overflows"), std::string::npos);
   EXPECT_NE(message("lambda", "+-1").find("is not a number"), std::string::npos);
   EXPECT_NE(message("lambda", "abc").find("is not a number"), std::string::npos);
   EXPECT_NE(message("solver.resolution", "64.5").find("is not an integer"), std::string::npos);
