@@ -6,6 +6,7 @@
 #include "core/atomic_file.h"
 #include "core/disk_space.h"
 #include "core/error.h"
+#include "texture/model_writer.h"
 
 namespace hos::pipeline {
 namespace fs = std::filesystem;
@@ -61,6 +62,8 @@ void warn_if_low_space(const fs::path& folder, std::uintmax_t needed, const std:
 }
 
 void copy_result(const fs::path& model, const fs::path& output) {
+  // Another format than the workspace's .glb: written from it (same atlases).
+  if (texture::model_format_of(output) != texture::ModelFormat::kGlb) return texture::convert_model(model, output);
   write_atomically(output, [&](const fs::path& tmp) {
     std::error_code ec;
     fs::copy_file(model, tmp, ec);

@@ -25,7 +25,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   colmap
   libopencv-dev libeigen3-dev libceres-dev libtinygltf-dev libyaml-cpp-dev
-  libcli11-dev nlohmann-json3-dev libstb-dev
+  libcli11-dev nlohmann-json3-dev libstb-dev libjpeg-dev
   libnanoflann-dev libmaxflow-dev libmeshoptimizer-dev
   libexiv2-dev libheif-dev libsqlite3-dev
 )

@@ -3,53 +3,26 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numeric>
-#include <stdexcept>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+
+#include "texture/atlas_packing.h"
 
 namespace hos::texture {
 
-std::vector<int> pack_shelves(std::vector<Rect>& rects, int page_width, int page_height, int* num_pages) {
-  std::vector<int> order(rects.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    return rects[a].height != rects[b].height ? rects[a].height > rects[b].height : rects[a].width > rects[b].width;
-  });
-  std::vector<int> page(rects.size(), 0);
-  int current = 0, shelf_y = 0, shelf_height = 0, cursor_x = 0;
-  for (int i : order) {
-    Rect& r = rects[i];
-    if (r.width > page_width || r.height > page_height) {
-      throw std::invalid_argument("a chart is larger than the atlas page");
-    }
-    if (cursor_x + r.width > page_width) {  // next shelf
-      shelf_y += shelf_height;
-      cursor_x = 0;
-      shelf_height = 0;
-    }
-    if (shelf_y + r.height > page_height) {  // next page
-      ++current;
-      shelf_y = 0;
-      cursor_x = 0;
-      shelf_height = 0;
-    }
-    r.x = cursor_x;
-    r.y = shelf_y;
-    cursor_x += r.width;
-    shelf_height = std::max(shelf_height, r.height);
-    page[i] = current;
-  }
-  *num_pages = rects.empty() ? 0 : current + 1;
-  return page;
-}
-
 namespace {
 
-constexpr int kFlatCell = 4;  // texels per side of a flat face's patch
+constexpr int kFlatCell = 2;  // texels per side of a flat face's patch (sampled at its centre)
 
+// A chart's map from its view's photo pixels to page texels (texel = linear *
+// pixel + offset; a rotation, scale and translation, so texels are resampled
+// once from the photo) and its footprint while packing.
 struct ChartFrame {
-  Eigen::Vector2d min;                  // bounding box of the projection, photo pixels
-  double scale = 1.0;                   // texels per photo pixel
-  std::vector<Eigen::Vector2d> pixels;  // projected chart vertices
+  std::vector<Eigen::Vector2d> pixels;                        // projected chart vertices, photo pixels
+  Eigen::Matrix2d orientation = Eigen::Matrix2d::Identity();  // turns the minimum-area rectangle onto the axes
+  double scale = 1.0;                                         // texels per photo pixel
+  Eigen::Matrix2d linear = Eigen::Matrix2d::Identity();
+  Eigen::Vector2d offset = Eigen::Vector2d::Zero();
 };
 
 // Marks texels whose centre lies in the triangle (texel coordinates) and
@@ -110,7 +83,35 @@ cv::Vec3b to_bgr(const Eigen::Vector3f& rgb) {
   return cv::Vec3b(clamp8(rgb.z()), clamp8(rgb.y()), clamp8(rgb.x()));
 }
 
-// Every chart's vertices projected into its view (photo pixels).
+// The rotation that turns the points' minimum-area bounding rectangle onto
+// the axes (of the two candidate angles, the one with the smaller box).
+Eigen::Matrix2d minimum_area_orientation(const std::vector<Eigen::Vector2d>& points) {
+  if (points.size() < 3) return Eigen::Matrix2d::Identity();
+  std::vector<cv::Point2f> cv_points;
+  cv_points.reserve(points.size());
+  for (const auto& p : points) cv_points.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
+  const double angle = cv::minAreaRect(cv_points).angle * M_PI / 180.0;
+  Eigen::Matrix2d best = Eigen::Matrix2d::Identity();
+  double best_area = std::numeric_limits<double>::max();
+  for (const double a : {0.0, angle, -angle}) {
+    Eigen::Matrix2d r;
+    r << std::cos(a), -std::sin(a), std::sin(a), std::cos(a);
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(1e300), hi = Eigen::Vector2d::Constant(-1e300);
+    for (const auto& p : points) {
+      lo = lo.cwiseMin(r * p);
+      hi = hi.cwiseMax(r * p);
+    }
+    const double area = (hi - lo).prod();
+    if (area < best_area * 0.999) {  // the axes unless a turn is clearly better
+      best_area = area;
+      best = r;
+    }
+  }
+  return best;
+}
+
+// Every chart's vertices projected into its view (photo pixels) and the
+// orientation of its minimum-area rectangle.
 std::vector<ChartFrame> project_charts(const TriangleMesh& mesh,
                                        const std::vector<Chart>& charts,
                                        const std::vector<TextureView>& views) {
@@ -119,78 +120,147 @@ std::vector<ChartFrame> project_charts(const TriangleMesh& mesh,
     ChartFrame& frame = frames[c];
     const TextureView& view = views[charts[c].view];
     frame.pixels.resize(charts[c].vertices.size());
-    Eigen::Vector2d lo = Eigen::Vector2d::Constant(1e300), hi = Eigen::Vector2d::Constant(-1e300);
     for (std::size_t i = 0; i < charts[c].vertices.size(); ++i) {
-      const Eigen::Vector3d p = view.project(mesh.vertices[charts[c].vertices[i]].cast<double>());
-      frame.pixels[i] = p.head<2>();
-      lo = lo.cwiseMin(p.head<2>());
-      hi = hi.cwiseMax(p.head<2>());
+      frame.pixels[i] = view.project(mesh.vertices[charts[c].vertices[i]].cast<double>()).head<2>();
     }
-    frame.min = lo;
+    frame.orientation = minimum_area_orientation(frame.pixels);
   }
   return frames;
 }
 
 // Where every chart (first) and flat-face patch (after them) goes.
 struct Packing {
-  std::vector<Rect> rects;
-  std::vector<int> page_of;
+  std::vector<FootprintPlacement> placements;
+  std::vector<cv::Size> footprint_sizes;  // before the turn
   int num_pages = 0;
   int page_width = 0;
   double scale = 1.0;  // texels per photo pixel
 };
 
+// The chart at scale s in its own footprint: sets frame.scale and the map
+// into the footprint's texels (before the turn and the placement) and returns
+// the footprint, the texels the chart covers dilated by the padding, cropped
+// to its bounding box.
+cv::Mat chart_footprint(const Chart& chart, ChartFrame& frame, double s, int pad, int page_size) {
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(1e300), hi = Eigen::Vector2d::Constant(-1e300);
+  for (const auto& p : frame.pixels) {
+    lo = lo.cwiseMin(frame.orientation * p);
+    hi = hi.cwiseMax(frame.orientation * p);
+  }
+  const Eigen::Vector2d extent = hi - lo;
+  const int margin = pad + 1;
+  // A chart wider than a page is scaled down on its own.
+  const double limit = page_size - 2 * margin - 2;
+  if (extent.maxCoeff() * s > limit) s = limit / extent.maxCoeff();
+  frame.scale = s;
+  frame.linear = s * frame.orientation;
+  frame.offset = -s * lo + Eigen::Vector2d::Constant(margin);
+  cv::Mat mask(static_cast<int>(std::ceil(extent.y() * s)) + 2 * margin + 1,
+               static_cast<int>(std::ceil(extent.x() * s)) + 2 * margin + 1, CV_8U, cv::Scalar(0));
+  std::vector<Eigen::Vector2d> texel(frame.pixels.size());
+  for (std::size_t i = 0; i < texel.size(); ++i) texel[i] = frame.linear * frame.pixels[i] + frame.offset;
+  for (const auto& face : chart.local_faces) {
+    raster_triangle(texel[face[0]], texel[face[1]], texel[face[2]], mask.cols, mask.rows,
+                    [&](int x, int y, const Eigen::Vector3d&) { mask.at<std::uint8_t>(y, x) = 255; });
+  }
+  // Every chart keeps at least one ring of its own texels (bilinear lookups
+  // at its border) and the padding's rings (mipmaps).
+  const int rings = std::max(pad, 1);
+  cv::dilate(mask, mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * rings + 1, 2 * rings + 1)));
+  const cv::Rect box = cv::boundingRect(mask);
+  if (box.area() == 0) return cv::Mat(1, 1, CV_8U, cv::Scalar(255));  // degenerate: one texel
+  frame.offset -= Eigen::Vector2d(box.x, box.y);
+  return mask(box).clone();
+}
+
+// The texels of the pages a packing needs, each cropped to its highest
+// footprint (as allocate_pages crops them).
+double packed_texels(const std::vector<cv::Mat>& footprints,
+                     const std::vector<FootprintPlacement>& placements,
+                     int width,
+                     int num_pages) {
+  std::vector<int> height(num_pages, 0);
+  for (std::size_t i = 0; i < footprints.size(); ++i) {
+    const FootprintPlacement& p = placements[i];
+    const int h = p.quarter_turns % 2 == 0 ? footprints[i].rows : footprints[i].cols;
+    height[p.page] = std::max(height[p.page], p.y + h);
+  }
+  double texels = 0.0;
+  for (int h : height) texels += static_cast<double>(width) * ((h + 3) / 4 * 4);
+  return texels;
+}
+
 // Packs the charts at the texel scale, shrinking it until the pages
-// suffice; sets every frame's own scale.
-Packing pack_charts(std::vector<ChartFrame>& frames, int num_flat, const TextureOptions& options) {
+// suffice; sets every frame's map into its page.
+Packing pack_charts(const std::vector<Chart>& charts,
+                    std::vector<ChartFrame>& frames,
+                    int num_flat,
+                    const TextureOptions& options) {
   const int num_charts = static_cast<int>(frames.size());
-  const int pad = options.padding;
   const int page_size = options.atlas_size;
   Packing packing;
   packing.scale = options.texel_scale;
-  packing.page_width = page_size;
-  std::vector<Rect>& rects = packing.rects;
+  std::vector<cv::Mat> footprints(num_charts + num_flat);
   for (int attempt = 0;; ++attempt) {
-    rects.assign(num_charts + num_flat, Rect{});
+#pragma omp parallel for schedule(dynamic)
     for (int c = 0; c < num_charts; ++c) {
-      Eigen::Vector2d extent = Eigen::Vector2d::Zero();
-      for (const auto& p : frames[c].pixels) extent = extent.cwiseMax(p - frames[c].min);
-      // A chart wider than a page is scaled down on its own.
-      const double limit = page_size - 2 * pad - 2;
-      double s = packing.scale;
-      if (extent.maxCoeff() * s > limit) s = limit / extent.maxCoeff();
-      frames[c].scale = s;
-      rects[c].width = static_cast<int>(std::ceil(extent.x() * s)) + 1 + 2 * pad;
-      rects[c].height = static_cast<int>(std::ceil(extent.y() * s)) + 1 + 2 * pad;
+      footprints[c] = chart_footprint(charts[c], frames[c], packing.scale, options.padding, page_size);
     }
-    for (int k = 0; k < num_flat; ++k) rects[num_charts + k] = Rect{0, 0, kFlatCell, kFlatCell};
-    // Page width: the smallest power of two that holds the charts in a
-    // roughly square page, so small models do not get a long thin strip.
+    for (int k = 0; k < num_flat; ++k)
+      footprints[num_charts + k] = cv::Mat(kFlatCell, kFlatCell, CV_8U, cv::Scalar(255));
+    // Page width: a few widths around the square root of the footprints'
+    // area (small models get a page about their size, not a long strip),
+    // keeping the packing with the fewest texels; a full page if the charts
+    // need more than one.
     double area = 0.0;
     int widest = 1;
-    for (const Rect& r : rects) {
-      area += static_cast<double>(r.width) * r.height;
-      widest = std::max(widest, r.width);
+    for (const cv::Mat& f : footprints) {
+      area += cv::countNonZero(f);
+      widest = std::max(widest, std::min(f.cols, f.rows));
     }
-    int page_width = 64;
-    while (page_width < page_size && (page_width < widest || page_width < 1.15 * std::sqrt(area))) {
-      page_width *= 2;
+    double best_texels = std::numeric_limits<double>::max();
+    for (const double factor : {1.05, 1.15, 1.3, 1.5}) {
+      const int width =
+          std::min(page_size, std::max(widest, (static_cast<int>(factor * std::sqrt(area)) + 15) / 16 * 16));
+      int pages = 0;
+      std::vector<FootprintPlacement> placements = pack_footprints(footprints, width, page_size, &pages);
+      const double texels = packed_texels(footprints, placements, width, pages);
+      if (texels < best_texels) {
+        best_texels = texels;
+        packing.page_width = width;
+        packing.num_pages = pages;
+        packing.placements = std::move(placements);
+      }
+      if (width == page_size) break;
     }
-    packing.page_width = std::min(page_width, page_size);
-    packing.page_of = pack_shelves(rects, packing.page_width, page_size, &packing.num_pages);
     if (packing.num_pages <= options.max_atlases || attempt > 30) break;
     packing.scale *= 0.8;
   }
+  packing.footprint_sizes.resize(footprints.size());
+  for (std::size_t i = 0; i < footprints.size(); ++i) packing.footprint_sizes[i] = footprints[i].size();
+  for (int c = 0; c < num_charts; ++c) {
+    const FootprintPlacement& p = packing.placements[c];
+    const QuarterTurn turn = quarter_turn(footprints[c].cols, footprints[c].rows, p.quarter_turns);
+    frames[c].offset = turn.linear * frames[c].offset + turn.offset + Eigen::Vector2d(p.x, p.y);
+    frames[c].linear = turn.linear * frames[c].linear;
+  }
   return packing;
+}
+
+// The placed footprint's rectangle on its page.
+cv::Rect placed_rect(const Packing& packing, std::size_t i) {
+  const FootprintPlacement& p = packing.placements[i];
+  const cv::Size s = packing.footprint_sizes[i];
+  return p.quarter_turns % 2 == 0 ? cv::Rect(p.x, p.y, s.width, s.height) : cv::Rect(p.x, p.y, s.height, s.width);
 }
 
 // Black pages cropped in height to what the packing uses, and their
 // (empty) masks of filled texels.
 void allocate_pages(const Packing& packing, int page_size, Atlas& atlas, std::vector<cv::Mat>& filled) {
   std::vector<int> used_height(packing.num_pages, 1);
-  for (std::size_t i = 0; i < packing.rects.size(); ++i) {
-    const Rect& r = packing.rects[i];
-    used_height[packing.page_of[i]] = std::max(used_height[packing.page_of[i]], r.y + r.height);
+  for (std::size_t i = 0; i < packing.placements.size(); ++i) {
+    const cv::Rect r = placed_rect(packing, i);
+    used_height[packing.placements[i].page] = std::max(used_height[packing.placements[i].page], r.y + r.height);
   }
   filled.resize(packing.num_pages);
   for (int p = 0; p < packing.num_pages; ++p) {
@@ -317,8 +387,6 @@ Eigen::Vector3f blend_across_seams(const AtlasSources& src,
 void fill_chart(const AtlasSources& src,
                 int c,
                 const ChartFrame& frame,
-                const Rect& r,
-                int pad,
                 double blend_width,
                 cv::Mat& image,
                 cv::Mat& mask,
@@ -326,11 +394,11 @@ void fill_chart(const AtlasSources& src,
   const Chart& chart = src.charts[c];
   const TextureView& view = src.views[chart.view];
   const Eigen::Vector3f gain = src.gains[chart.view];
-  const Eigen::Vector2d origin(r.x + pad + 0.5, r.y + pad + 0.5);
+  const Eigen::Matrix2d to_photo = frame.linear.inverse();
   std::vector<Eigen::Vector2d> texel(frame.pixels.size());
   uvs.resize(frame.pixels.size());
   for (std::size_t i = 0; i < frame.pixels.size(); ++i) {
-    texel[i] = origin + (frame.pixels[i] - frame.min) * frame.scale;
+    texel[i] = frame.linear * frame.pixels[i] + frame.offset;
     uvs[i] =
         Eigen::Vector2f(static_cast<float>(texel[i].x() / image.cols), static_cast<float>(texel[i].y() / image.rows));
   }
@@ -343,7 +411,7 @@ void fill_chart(const AtlasSources& src,
                     [&](int x, int y, const Eigen::Vector3d& w) {
                       const Eigen::Vector2d centre(x + 0.5, y + 0.5);
                       // Texel centre back to photo pixels (the map is affine).
-                      const Eigen::Vector2d q = frame.min + (centre - origin) / frame.scale;
+                      const Eigen::Vector2d q = to_photo * (centre - frame.offset);
                       const Eigen::Vector3f offset = static_cast<float>(w[0]) * offsets[face[0]] +
                                                      static_cast<float>(w[1]) * offsets[face[1]] +
                                                      static_cast<float>(w[2]) * offsets[face[2]];
@@ -365,11 +433,11 @@ void place_flat_faces(const std::vector<FlatFace>& flat_faces,
   atlas.flat_page.resize(num_flat);
   atlas.flat_uvs.resize(num_flat);
   for (int k = 0; k < num_flat; ++k) {
-    const Rect& r = packing.rects[num_charts + k];
-    const int page = packing.page_of[num_charts + k];
+    const cv::Rect r = placed_rect(packing, static_cast<std::size_t>(num_charts + k));
+    const int page = packing.placements[static_cast<std::size_t>(num_charts + k)].page;
     cv::Mat& image = atlas.pages[page];
-    image(cv::Rect(r.x, r.y, r.width, r.height)).setTo(to_bgr(flat_faces[k].rgb));
-    filled[page](cv::Rect(r.x, r.y, r.width, r.height)).setTo(255);
+    image(r).setTo(to_bgr(flat_faces[k].rgb));
+    filled[page](r).setTo(255);
     atlas.flat_page[k] = page;
     atlas.flat_uvs[k] = Eigen::Vector2f(static_cast<float>((r.x + 0.5 * r.width) / image.cols),
                                         static_cast<float>((r.y + 0.5 * r.height) / image.rows));
@@ -390,7 +458,7 @@ Atlas build_atlas(const TriangleMesh& mesh,
                   Reporter& reporter) {
   const int num_charts = static_cast<int>(charts.size());
   std::vector<ChartFrame> frames = project_charts(mesh, charts, views);
-  const Packing packing = pack_charts(frames, static_cast<int>(flat_faces.size()), options);
+  const Packing packing = pack_charts(charts, frames, static_cast<int>(flat_faces.size()), options);
 
   Atlas atlas;
   atlas.texel_scale = packing.scale;
@@ -405,10 +473,9 @@ Atlas build_atlas(const TriangleMesh& mesh,
   reporter.begin("atlas", num_charts);
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < num_charts; ++c) {
-    const int page = packing.page_of[c];
+    const int page = packing.placements[c].page;
     atlas.chart_page[c] = page;
-    fill_chart(sources, c, frames[c], packing.rects[c], options.padding, blend_width, atlas.pages[page], filled[page],
-               atlas.chart_uvs[c]);
+    fill_chart(sources, c, frames[c], blend_width, atlas.pages[page], filled[page], atlas.chart_uvs[c]);
     reporter.advance();
   }
   reporter.end();
@@ -416,6 +483,25 @@ Atlas build_atlas(const TriangleMesh& mesh,
   place_flat_faces(flat_faces, packing, num_charts, atlas, filled);
   for (int p = 0; p < packing.num_pages; ++p) dilate(atlas.pages[p], filled[p], options.padding + 1);
   return atlas;
+}
+
+double atlas_coverage(const TexturedMesh& mesh) {
+  double covered = 0.0, total = 0.0;
+  for (std::size_t page = 0; page < mesh.atlases.size() && page < mesh.indices.size(); ++page) {
+    const cv::Mat& image = mesh.atlases[page];
+    cv::Mat mask(image.rows, image.cols, CV_8U, cv::Scalar(0));
+    const std::vector<std::uint32_t>& indices = mesh.indices[page];
+    auto texel = [&](std::uint32_t i) {
+      return Eigen::Vector2d(mesh.uvs[i].x() * double(image.cols), mesh.uvs[i].y() * double(image.rows));
+    };
+    for (std::size_t k = 0; k + 2 < indices.size(); k += 3) {
+      raster_triangle(texel(indices[k]), texel(indices[k + 1]), texel(indices[k + 2]), image.cols, image.rows,
+                      [&](int x, int y, const Eigen::Vector3d&) { mask.at<std::uint8_t>(y, x) = 255; });
+    }
+    covered += cv::countNonZero(mask);
+    total += static_cast<double>(image.total());
+  }
+  return total > 0.0 ? covered / total : 0.0;
 }
 
 }  // namespace hos::texture

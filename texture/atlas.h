@@ -1,9 +1,12 @@
-// Texture atlas: every chart is projected with its view's camera (an affine
-// map of the photo's pixels, so texels are resampled once), charts are packed
-// with a shelf packer into pages of at most options.atlas_size, and texels
-// are filled from the photo (times the exposure gain, plus the seam-leveling
-// offset interpolated over each face). Texels around the charts are dilated
-// into the padding so mipmaps do not mix neighbouring charts.
+// Texture atlas: every chart is projected with its view's camera and turned
+// so its minimum-area rectangle lies along the axes (a similarity of the
+// photo's pixels, so texels are resampled once); the charts' footprints (the
+// texels they cover plus options.padding rings) are packed by shape, in
+// quarter turns, into pages of at most options.atlas_size (atlas_packing.h),
+// and texels are filled from the photo (times the exposure gain, plus the
+// seam-leveling offset interpolated over each face). Texels around the
+// charts are dilated into the padding so mipmaps do not mix neighbouring
+// charts.
 #pragma once
 
 #include <Eigen/Core>
@@ -17,18 +20,10 @@
 #include "texture/seam_leveling.h"
 #include "texture/texture_options.h"
 #include "texture/texture_view.h"
+#include "texture/textured_mesh.h"
 #include "texture/visibility.h"
 
 namespace hos::texture {
-
-struct Rect {
-  int x = 0, y = 0, width = 0, height = 0;
-};
-
-// Shelf packing of rectangles (sorted by height) into pages of the given
-// size. Returns the page of every rectangle (positions written to rects);
-// throws std::invalid_argument if one rectangle is larger than a page.
-std::vector<int> pack_shelves(std::vector<Rect>& rects, int page_width, int page_height, int* num_pages);
 
 // A flat-coloured patch for a face that no view sees.
 struct FlatFace {
@@ -61,5 +56,10 @@ Atlas build_atlas(const TriangleMesh& mesh,
                   const std::vector<FlatFace>& flat_faces,
                   const TextureOptions& options,
                   Reporter& reporter);
+
+// The share of the atlas texels whose centre lies in a textured triangle
+// (UV triangles of zero area, such as the flat patches of unseen faces,
+// cover nothing): covered texels over all texels of all pages.
+double atlas_coverage(const TexturedMesh& mesh);
 
 }  // namespace hos::texture

@@ -89,7 +89,7 @@ TEST(GltfWriter, ReadsBackWithTinyGltf) {
     EXPECT_EQ(material.pbrMetallicRoughness.metallicFactor, 0.0);
     EXPECT_EQ(material.pbrMetallicRoughness.roughnessFactor, 1.0);
     const int image = model.textures[material.pbrMetallicRoughness.baseColorTexture.index].source;
-    EXPECT_EQ(model.images[image].mimeType, "image/png");
+    EXPECT_EQ(model.images[image].mimeType, "image/jpeg");  // the default
     EXPECT_EQ(model.images[image].width, mesh.atlases[0].cols);
   }
   std::size_t expected = 0;
