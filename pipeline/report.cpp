@@ -103,10 +103,10 @@ void write_summary(std::ostream& html, const RunRecord& record, const StagePaths
        << ".log</a>.</p>\n";
 }
 
-// 3. Per stage: state, time, peak memory, key counts, warnings.
+// 3. Per stage: state, wall and CPU time, peak memory, key counts, warnings.
 void write_stage_table(std::ostream& html, const RunRecord& record, const StagePaths& paths) {
   html << "<h2>Stages</h2>\n<table "
-          "id=\"stages\">\n<tr><th>stage</th><th>state</th><th>time</th><th>peak memory</th>"
+          "id=\"stages\">\n<tr><th>stage</th><th>state</th><th>time</th><th>CPU time</th><th>peak memory</th>"
           "<th>figures</th><th>warnings</th></tr>\n";
   for (const StageSpec& spec : pipeline_stages()) {
     const auto it = record.stages.find(spec.name);
@@ -116,6 +116,7 @@ void write_stage_table(std::ostream& html, const RunRecord& record, const StageP
     html << "<tr class=\"stage-" << html_escape(known ? stage.state : "not-run") << "\"><td>" << spec.name
          << "</td><td>" << html_escape(known ? stage.state : "not run") << "</td><td>"
          << (ended ? format_fixed(stage.wall_seconds, 1) + " s" : "-") << "</td><td>"
+         << (ended && stage.cpu_seconds > 0 ? format_fixed(stage.cpu_seconds, 1) + " s" : "-") << "</td><td>"
          << (ended ? format_fixed(double(stage.peak_memory_bytes) / (1024.0 * 1024.0), 0) + " MB" : "-") << "</td><td>"
          << html_escape(stage.state == "done" ? figures_text(spec.name, stage.figures) : "") << "</td><td>";
     for (const auto& line : log_warnings(paths.log(spec.name))) html << html_escape(line) << "<br>";
@@ -128,9 +129,9 @@ void write_stage_table(std::ostream& html, const RunRecord& record, const StageP
 // the photos; else (a model given with --sparse, or a workspace of an older
 // hos) one made here, where the decoder's reduced mode keeps large JPEGs
 // cheap; "" if neither can be read.
-std::string thumbnail_data_uri(const StagePaths& paths, const fs::path& photo) {
+std::string thumbnail_data_uri(const StagePaths& paths, const std::string& name, const fs::path& photo) {
   std::error_code ec;
-  const fs::path written = paths.thumbnails / (photo.filename().string() + ".jpg");
+  const fs::path written = paths.thumbnails / (name + ".jpg");
   if (fs::is_regular_file(written, ec)) return "data:image/jpeg;base64," + base64(read_bytes(written));
   const cv::Mat reduced = cv::imread(photo.string(), cv::IMREAD_REDUCED_COLOR_4);
   if (reduced.empty()) return "";
@@ -144,14 +145,16 @@ std::string thumbnail_data_uri(const StagePaths& paths, const fs::path& photo) {
   return "data:image/jpeg;base64," + base64(std::string(jpeg.begin(), jpeg.end()));
 }
 
+// name: the photo's image name, its path relative to the photo folder
+// ("DCIM/100APPLE/IMG_1.jpg").
 void write_photo(std::ostream& html,
                  const StagePaths& paths,
+                 const std::string& name,
                  const fs::path& photo,
                  const std::string& css_class,
                  const std::string& caption) {
-  const std::string name = photo.filename().string();
   html << "<figure class=\"" << css_class << "\">";
-  const std::string uri = thumbnail_data_uri(paths, photo);
+  const std::string uri = thumbnail_data_uri(paths, name, photo);
   if (!uri.empty()) {
     html << "<img width=\"" << kThumbnailWidth << "\" src=\"" << uri << "\" alt=\"" << html_escape(name) << "\">";
   }
@@ -164,16 +167,32 @@ void write_photos(std::ostream& html,
                   const RunRecord& record,
                   const StagePaths& paths,
                   const nlohmann::json& sfm_report) {
-  html << "<h2>Photos</h2>\n<div id=\"photos\">\n";
-  std::vector<fs::path> registered;
+  html << "<h2>Photos</h2>\n";
+  // How much of the capture the model uses, and the sfm stage's warning when little.
+  if (sfm_report.contains("registered_fraction")) {
+    html << "<p id=\"coverage\">" << sfm_report.value("images_registered", 0) << " of "
+         << sfm_report.value("images_given", 0) << " photos registered ("
+         << std::lround(100 * sfm_report.value("registered_fraction", 0.0)) << "%)";
+    if (sfm_report.contains("warning")) {
+      html << ": <strong>" << html_escape(sfm_report.value("warning", "")) << "</strong>";
+    }
+    html << "</p>\n";
+  }
+  html << "<div id=\"photos\">\n";
+  // Image names may hold folders (photos in subfolders).
+  const fs::path images = paths.undistorted / "images";
+  std::vector<std::string> registered;
   std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(paths.undistorted / "images", ec)) {
-    registered.push_back(entry.path());
+  for (auto it = fs::recursive_directory_iterator(images, ec); !ec && it != fs::recursive_directory_iterator();
+       it.increment(ec)) {
+    std::error_code entry_ec;
+    if (it->is_regular_file(entry_ec)) registered.push_back(it->path().lexically_relative(images).generic_string());
   }
   std::sort(registered.begin(), registered.end());
-  for (const auto& photo : registered) write_photo(html, paths, photo, "registered", "registered");
+  for (const auto& name : registered) write_photo(html, paths, name, images / name, "registered", "registered");
   for (const auto& name : sfm_report.value("unregistered", std::vector<std::string>{})) {
-    write_photo(html, paths, fs::path(record.photos) / name, "skipped", "not registered (COLMAP found no pose for it)");
+    write_photo(html, paths, name, fs::path(record.photos) / name, "skipped",
+                "not registered (COLMAP found no pose for it)");
   }
   for (const auto& s : sfm_report.value("skipped", nlohmann::json::array())) {
     html << "<figure class=\"skipped\"><figcaption>" << html_escape(s.value("file", "")) << ": skipped ("

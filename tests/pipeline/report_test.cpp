@@ -99,6 +99,7 @@ void write_stage_outputs(const StagePaths& paths) {
   for (const auto& image : model.images) write_photo(paths.undistorted / "images" / image.second.name, 1600, 1200);
   write_photo(paths.root / "photos" / "view_003.png", 800, 600);
   std::ofstream(paths.sfm_report) << R"({"images_given": 3, "images_registered": 2, "unregistered": ["view_003.png"],
+    "registered_fraction": 0.6667, "warning": "only 2 of 3 photos (67%) registered",
     "skipped": [{"file": "notes.txt", "reason": "not an image"}]})";
   write_stage_reports(paths);
   fs::create_directories(paths.eval);
@@ -119,6 +120,7 @@ RunRecord record_with(const std::vector<std::pair<std::string, std::string>>& st
     StageRecord& s = record.stages[stage];
     s.state = state;
     s.wall_seconds = 1.5;
+    s.cpu_seconds = 2.75;
     s.peak_memory_bytes = 64 << 20;
     s.exit_code = state == "failed" ? 5 : 0;
   }
@@ -147,10 +149,12 @@ TEST(RunReport, FinishedRunHasEveryTableAndPlot) {
   EXPECT_FALSE(contains(html, "failed-stage"));
   EXPECT_TRUE(contains(html, "view_001.png: registered"));
   EXPECT_TRUE(contains(html, "view_003.png: not registered"));
+  EXPECT_TRUE(contains(html, "2 of 3 photos registered (67%): <strong>only 2 of 3 photos (67%) registered"));
   EXPECT_TRUE(contains(html, "notes.txt: skipped (not an image)"));
   EXPECT_TRUE(contains(html, "3 of 9 faces are seen by no photo"));
   EXPECT_TRUE(contains(html, "lambda: 0.2"));
-  EXPECT_TRUE(contains(html, "<td>1.5 s</td><td>64 MB</td>"));
+  EXPECT_TRUE(contains(html, "<th>time</th><th>CPU time</th>"));
+  EXPECT_TRUE(contains(html, "<td>1.5 s</td><td>2.8 s</td><td>64 MB</td>"));
   // The track-length plot has one bar of height 3 (all tracks have length 2).
   EXPECT_TRUE(contains(html, "<title>3</title>"));
   // Each plot shows its data: coverage per view, the residual's decades,
@@ -197,6 +201,28 @@ TEST(RunReport, PhotosAreSmallEmbeddedThumbnails) {
     EXPECT_LT(length, 20000u);
     EXPECT_GT(length, 200u);
   }
+}
+
+// Photos in subfolders: each registered photo once, under its name (its
+// path in the photo folder), with the thumbnail hos-sfm wrote for that name.
+TEST(RunReport, PhotosInSubfoldersAreShownUnderTheirNames) {
+  hos::testing::TempDir dir;
+  const StagePaths paths(dir.path());
+  write_stage_outputs(paths);
+  save_run_record(record_with({{"sfm", "done"}}, paths.root / "photos"), paths.run_record);
+  fs::create_directories(paths.undistorted / "images" / "DCIM" / "100APPLE");
+  write_photo(paths.undistorted / "images" / "DCIM" / "100APPLE" / "IMG_1.jpg", 64, 48);
+  const cv::Mat small(12, 16, CV_8UC3, cv::Scalar(200, 20, 30));
+  std::vector<unsigned char> jpeg;
+  ASSERT_TRUE(cv::imencode(".jpg", small, jpeg));
+  fs::create_directories(paths.thumbnails / "DCIM" / "100APPLE");
+  std::ofstream(paths.thumbnails / "DCIM" / "100APPLE" / "IMG_1.jpg.jpg", std::ios::binary)
+      .write(reinterpret_cast<const char*>(jpeg.data()), std::streamsize(jpeg.size()));
+  const std::string html = run_report_html(dir.path());
+  EXPECT_TRUE(contains(html, "<figcaption>DCIM/100APPLE/IMG_1.jpg: registered</figcaption>"));
+  EXPECT_TRUE(contains(html, "src=\"data:image/jpeg;base64," + base64(std::string(jpeg.begin(), jpeg.end())) + "\""));
+  EXPECT_FALSE(contains(html, "<figcaption>DCIM: "));
+  EXPECT_EQ(count(html, "src=\"data:image/jpeg;base64,"), 4);
 }
 
 TEST(RunReport, FailedRunNamesTheFailingStage) {
