@@ -60,8 +60,10 @@ void register_options(OptionSet& set, ReconOptions& o) {
   set.add("trim.enabled", o.trim.enabled, "remove surface far from every sample");
   set.add("trim.distance_voxels", o.trim.distance_voxels,
           "trim distance in voxels (with resolution 0: voxels of the density's grid)", 0.1, 1000.0);
-  set.add("trim.min_component_fraction", o.trim.min_component_fraction,
-          "drop pieces smaller than this fraction of the largest", 0.0, 1.0);
+  set.add("debris.remove", o.debris.remove,
+          "remove small pieces detached from the main surface (false: keep every piece)");
+  set.add("debris.min_area_fraction", o.debris.min_area_fraction,
+          "pieces whose area is below this fraction of the largest piece's are debris", 0.0, 1.0);
   set.add("threads", o.threads, "OpenMP threads (0 = all cores)", 0, 1024);
   set.add("max_memory_mb", o.max_memory_mb,
           "memory budget (MB): a larger grid is cut into tiles, or with tiles 1 refused, before allocating (0 = 3/4 "
@@ -80,6 +82,7 @@ void register_options(OptionSet& set, ReconOptions& o) {
   set.add_flag("--voxel-size", "voxel_size");
   set.add_flag("--max-memory", "max_memory_mb");
   set.add_flag("--no-trim", "trim.enabled", "false");
+  set.add_flag("--keep-debris", "debris.remove", "false");
 }
 
 }  // namespace hos::recon

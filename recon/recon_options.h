@@ -64,8 +64,14 @@ struct TrimOptions {
   // Faces whose vertices all lie farther than this many voxels from every
   // sample are removed: the closed isosurface bridges areas without data.
   double distance_voxels = 2.0;
-  // Connected pieces with fewer faces than this fraction of the largest are dropped.
-  double min_component_fraction = 0.01;
+};
+
+// Small pieces detached from the main surface (debris.h).
+struct DebrisOptions {
+  bool remove = true;
+  // Pieces whose area is below this fraction of the largest piece's are
+  // debris (docs/recon.md, "Debris": what the stray pieces measure).
+  double min_area_fraction = 0.02;
 };
 
 struct ReconOptions {
@@ -102,6 +108,7 @@ struct ReconOptions {
   double screening = 16.0;
   SolverOptions solver;
   TrimOptions trim;
+  DebrisOptions debris;
   int threads = 0;  // OpenMP threads; 0 = all cores
   // Memory budget in MB; a grid whose estimated peak exceeds it is cut into
   // tiles (tiles 0) or refused (tiles 1) before anything is allocated (see

@@ -24,6 +24,11 @@ nlohmann::ordered_json recon_report_json(const ReconResult& result) {
   j["isovalue"] = s.isovalue;
   j["faces_before_trim"] = s.faces_before_trim;
   j["faces_trimmed"] = s.faces_trimmed;
+  j["pieces"] = s.debris.components;
+  j["debris_pieces_removed"] = s.debris.components_removed;
+  j["debris_faces_removed"] = s.debris.faces_removed;
+  j["debris_area_removed"] = s.debris.area_removed;
+  j["surface_area"] = s.debris.area_kept;
   j["seconds_field"] = s.seconds_field;
   j["seconds_solve"] = s.seconds_solve;
   j["seconds_mesh"] = s.seconds_mesh;

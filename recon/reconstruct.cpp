@@ -390,9 +390,7 @@ void extract_surface(const GridGeometry& grid,
   result.mesh = extract_isosurface(grid, fn.f, fn.isovalue);
   stats.faces_before_trim = result.mesh.faces.size();
   if (options.trim.enabled) {
-    const TrimReport trim = trim_far_from_samples(result.mesh, points, options.trim.distance_voxels * grid.spacing,
-                                                  options.trim.min_component_fraction);
-    stats.faces_trimmed = trim.faces_removed_far + trim.faces_removed_small;
+    stats.faces_trimmed = trim_far_from_samples(result.mesh, points, options.trim.distance_voxels * grid.spacing);
   }
 }
 
@@ -585,6 +583,16 @@ ImplicitFunction solve_implicit_function(const OrientedSamples& samples,
   return fn;
 }
 
+void remove_debris_and_report(const DebrisOptions& options, ReconResult& result, Reporter& reporter) {
+  const DebrisReport& debris = result.stats.debris = remove_debris(result.mesh, options);
+  if (debris.components_removed > 0) {
+    reporter.info(format_message("recon: removed ", debris.components_removed, " of ", debris.components,
+                                 " pieces as debris: ", debris.faces_removed, " faces, area ", debris.area_removed,
+                                 " (", 100.0 * debris.area_removed / (debris.area_removed + debris.area_kept),
+                                 "% of the surface)"));
+  }
+}
+
 ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& options, Reporter& reporter) {
   begin_run(input, options);
   ReconResult result;
@@ -606,6 +614,7 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
     throw NumericalError("recon", "the isosurface is empty (the orientations may be inconsistent)");
   }
   to_world(samples.frame, result.mesh);
+  remove_debris_and_report(options.debris, result, reporter);
   ScalarGrid& f = result.function;
   f.geometry = grid;
   f.geometry.origin = samples.frame.to_world(f.geometry.origin);

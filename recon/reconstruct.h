@@ -9,6 +9,7 @@
 #include "core/reporter.h"
 #include "core/types.h"
 #include "recon/active_nodes.h"
+#include "recon/debris.h"
 #include "recon/grid.h"
 #include "recon/recon_options.h"
 #include "recon/sample_frame.h"
@@ -35,7 +36,8 @@ struct ReconStats {
   std::int64_t band_nodes = 0;        // fine nodes solved in the band; 0 = every node
   double isovalue = 0.0;
   std::size_t faces_before_trim = 0;
-  std::size_t faces_trimmed = 0;
+  std::size_t faces_trimmed = 0;  // far from every sample (trim.h)
+  DebrisReport debris;            // pieces after trimming, and those removed (debris.h)
   double seconds_field = 0.0, seconds_solve = 0.0, seconds_mesh = 0.0;
   // Tiled runs (tiled_reconstruction.h): the tiles, the largest tile's solve
   // grid and the largest core (grown by one node) the join held, in nodes.
@@ -65,6 +67,10 @@ void begin_run(const PointCloud& input, const ReconOptions& options);
 // Throws ConfigError for bad options, InputError for unusable points,
 // NumericalError if the solve fails, Cancelled on request.
 ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& options, Reporter& reporter);
+
+// The last step of every run (whole or tiled), on the world-frame mesh:
+// debris removed (remove_debris), result.stats.debris set, the removal reported.
+void remove_debris_and_report(const DebrisOptions& options, ReconResult& result, Reporter& reporter);
 
 // The samples reconstruct_surface works on (prepare_samples), the dropped
 // ones counted in stats and reported.

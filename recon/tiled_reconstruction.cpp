@@ -341,10 +341,8 @@ ReconResult join_tiles(const TiledRun& run, const std::filesystem::path& dir, Re
   stats.faces_before_trim = result.mesh.faces.size();
   const ReconOptions& options = plan.options;
   if (options.trim.enabled) {
-    const TrimReport trim =
-        trim_far_from_samples(result.mesh, run.samples.points, options.trim.distance_voxels * lattice.spacing,
-                              options.trim.min_component_fraction);
-    stats.faces_trimmed = trim.faces_removed_far + trim.faces_removed_small;
+    stats.faces_trimmed =
+        trim_far_from_samples(result.mesh, run.samples.points, options.trim.distance_voxels * lattice.spacing);
   } else {
     remove_unreferenced_vertices(result.mesh);
   }
@@ -353,6 +351,7 @@ ReconResult join_tiles(const TiledRun& run, const std::filesystem::path& dir, Re
     throw NumericalError("recon", "the isosurface of the joined tiles is empty (the orientations may be inconsistent)");
   }
   to_world(run.samples.frame, result.mesh);
+  remove_debris_and_report(options.debris, result, reporter);
   reporter.info(format_message("recon: joined ", count, " tiles: ", result.mesh.num_vertices(), " vertices, ",
                                result.mesh.num_faces(), " faces (", stats.faces_trimmed,
                                " trimmed); largest core with its ring ", stats.largest_join_nodes, " nodes"));

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <unordered_map>
 
 namespace hos::recon {
@@ -48,14 +47,6 @@ class SampleHash {
   std::unordered_map<std::int64_t, std::vector<std::size_t>> cells_;
 };
 
-int find_root(std::vector<int>& parent, int x) {
-  while (parent[x] != x) {
-    parent[x] = parent[parent[x]];
-    x = parent[x];
-  }
-  return x;
-}
-
 }  // namespace
 
 std::vector<int> remove_unreferenced_vertices(TriangleMesh& mesh) {
@@ -82,11 +73,9 @@ std::vector<int> remove_unreferenced_vertices(TriangleMesh& mesh) {
   return remap;
 }
 
-TrimReport trim_far_from_samples(TriangleMesh& mesh,
-                                 const std::vector<Eigen::Vector3f>& samples,
-                                 double max_distance,
-                                 double min_component_fraction) {
-  TrimReport report;
+std::size_t trim_far_from_samples(TriangleMesh& mesh,
+                                  const std::vector<Eigen::Vector3f>& samples,
+                                  double max_distance) {
   const SampleHash hash(samples, max_distance);
   std::vector<char> near(mesh.vertices.size());
   const std::int64_t nv = static_cast<std::int64_t>(mesh.vertices.size());
@@ -97,35 +86,10 @@ TrimReport trim_far_from_samples(TriangleMesh& mesh,
   for (const auto& f : mesh.faces) {
     if (near[f[0]] || near[f[1]] || near[f[2]]) kept.push_back(f);
   }
-  report.faces_removed_far = mesh.faces.size() - kept.size();
-  mesh.faces.swap(kept);
-
-  // Connected components over shared vertices.
-  std::vector<int> parent(mesh.vertices.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  for (const auto& f : mesh.faces) {
-    const int r0 = find_root(parent, f[0]);
-    for (int c = 1; c < 3; ++c) {
-      const int r = find_root(parent, f[c]);
-      if (r != r0) parent[r] = r0;
-    }
-  }
-  std::unordered_map<int, std::size_t> sizes;
-  for (const auto& f : mesh.faces) ++sizes[find_root(parent, f[0])];
-  std::size_t largest = 0;
-  for (const auto& [root, size] : sizes) largest = std::max(largest, size);
-  const double min_size = min_component_fraction * static_cast<double>(largest);
-  kept.clear();
-  for (const auto& f : mesh.faces) {
-    if (static_cast<double>(sizes[find_root(parent, f[0])]) >= min_size) kept.push_back(f);
-  }
-  for (const auto& [root, size] : sizes) {
-    if (static_cast<double>(size) < min_size) ++report.components_removed;
-  }
-  report.faces_removed_small = mesh.faces.size() - kept.size();
+  const std::size_t removed = mesh.faces.size() - kept.size();
   mesh.faces.swap(kept);
   remove_unreferenced_vertices(mesh);
-  return report;
+  return removed;
 }
 
 }  // namespace hos::recon

@@ -7,23 +7,13 @@
 #include <vector>
 
 #include "core/types.h"
-#include "recon/recon_options.h"
 
 namespace hos::recon {
 
-struct TrimReport {
-  std::size_t faces_removed_far = 0;
-  std::size_t faces_removed_small = 0;
-  std::size_t components_removed = 0;
-};
-
 // Removes faces whose three vertices are all farther than max_distance from
-// every sample, then connected pieces smaller than min_component_fraction of
-// the largest, then unreferenced vertices.
-TrimReport trim_far_from_samples(TriangleMesh& mesh,
-                                 const std::vector<Eigen::Vector3f>& samples,
-                                 double max_distance,
-                                 double min_component_fraction);
+// every sample, then unreferenced vertices; returns the faces removed.
+// Small pieces the cut leaves are debris (debris.h).
+std::size_t trim_far_from_samples(TriangleMesh& mesh, const std::vector<Eigen::Vector3f>& samples, double max_distance);
 
 // Drops vertices no face uses, renumbering faces (keeps per-vertex attributes).
 // Returns each old vertex's new index (-1: dropped), #old V.
