@@ -248,11 +248,12 @@ void copy_photos(const fs::path& scene,
 }
 
 // One 1600x1200 photo among 400x300 ones used to turn off SIFT's upsampled
-// octave for all of them (6 of 24 registered; with these 16 photos no model
-// at all): each camera group now has its own extraction run and SIFT plan.
+// octave for all of them (6 of 24 registered; 8 of these 16 with the
+// upsampling off): each camera group now has its own extraction run and
+// SIFT plan.
 TEST_F(SfmTest, OneLargePhotoDoesNotDegradeTheSmallOnes) {
   if (!have_colmap()) GTEST_SKIP() << "colmap is not installed";
-  const fs::path scene = synth_scene(16, {400, 300});
+  const fs::path scene = synth_scene(16, {480, 360});
   if (scene.empty()) GTEST_SKIP() << "hos-synth is not built";
   copy_photos(scene, dir_ / "photos", [](const std::string& name, const cv::Mat& image) {
     cv::Mat out = image;
@@ -265,14 +266,23 @@ TEST_F(SfmTest, OneLargePhotoDoesNotDegradeTheSmallOnes) {
                   dir_ / "sfm.out");
   const std::string out = read_text(dir_ / "sfm.out");
   ASSERT_EQ(code, 0) << out;
-  EXPECT_THAT(out, HasSubstr("15 photos 400x300: one camera, SIFT at most 2400 px (and 2x)"));
+  EXPECT_THAT(out, HasSubstr("15 photos 480x360: one camera, SIFT at most 2400 px (and 2x)"));
   EXPECT_THAT(out, HasSubstr("1 photo 1600x1200: one camera per photo, SIFT at most 2400 px\n"));
   const SparseModel truth = read_colmap_model(scene / "sparse");
   const SparseModel result = read_colmap_model(ws / "sfm" / "undistorted" / "sparse");
   ASSERT_EQ(result.images.size(), truth.images.size()) << "every view registers";
-  const PoseErrors errors = pose_errors(truth, result);
+  // The small photos as accurate as without the odd one; the odd one, a
+  // blurred upscale with a camera of its own, a little less.
+  PoseErrors errors = pose_errors(truth, result);
+  EXPECT_LT(errors.worst_centre, 0.01);
+  EXPECT_LT(errors.worst_rotation_deg, 2.0);
+  SparseModel small_truth = truth;
+  std::erase_if(small_truth.images, [](const auto& item) { return item.second.name == "view_000.png"; });
+  errors = pose_errors(small_truth, result);
   EXPECT_LT(errors.worst_centre, 0.01);
   EXPECT_LT(errors.worst_rotation_deg, 1.0);
+  std::cout << "small photos: worst centre error " << errors.worst_centre * 100
+            << "% of the scene size, worst rotation error " << errors.worst_rotation_deg << " deg\n";
 }
 
 // Photos of two sizes without EXIF (frames of two videos) used to get one
