@@ -196,8 +196,8 @@ TEST(FuzzReaders, PhotoHeaders) {
 }
 
 TEST(FuzzReaders, PhotoFolders) {
-  // The whole photo check (decoders included) on folders of mutated
-  // JPEG, PNG and TIFF photos: skipped with a reason, or staged.
+  // The whole photo check (decoders and EXIF included) on folders of mutated
+  // JPEG, PNG, TIFF and HEIC photos: skipped with a reason, or staged.
   testing::TempDir dir;
   const cv::Mat image = sfm::testing::gradient_image(64, 48);
   std::vector<std::pair<std::string, std::string>> valid;
@@ -206,6 +206,13 @@ TEST(FuzzReaders, PhotoFolders) {
     ASSERT_TRUE(cv::imencode(ext, image, bytes));
     valid.emplace_back(ext, std::string(bytes.begin(), bytes.end()));
   }
+  sfm::testing::PhoneExif exif;
+  exif.latitude_deg = 46.5;
+  exif.longitude_deg = 6.6;
+  const auto jpeg = sfm::testing::jpeg_with_phone_exif(image, exif);
+  valid.emplace_back(".jpg", std::string(jpeg.begin(), jpeg.end()));
+  const auto heic = sfm::testing::heic_with_exif(image, 6, exif);  // empty without a HEVC encoder
+  if (!heic.empty()) valid.emplace_back(".heic", std::string(heic.begin(), heic.end()));
   const std::uint64_t seed = testing::fuzz_seed() * 1000003 + 70;
   Mutator mutator(seed);
   sfm::SfmOptions options;
