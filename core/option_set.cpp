@@ -145,6 +145,12 @@ void OptionSet::add(const std::string& key, bool& value, std::string doc) {
              [&value]() { return std::string(value ? "true" : "false"); }, nullptr});  // every bool is allowed
 }
 
+void OptionSet::add_odd(const std::string& key, int& value, std::string doc, int min, int max) {
+  auto odd_in_range = [min, max](int v) { return v % 2 != 0 && v >= min && v <= max; };
+  add_number(key, value, std::move(doc), "an odd integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]",
+             odd_in_range);
+}
+
 void OptionSet::add(const std::string& key, std::string& value, std::string doc) {
   add_entry({key, std::move(doc), "a string", [&value](const std::string& t) { value = t; },
              [&value]() { return value; }, nullptr});  // every string is allowed

@@ -39,6 +39,12 @@ class OptionSet {
   template <typename Number>
   requires std::is_arithmetic_v<Number> &&(!std::is_same_v<Number, bool>)void add(
       const std::string& key, Number& value, std::string doc, Number min, Number max);
+  // A number that is 0 (auto or off, as doc says) or in [min, max].
+  template <typename Number>
+  requires std::is_arithmetic_v<Number> &&(!std::is_same_v<Number, bool>)void add_zero_or(
+      const std::string& key, Number& value, std::string doc, Number min, Number max);
+  // An odd integer in [min, max] (the side of a window centred on a sample).
+  void add_odd(const std::string& key, int& value, std::string doc, int min, int max);
   void add(const std::string& key, std::string& value, std::string doc);
   // A string restricted to a list of choices.
   void add_choice(const std::string& key, std::string& value, const std::vector<std::string>& choices, std::string doc);
@@ -91,6 +97,13 @@ class OptionSet {
   };
   void add_entry(Entry entry);
   const Entry* find(const std::string& key) const;
+  // A number parsed like every other; `allowed` says in words which values
+  // `is_allowed` accepts.
+  template <typename Number, typename Predicate>
+  void add_number(const std::string& key, Number& value, std::string doc, std::string allowed, Predicate is_allowed);
+  // "an integer in [1, 64]", "a number in [0, 1]".
+  template <typename Number>
+  static std::string range_text(Number min, Number max);
 
   std::string section_;
   std::vector<Entry> entries_;
@@ -141,29 +154,46 @@ std::size_t edit_distance(const std::string& a, const std::string& b);
 // values than any config holds (kMaxConfigValues, option_set.cpp).
 YAML::Node load_yaml_file(const std::string& path);
 
-template <typename Number>
-requires std::is_arithmetic_v<Number> &&(!std::is_same_v<Number, bool>)void OptionSet::add(
-    const std::string& key, Number& value, std::string doc, Number min, Number max) {
-  std::ostringstream range;
-  range << (std::is_integral_v<Number> ? "an integer" : "a number") << " in [" << min << ", " << max << "]";
-  const std::string allowed = range.str();
-  // Written with ! so that NaN fails too.
-  auto in_range = [min, max](Number v) { return !(v < min) && !(v > max) && v == v; };
+template <typename Number, typename Predicate>
+void OptionSet::add_number(
+    const std::string& key, Number& value, std::string doc, std::string allowed, Predicate is_allowed) {
   Entry entry;
   entry.key = key;
   entry.doc = std::move(doc);
   entry.allowed = allowed;
-  entry.parse = [&value, in_range, allowed](const std::string& text) {
+  entry.parse = [&value, is_allowed, allowed](const std::string& text) {
     const std::optional<Number> v = parse_number<Number>(text);
     if (!v) throw std::invalid_argument(number_problem<Number>(text) + "; must be " + allowed);
-    if (!in_range(*v)) throw std::invalid_argument("must be " + allowed);
+    if (!is_allowed(*v)) throw std::invalid_argument("must be " + allowed);
     value = *v;
   };
   entry.print = [&value]() { return print_number(value); };
-  entry.check = [&value, in_range, allowed]() {
-    if (!in_range(value)) throw std::invalid_argument("must be " + allowed);
+  entry.check = [&value, is_allowed, allowed]() {
+    if (!is_allowed(value)) throw std::invalid_argument("must be " + allowed);
   };
   add_entry(std::move(entry));
+}
+
+template <typename Number>
+std::string OptionSet::range_text(Number min, Number max) {
+  std::ostringstream range;
+  range << (std::is_integral_v<Number> ? "an integer" : "a number") << " in [" << min << ", " << max << "]";
+  return range.str();
+}
+
+template <typename Number>
+requires std::is_arithmetic_v<Number> &&(!std::is_same_v<Number, bool>)void OptionSet::add(
+    const std::string& key, Number& value, std::string doc, Number min, Number max) {
+  // Written with ! so that NaN fails too.
+  auto in_range = [min, max](Number v) { return !(v < min) && !(v > max) && v == v; };
+  add_number(key, value, std::move(doc), range_text(min, max), in_range);
+}
+
+template <typename Number>
+requires std::is_arithmetic_v<Number> &&(!std::is_same_v<Number, bool>)void OptionSet::add_zero_or(
+    const std::string& key, Number& value, std::string doc, Number min, Number max) {
+  auto zero_or_in_range = [min, max](Number v) { return v == 0 || (!(v < min) && !(v > max) && v == v); };
+  add_number(key, value, std::move(doc), "0 or " + range_text(min, max), zero_or_in_range);
 }
 
 template <typename Enum>

@@ -181,5 +181,87 @@ TEST(OptionSet, NumbersWithAPlusParseAndUnderflowIsNamed) {
   EXPECT_EQ(parse_number<double>("1e-320"), 1e-320) << "a subnormal double is a number";
 }
 
+struct Ranges {
+  int features = 0;
+  double voxel = 0.5;
+  int patch = 7;
+};
+
+OptionSet ranges_set(Ranges& r) {
+  OptionSet set("sfm");
+  set.add_zero_or("features", r.features, "features; 0 = auto", 100, 100000);
+  set.add_zero_or("voxel", r.voxel, "voxel; 0 = off", 0.25, 4.0);
+  set.add_odd("patch", r.patch, "patch side", 3, 15);
+  return set;
+}
+
+// The ConfigError's text when key=value is applied, or "<no ConfigError>".
+std::string assignment_error(OptionSet& set, const std::string& key, const std::string& value) {
+  try {
+    set.apply_assignment(key, value);
+  } catch (const ConfigError& error) {
+    return error.what();
+  }
+  return "<no ConfigError>";
+}
+
+TEST(OptionSet, ZeroOrARangeTakesZeroAndTheRangeOnly) {
+  Ranges r;
+  OptionSet set = ranges_set(r);
+  for (const char* allowed : {"0", "100", "4096", "100000"}) {
+    EXPECT_EQ(assignment_error(set, "features", allowed), "<no ConfigError>") << allowed;
+  }
+  EXPECT_EQ(r.features, 100000);
+  for (const char* refused : {"1", "99", "-100", "100001"}) {
+    const std::string message = assignment_error(set, "features", refused);
+    EXPECT_NE(message.find("sfm.features"), std::string::npos) << message;
+    EXPECT_NE(message.find("0 or an integer in [100, 100000]"), std::string::npos) << message;
+  }
+  EXPECT_EQ(r.features, 100000) << "a refused value must not be applied";
+  EXPECT_EQ(assignment_error(set, "voxel", "0"), "<no ConfigError>");
+  EXPECT_DOUBLE_EQ(r.voxel, 0.0);
+  EXPECT_EQ(assignment_error(set, "voxel", "0.25"), "<no ConfigError>");
+  EXPECT_NE(assignment_error(set, "voxel", "0.1").find("0 or a number in [0.25, 4]"), std::string::npos);
+  EXPECT_NE(assignment_error(set, "voxel", "nan").find("sfm.voxel"), std::string::npos);
+  EXPECT_DOUBLE_EQ(r.voxel, 0.25);
+}
+
+TEST(OptionSet, OddTakesOddValuesInItsRangeOnly) {
+  Ranges r;
+  OptionSet set = ranges_set(r);
+  EXPECT_EQ(assignment_error(set, "patch", "3"), "<no ConfigError>");
+  EXPECT_EQ(assignment_error(set, "patch", "15"), "<no ConfigError>");
+  for (const char* refused : {"4", "14", "1", "17", "-3"}) {
+    const std::string message = assignment_error(set, "patch", refused);
+    EXPECT_NE(message.find("sfm.patch"), std::string::npos) << message;
+    EXPECT_NE(message.find("an odd integer in [3, 15]"), std::string::npos) << message;
+  }
+  EXPECT_EQ(r.patch, 15);
+}
+
+TEST(OptionSet, ZeroOrAndOddApplyToYamlValuesSetInCodeAndTheDocumentation) {
+  Ranges r;
+  OptionSet set = ranges_set(r);
+  EXPECT_THROW(set.apply_yaml(YAML::Load("features: 50\n"), "a.yaml"), ConfigError);
+  EXPECT_THROW(set.apply_yaml(YAML::Load("patch: 8\n"), "a.yaml"), ConfigError);
+  set.apply_yaml(YAML::Load("features: 0\npatch: 9\n"), "a.yaml");
+  EXPECT_EQ(r.patch, 9);
+  EXPECT_NO_THROW(set.check_values());
+  r.features = 50;  // set in code, as a library user would
+  EXPECT_THROW(set.check_values(), ConfigError);
+  r.features = 0;
+  r.patch = 6;
+  try {
+    set.check_values();
+    FAIL() << "an even patch passed";
+  } catch (const ConfigError& error) {
+    EXPECT_EQ(error.key(), "sfm.patch");
+  }
+  EXPECT_EQ(set.documentation("features"), "features; 0 = auto [0 or an integer in [100, 100000]]");
+  EXPECT_EQ(set.documentation("patch"), "patch side [an odd integer in [3, 15]]");
+  EXPECT_NE(set.documented_yaml().find("  patch: 6  # patch side [an odd integer in [3, 15]]\n"), std::string::npos)
+      << set.documented_yaml();
+}
+
 }  // namespace
 }  // namespace hos
