@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 
 namespace hos::refine {
@@ -96,18 +97,89 @@ std::optional<Patch> surface_patch(const RefineView& ref,
   return patch;
 }
 
-// Grey levels of the patch moved by `offset` along the normal in another
-// view; false when a point leaves the image.
-bool sample_moved_patch(const RefineView& view, int level, const Patch& patch, double offset, std::vector<float>& out) {
-  out.clear();
-  for (std::size_t i = 0; i < patch.points.size(); ++i) {
-    const std::optional<Eigen::Vector3d> p = view.project(patch.points[i] + offset * patch.along_ray[i], level);
-    if (!p) return false;
-    const std::optional<float> g = sample(view, level, p->head<2>());
-    if (!g) return false;
-    out.push_back(*g);
+// The reference's grey levels centred on their mean: ZNCC against every
+// offset and view then needs only the other patch's sums.
+struct CentredPatch {
+  std::vector<float> centred;
+  float variance = 0.0f;  // sum of squares of centred
+};
+
+CentredPatch centre(const std::vector<float>& a) {
+  const float n = static_cast<float>(a.size());
+  float mean = 0;
+  for (float v : a) mean += v;
+  mean /= n;
+  CentredPatch c;
+  c.centred.resize(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    c.centred[i] = a[i] - mean;
+    c.variance += c.centred[i] * c.centred[i];
   }
-  return true;
+  return c;
+}
+
+std::optional<float> zncc_centred(const CentredPatch& a, const float* b, float min_std) {
+  const std::size_t size = a.centred.size();
+  const float n = static_cast<float>(size);
+  float mean_b = 0;
+  for (std::size_t i = 0; i < size; ++i) mean_b += b[i];
+  mean_b /= n;
+  float var_b = 0, cov = 0;
+  for (std::size_t i = 0; i < size; ++i) {
+    const float db = b[i] - mean_b;
+    var_b += db * db, cov += a.centred[i] * db;
+  }
+  const float min_var = min_std * min_std * n;
+  if (a.variance < min_var || var_b < min_var) return std::nullopt;
+  return cov / std::sqrt(a.variance * var_b);
+}
+
+// The grey levels of the patch moved by k * step along the normal
+// (k = -steps .. steps) in another view: out[(k + steps) * n + i] for the
+// patch's n points; valid[k + steps] is false when a point leaves the image
+// at that offset. Each point and its ray move are taken into the view's
+// camera frame once, so an offset costs a division and a lookup per point.
+void sample_moved_patch(const RefineView& view,
+                        int level,
+                        const Patch& patch,
+                        double step,
+                        int steps,
+                        std::vector<float>& out,
+                        std::vector<char>& valid) {
+  const std::size_t n = patch.points.size();
+  const int offsets = 2 * steps + 1;
+  out.assign(n * offsets, 0.0f);
+  valid.assign(offsets, 1);
+  const double scale = 1.0 / static_cast<double>(1 << level);
+  const float fx = static_cast<float>(view.camera.focal_x() * scale),
+              fy = static_cast<float>(view.camera.focal_y() * scale);
+  const float cx = static_cast<float>(view.camera.principal_x() * scale) - 0.5f;
+  const float cy = static_cast<float>(view.camera.principal_y() * scale) - 0.5f;
+  const cv::Mat& image = view.pyramid[level];
+  const float max_x = static_cast<float>(image.cols - 1), max_y = static_cast<float>(image.rows - 1);
+  const auto* data = image.ptr<std::uint16_t>(0);
+  const std::size_t stride = image.step1();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3f x0 = (view.rotation * patch.points[i] + view.pose.cam_from_world_translation).cast<float>();
+    const Eigen::Vector3f move = (view.rotation * (step * patch.along_ray[i])).cast<float>();
+    for (int k = 0; k < offsets; ++k) {
+      if (!valid[k]) continue;
+      const Eigen::Vector3f x = x0 + static_cast<float>(k - steps) * move;
+      // Pixel coordinates from the top-left pixel's centre.
+      const float u = fx * x.x() / x.z() + cx, v = fy * x.y() / x.z() + cy;
+      if (!(x.z() > 0.0f && u >= 0.0f && v >= 0.0f && u <= max_x && v <= max_y)) {
+        valid[k] = 0;
+        continue;
+      }
+      const int x_0 = std::min(static_cast<int>(u), image.cols - 2),
+                y_0 = std::min(static_cast<int>(v), image.rows - 2);
+      const float wx = u - static_cast<float>(x_0), wy = v - static_cast<float>(y_0);
+      const std::uint16_t* p = data + static_cast<std::size_t>(y_0) * stride + x_0;
+      const float top = p[0] + wx * (static_cast<float>(p[1]) - p[0]);
+      const float bottom = p[stride] + wx * (static_cast<float>(p[stride + 1]) - p[stride]);
+      out[k * n + i] = (top + wy * (bottom - top)) * (1.0f / 65535.0f);
+    }
+  }
 }
 
 // Mean of the better half of the scores (at least one): an occluder in one
@@ -138,15 +210,23 @@ VertexTarget search_vertex(const Eigen::Vector3d& x,
                     visibility_tolerance, o.min_patch_coverage);
   if (!patch) return target;
   // Step 2: the score of each offset of the patch along the normal.
-  std::vector<float> scores(2 * steps + 1, -2.0f);
-  std::vector<float> samples, view_scores;
-  for (int k = -steps; k <= steps; ++k) {
-    view_scores.clear();
-    for (int j : choice.compared) {
-      if (!sample_moved_patch(views[j], level, *patch, k * step, samples)) continue;
-      if (const std::optional<float> s = zncc(patch->reference, samples, kMinPatchStd)) view_scores.push_back(*s);
+  const CentredPatch reference = centre(patch->reference);
+  const std::size_t samples_per_offset = patch->points.size();
+  std::vector<std::vector<float>> view_scores(2 * steps + 1);
+  std::vector<float> samples;
+  std::vector<char> valid;
+  for (int j : choice.compared) {
+    sample_moved_patch(views[j], level, *patch, step, steps, samples, valid);
+    for (int k = 0; k <= 2 * steps; ++k) {
+      if (!valid[k]) continue;
+      if (const std::optional<float> s = zncc_centred(reference, &samples[k * samples_per_offset], kMinPatchStd)) {
+        view_scores[k].push_back(*s);
+      }
     }
-    if (!view_scores.empty()) scores[k + steps] = robust_mean(view_scores);
+  }
+  std::vector<float> scores(2 * steps + 1, -2.0f);
+  for (int k = 0; k <= 2 * steps; ++k) {
+    if (!view_scores[k].empty()) scores[k] = robust_mean(view_scores[k]);
   }
   // Step 3: the best offset, refined by a parabola through its neighbours.
   const int best = static_cast<int>(std::max_element(scores.begin(), scores.end()) - scores.begin());
@@ -169,18 +249,7 @@ VertexTarget search_vertex(const Eigen::Vector3d& x,
 }  // namespace
 
 std::optional<float> zncc(const std::vector<float>& a, const std::vector<float>& b, float min_std) {
-  const float n = static_cast<float>(a.size());
-  float mean_a = 0, mean_b = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) mean_a += a[i], mean_b += b[i];
-  mean_a /= n, mean_b /= n;
-  float var_a = 0, var_b = 0, cov = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    const float da = a[i] - mean_a, db = b[i] - mean_b;
-    var_a += da * da, var_b += db * db, cov += da * db;
-  }
-  const float min_var = min_std * min_std * n;
-  if (var_a < min_var || var_b < min_var) return std::nullopt;
-  return cov / std::sqrt(var_a * var_b);
+  return zncc_centred(centre(a), b.data(), min_std);
 }
 
 std::vector<VertexTarget> search_normal_offsets(const TriangleMesh& mesh,
