@@ -404,11 +404,13 @@ TEST_F(SfmTest, GpsWithoutAltitudeReachesColmapAndSpatialMatchingIgnoresHeight) 
   const fs::path scene = synth_scene(16, {400, 300});
   if (scene.empty()) GTEST_SKIP() << "hos-synth is not built";
   const fs::path photos = dir_ / "photos";
-  fs::create_directories(photos);
+  fs::create_directories(photos / "DCIM" / "100APPLE");
   int k = 0;
   std::map<std::string, std::pair<double, double>> positions;
   for (const auto& entry : fs::directory_iterator(scene / "images")) {
-    const std::string name = entry.path().stem().string() + ".jpg";
+    // Half of them in a phone's subfolder: names with '/' through the
+    // image lists, COLMAP and the undistortion.
+    const std::string name = (k % 2 ? "DCIM/100APPLE/" : "") + entry.path().stem().string() + ".jpg";
     cv::imwrite((photos / name).string(), cv::imread(entry.path().string()), {cv::IMWRITE_JPEG_QUALITY, 95});
     // About a metre apart, on a line.
     positions[name] = {46.5 + 1e-5 * k, 6.6 + 1e-5 * k};
@@ -428,6 +430,10 @@ TEST_F(SfmTest, GpsWithoutAltitudeReachesColmapAndSpatialMatchingIgnoresHeight) 
   EXPECT_EQ(report["matcher"], "spatial");
   EXPECT_EQ(report["position_priors"], 16);
   EXPECT_EQ(report["plan"]["spatial_ignore_z"], true);
+  EXPECT_EQ(report["images_registered"], 16);
+  for (const auto& [name, position] : positions) {
+    EXPECT_TRUE(fs::exists(ws / "sfm" / "undistorted" / "images" / name)) << name;
+  }
   // COLMAP's own record of the positions: latitude, longitude (as COLMAP
   // rounds the seconds: within 0.2 m; neighbours are 1 m apart), altitude 0.
   const auto images = read_database_images(ws / "sfm" / "database.db");
