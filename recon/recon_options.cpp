@@ -1,20 +1,10 @@
 #include "recon/recon_options.h"
 
-#include <string>
-
-#include "core/error.h"
 #include "core/option_set.h"
 
 namespace hos::recon {
 
-void ReconOptions::validate() const {
-  check_option_table("recon", *this);
-  if (resolution != 0 && resolution < kMinResolution) {
-    throw ConfigError("recon.resolution",
-                      "is " + std::to_string(resolution) + "; it must be 0 (from the samples' density) or in [" +
-                          std::to_string(kMinResolution) + ", " + std::to_string(kMaxResolution) + "]");
-  }
-}
+void ReconOptions::validate() const { check_option_table("recon", *this); }
 
 void register_options(OptionSet& set, ReconOptions& o) {
   set.add_enum("energy", o.energy,
@@ -25,10 +15,10 @@ void register_options(OptionSet& set, ReconOptions& o) {
                "smoothness energy of Pan & Skala: 1 membrane, 2 total variation, 3 pure second "
                "derivatives, 4 full Hessian");
   set.add("lambda", o.lambda, "smoothness weight (resolution independent; paper range 0.1-0.3)", 0.0, 1e6);
-  set.add("resolution", o.resolution,
-          "grid cells along the longest side of the domain (0 = from the samples' density: see samples_per_cell "
-          "and density_refinement)",
-          0, kMaxResolution);
+  set.add_zero_or("resolution", o.resolution,
+                  "grid cells along the longest side of the domain (0 = from the samples' density: see "
+                  "samples_per_cell and density_refinement)",
+                  kMinResolution, kMaxResolution);
   set.add("samples_per_cell", o.samples_per_cell,
           "with resolution 0: the density's grid is the finest whose cells that hold samples hold this many on average",
           1.0, 1000.0);

@@ -7,8 +7,7 @@ namespace hos::refine {
 
 void RefineOptions::validate() const {
   check_option_table("refine", *this);
-  // The rules that involve the parity or two options.
-  if (patch_size % 2 == 0) throw ConfigError("refine.patch_size", "must be odd (a window centred on the vertex)");
+  // The rules that involve two options.
   if (!(min_angle_deg < max_angle_deg)) throw ConfigError("refine.min_angle_deg", "must be below refine.max_angle_deg");
 }
 
@@ -27,7 +26,7 @@ void register_options(OptionSet& set, RefineOptions& o) {
   set.add("max_faces", o.max_faces, "face budget of the subdivision", 1000, 100000000);
   set.add("search_steps", o.search_steps, "normal offsets tried on each side of a vertex", 1, 32);
   set.add("step_pixels", o.step_pixels, "spacing of the normal offsets, pixels of the reference view", 0.01, 100.0);
-  set.add("patch_size", o.patch_size, "matching patch side in samples (odd)", 3, 15);
+  set.add_odd("patch_size", o.patch_size, "matching patch side in samples (a window centred on the vertex)", 3, 15);
   set.add("sample_pixels", o.sample_pixels, "patch sample spacing, pixels of the reference view", 0.1, 20.0);
   set.add("min_patch_coverage", o.min_patch_coverage,
           "fraction of the patch's samples that must lie on the surface the reference view sees", 0.1, 1.0);

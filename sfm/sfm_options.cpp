@@ -12,10 +12,6 @@ constexpr int kMinFeatures = 100;  // fewer cannot register a photo reliably
 
 void SfmOptions::validate() const {
   check_option_table("sfm", *this);
-  if (max_num_features != 0 && max_num_features < kMinFeatures) {
-    throw ConfigError("sfm.max_num_features", "value " + std::to_string(max_num_features) +
-                                                  " must be 0 (auto) or at least " + std::to_string(kMinFeatures));
-  }
   if (sift_max_image_size != 0 && sift_max_image_size < min_image_size) {
     throw ConfigError("sfm.sift_max_image_size", "value " + std::to_string(sift_max_image_size) +
                                                      " must be 0 (no bound) or at least sfm.min_image_size (" +
@@ -66,8 +62,9 @@ void register_options(OptionSet& set, SfmOptions& o) {
   set.add("sift_upsample_below", o.sift_upsample_below,
           "SIFT also at 2x size for photos whose SIFT size is below this (pixels); 0 = never", 0, 100000);
   set.add("min_image_size", o.min_image_size, "skip photos whose shorter side is smaller (pixels)", 1, 100000);
-  set.add("max_num_features", o.max_num_features,
-          "SIFT features per photo; 0 = auto (4096 up to 20 photos, down to 2048 from 80)", 0, 1000000);
+  set.add_zero_or("max_num_features", o.max_num_features,
+                  "SIFT features per photo; 0 = auto (4096 up to 20 photos, down to 2048 from 80)", kMinFeatures,
+                  1000000);
   set.add("max_num_matches", o.max_num_matches, "matches kept per photo pair; 0 = auto (half the features)", 0,
           1000000);
   set.add("sift_peak_threshold", o.sift_peak_threshold,
