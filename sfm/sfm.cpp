@@ -200,6 +200,8 @@ ImageInputs stage_photos(
       prepare_images(input.images, paths.images, options, reporter, paths.thumbnails, {input.workspace});
   result.step_seconds.emplace_back("prepare_images", seconds_since(started));
   result.skipped = inputs.skipped;
+  for (const StagedImage& image : inputs.images) result.photos.push_back({image.name, image.gps});
+  result.videos = inputs.videos;
   result.images_given = static_cast<int>(inputs.images.size());
   return inputs;
 }
@@ -410,8 +412,8 @@ std::vector<CameraPrincipalPoint> principal_point_candidates(const SparseModel& 
     c.height = camera.height;
     c.images = photos[id];
     if (c.images < options.principal_point_min_images) {
-      c.reason = format_message("centre kept: ", c.images, c.images == 1 ? " photo" : " photos",
-                                " < sfm.principal_point_min_images (", options.principal_point_min_images, ")");
+      c.reason = format_message("centre kept: fewer photos than sfm.principal_point_min_images (",
+                                options.principal_point_min_images, ")");
     }
     cameras.push_back(c);
   }
@@ -626,6 +628,28 @@ SfmResult run_sfm(const SfmInput& input, const SfmOptions& options, Reporter& re
   return result;
 }
 
+namespace {
+
+// Per clip: frames read, kept (by index) and dropped by reason.
+nlohmann::ordered_json videos_json(const std::vector<VideoClipSummary>& videos) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const VideoClipSummary& clip : videos) {
+    const VideoFrameSelection& s = clip.selection;
+    out.push_back({{"file", clip.file.string()},
+                   {"name", clip.name},
+                   {"frames", s.frames_read},
+                   {"fps", s.fps},
+                   {"kept", s.kept.size()},
+                   {"kept_frames", s.kept},
+                   {"dropped_too_little_motion", s.too_little_motion},
+                   {"dropped_blurred", s.blurred},
+                   {"dropped_over_max_frames", s.over_limit}});
+  }
+  return out;
+}
+
+}  // namespace
+
 void write_sfm_report(const SfmResult& r, const fs::path& file) {
   nlohmann::ordered_json j;
   j["images_given"] = r.images_given;
@@ -640,6 +664,16 @@ void write_sfm_report(const SfmResult& r, const fs::path& file) {
   }
   j["skipped"] = nlohmann::json::array();
   for (const auto& s : r.skipped) j["skipped"].push_back({{"file", s.file.string()}, {"reason", s.reason}});
+  j["photos"] = nlohmann::json::array();
+  for (const auto& p : r.photos) {
+    nlohmann::json gps;  // null without GPS
+    if (p.gps) {
+      gps = {{"latitude_deg", p.gps->latitude_deg}, {"longitude_deg", p.gps->longitude_deg}};
+      if (p.gps->altitude_m) gps["altitude_m"] = *p.gps->altitude_m;
+    }
+    j["photos"].push_back({{"name", p.name}, {"gps", gps}});
+  }
+  if (!r.videos.empty()) j["videos"] = videos_json(r.videos);
   j["points"] = r.points;
   j["mean_reprojection_error_px"] = r.mean_reprojection_error_px;
   j["mean_track_length"] = r.mean_track_length;
@@ -693,27 +727,39 @@ void write_sfm_report(const SfmResult& r, const fs::path& file) {
 
 namespace {
 
-// "principal point estimated for camera 1 (23.5 px off centre); camera 2: centre kept: 1 photo < ...".
+// "principal point: camera 1 (3072x2304, 10 photos) 23.5 px off centre;
+// 2 cameras: centre kept: fewer photos than ...": the estimated cameras one
+// by one, the others counted by reason.
 std::string principal_point_text(const SfmResult& r) {
   std::ostringstream text;
   text.precision(3);
-  text << "principal point";
+  text << "principal point:";
+  std::vector<std::pair<std::string, int>> kept;  // reason, cameras
   for (const auto& c : r.principal_points) {
-    text << (&c == &r.principal_points.front() ? " " : "; ") << "camera " << c.camera_id << " (" << c.width << "x"
-         << c.height << ", " << c.images << (c.images == 1 ? " photo" : " photos") << "): ";
     if (c.estimated) {
-      text << c.offset_px << " px off centre";
+      text << " camera " << c.camera_id << " (" << c.width << "x" << c.height << ", " << c.images
+           << (c.images == 1 ? " photo" : " photos") << ") " << c.offset_px << " px off centre;";
+      continue;
+    }
+    auto same = std::find_if(kept.begin(), kept.end(), [&](const auto& k) { return k.first == c.reason; });
+    if (same == kept.end()) {
+      kept.emplace_back(c.reason, 1);
     } else {
-      text << c.reason;
+      ++same->second;
     }
   }
-  return text.str();
+  for (const auto& [reason, cameras] : kept)
+    text << " " << cameras << (cameras == 1 ? " camera: " : " cameras: ") << reason << ";";
+  std::string out = text.str();
+  out.pop_back();  // the last ';'
+  return out;
 }
 
 }  // namespace
 
 std::vector<std::string> sfm_summary_lines(const SfmResult& r) {
   std::vector<std::string> lines;
+  for (const VideoClipSummary& clip : r.videos) lines.push_back(describe_selection(clip));
   lines.push_back(
       format_message("registered ", r.images_registered, " of ", r.images_given, " photos (",
                      static_cast<int>(std::lround(100.0 * r.registered_fraction)), "%)",

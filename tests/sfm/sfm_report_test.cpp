@@ -80,21 +80,23 @@ TEST(SfmReport, SaysWhereThePrincipalPointWasEstimated) {
   SfmResult r = result_with_plan();
   r.principal_point_estimated = true;
   r.principal_point_offset_px = 23.5;
-  r.principal_points = {{1, 3072, 2304, 10, true, 23.5, ""},
-                        {2, 640, 480, 1, false, 0.0, "centre kept: 1 photo < sfm.principal_point_min_images (5)"}};
+  r.principal_points = {
+      {1, 3072, 2304, 10, true, 23.5, ""},
+      {2, 640, 480, 1, false, 0.0, "centre kept: fewer photos than sfm.principal_point_min_images (5)"},
+      {3, 640, 480, 2, false, 0.0, "centre kept: fewer photos than sfm.principal_point_min_images (5)"}};
   hos::testing::TempDir dir;
   write_sfm_report(r, dir / "report.json");
   std::ifstream in(dir / "report.json");
   const nlohmann::json j = nlohmann::json::parse(in);
   EXPECT_EQ(j["principal_point"]["estimated"], true);
   EXPECT_DOUBLE_EQ(j["principal_point"]["offset_px"].get<double>(), 23.5);
-  ASSERT_EQ(j["principal_point"]["cameras"].size(), 2u);
+  ASSERT_EQ(j["principal_point"]["cameras"].size(), 3u);
   EXPECT_EQ(j["principal_point"]["cameras"][1]["estimated"], false);
   EXPECT_EQ(j["principal_point"]["cameras"][1]["images"], 1);
   std::string summary;
   for (const auto& line : sfm_summary_lines(r)) summary += line + "\n";
-  EXPECT_THAT(summary, HasSubstr("camera 1 (3072x2304, 10 photos): 23.5 px off centre"));
-  EXPECT_THAT(summary, HasSubstr("camera 2 (640x480, 1 photo): centre kept: 1 photo < sfm.principal_point_min_images"));
+  EXPECT_THAT(summary, HasSubstr("principal point: camera 1 (3072x2304, 10 photos) 23.5 px off centre; 2 cameras: "
+                                 "centre kept: fewer photos than sfm.principal_point_min_images (5)\n"));
 }
 
 // 3 of 12 photos registered used to end with exit 0 and only a split
