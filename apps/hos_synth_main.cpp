@@ -26,6 +26,8 @@ int main(int argc, char** argv) {
   app.add_option("--seed", scene_options.seed, "scene seed");
   app.add_option("--scene", scene_options.name, "default|rock|torus|box|railing");
   app.add_flag("--ground-plane", scene_options.ground_plane, "add a textured ground plane");
+  app.add_flag("--hanging-object", scene_options.hanging_object,
+               "add a lantern hanging on a thin wire from a thin pole in front of the objects");
   app.add_option("--rings", options.rings, "elevation rings of views");
   app.add_flag("--jpeg", options.jpeg, "write JPEG instead of PNG images");
   app.add_flag("--depth", options.write_depth, "write depth/view_NNN.tiff (CV_32F z, 0 = empty)");

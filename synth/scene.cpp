@@ -254,6 +254,36 @@ TriangleMesh make_railing() {
   return m;
 }
 
+// A lantern (a rounded box) hanging on a thin wire from the arm of a thin
+// upright pole that stands at the level of the lowest point of `around`
+// (the other objects), in front of their +z side, sized by their height h:
+// pole 0.015 h wide and 1.1 h tall, wire 0.004 h, lantern 0.18 h wide, its
+// centre at mid height 0.25 h beyond the objects. Seen from +z the objects
+// are the background behind it; pole and wire are a few pixels and about one
+// pixel wide in a 640-pixel view of the default scene.
+TriangleMesh make_hanging_lantern(const BoundingBox& around) {
+  const float h = around.max.y() - around.min.y();
+  const float foot_y = around.max.y(), top_y = foot_y - 1.1f * h;  // up is -y
+  const float x = 0.5f * (around.min.x() + around.max.x());
+  const float pole_z = around.max.z() + 0.05f * h, lantern_z = pole_z + 0.2f * h;
+  const float pole = 0.015f * h, wire = 0.004f * h, lantern = 0.09f * h;
+  const float lantern_y = 0.5f * (around.min.y() + around.max.y());
+  // An axis-aligned rounded box between two corners.
+  auto bar = [](const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, int n) {
+    const Eigen::Vector3f half = 0.5f * (hi - lo);
+    TriangleMesh m = make_rounded_box(half, 0.25f * half.minCoeff(), n);
+    place(m, Eigen::Matrix3f::Identity(), 0.5f * (lo + hi));
+    return m;
+  };
+  TriangleMesh m = bar({x - pole / 2, top_y, pole_z - pole / 2}, {x + pole / 2, foot_y, pole_z + pole / 2}, 8);
+  append(m, bar({x - pole / 2, top_y, pole_z + pole / 2}, {x + pole / 2, top_y + pole, lantern_z + pole}, 6));
+  append(m, bar({x - wire / 2, top_y + pole, lantern_z - wire / 2},
+                {x + wire / 2, lantern_y - lantern, lantern_z + wire / 2}, 6));
+  append(m, bar({x - lantern, lantern_y - lantern, lantern_z - lantern},
+                {x + lantern, lantern_y + lantern, lantern_z + lantern}, 12));
+  return m;
+}
+
 Rgb8 to_srgb8(const Eigen::Vector3f& linear) {
   Rgb8 c;
   for (int k = 0; k < 3; ++k) {
@@ -313,9 +343,14 @@ Scene make_scene(const SceneOptions& options) {
     add(std::move(box), "box", 3, 0.6f);
   }
   if (options.name == "railing") add(make_railing(), "railing", 5, 0.3f);
-  BoundingBox box;
-  for (const render::RenderObject& o : scene.objects)
-    for (const Eigen::Vector3f& v : o.mesh.vertices) box.extend(v);
+  auto objects_box = [&scene] {
+    BoundingBox box;
+    for (const render::RenderObject& o : scene.objects)
+      for (const Eigen::Vector3f& v : o.mesh.vertices) box.extend(v);
+    return box;
+  };
+  if (options.hanging_object) add(make_hanging_lantern(objects_box()), "lantern", 6, 0.15f);
+  const BoundingBox box = objects_box();
   scene.centre = box.center();
   scene.radius = 0.0f;
   for (const render::RenderObject& o : scene.objects)

@@ -21,6 +21,10 @@ struct SceneOptions {
   // "railing" (thin bars: synth/scene.cpp).
   std::string name = "default";
   bool ground_plane = false;
+  // A lantern hanging on a thin wire from the arm of a thin pole, in front of
+  // the other objects (make_hanging_lantern in synth/scene.cpp): thin parts
+  // with a background behind them.
+  bool hanging_object = false;
   void validate() const;  // throws ConfigError
 };
 
