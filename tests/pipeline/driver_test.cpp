@@ -65,13 +65,20 @@ case "$stage" in
 esac
 )";
 
+// A file the sfm stage's fingerprint counts as a photo: JPEG's first bytes
+// (the fingerprint recognises photos by content), then a tag that makes
+// each one different.
+void write_fake_photo(const fs::path& file, const std::string& tag) {
+  std::ofstream(file, std::ios::binary) << "\xFF\xD8\xFF\xE0" << tag;
+}
+
 class DriverTest : public ::testing::Test {
  protected:
   void SetUp() override {
     bin_ = dir_ / "bin";
     fs::create_directories(bin_);
     fs::create_directories(dir_ / "photos");
-    for (const char* name : {"a.jpg", "b.jpg", "c.jpg", "d.jpg"}) std::ofstream(dir_ / "photos" / name) << name;
+    for (const char* name : {"a.jpg", "b.jpg", "c.jpg", "d.jpg"}) write_fake_photo(dir_ / "photos" / name, name);
     std::ofstream(bin_ / "fake-stage") << kFakeStage;
     ::chmod((bin_ / "fake-stage").c_str(), 0755);
     for (const char* stage : {"sfm", "mvs", "recon", "refine", "texture"}) {
@@ -159,7 +166,7 @@ TEST_F(DriverTest, ChangedReconLambdaRerunsReconAndTextureOnly) {
 
 TEST_F(DriverTest, ChangedPhotosRerunEverything) {
   run();
-  std::ofstream(dir_ / "photos" / "e.jpg") << "e";
+  write_fake_photo(dir_ / "photos" / "e.jpg", "e");
   EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "refine", "texture"));
 }
 
@@ -241,7 +248,7 @@ TEST_F(DriverTest, BadInvocations) {
   EXPECT_THROW(run_pipeline(bad, null_reporter()), OutputError);
   EXPECT_FALSE(fs::exists(dir_ / "missing"));
   bad = options_;
-  bad.output = dir_ / "out.obj";
+  bad.output = dir_ / "out.fbx";
   EXPECT_THROW(run_pipeline(bad, null_reporter()), ConfigError);
   bad = options_;
   bad.preset = "turbo";
@@ -397,7 +404,7 @@ TEST_F(DriverTest, OutputInsideThePhotoFolderStillResumes) {
   options_.output = options_.photos / "model.glb";
   EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "refine", "texture"));
   EXPECT_TRUE(run().empty());
-  std::ofstream(options_.photos / "e.jpg") << "e";  // a real new photo still counts
+  write_fake_photo(options_.photos / "e.jpg", "e");  // a real new photo still counts
   EXPECT_THAT(run(), ElementsAre("sfm", "mvs", "recon", "refine", "texture"));
 }
 
