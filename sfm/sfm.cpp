@@ -440,7 +440,7 @@ fs::path adjust_principal_point(const ColmapInfo& colmap,
   result.principal_points = principal_point_candidates(read_colmap_model(model_dir), options);
   auto& cameras = result.principal_points;
   if (std::none_of(cameras.begin(), cameras.end(), is_candidate)) return model_dir;
-  const fs::path adjusted_dir = paths.sparse / "principal_point";
+  fs::path adjusted_dir = paths.sparse / "principal_point";
   fs::remove_all(adjusted_dir);
   fs::create_directories(adjusted_dir);
   const ColmapStepResult run = run_colmap_step(colmap, principal_point_step(model_dir, adjusted_dir, true), reporter);
@@ -480,7 +480,7 @@ fs::path adjust_principal_point(const ColmapInfo& colmap,
   }
   // Some cameras keep the centre: the model again around it.
   const fs::path centred_dir = paths.sparse / "principal_point_centred";
-  const fs::path final_dir = paths.sparse / "principal_point_final";
+  fs::path final_dir = paths.sparse / "principal_point_final";
   for (const fs::path& dir : {centred_dir, final_dir}) {
     fs::remove_all(dir);
     fs::create_directories(dir);

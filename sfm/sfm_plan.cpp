@@ -53,7 +53,7 @@ std::string choose_matcher(const PhotoSetFacts& facts, const SfmOptions& options
     reason = format_message(facts.photos, " photos, all with GPS EXIF", altitude_note(facts));
     return "spatial";
   }
-  const std::string matcher = matcher_without_positions(facts, options, reason);
+  std::string matcher = matcher_without_positions(facts, options, reason);
   reason += facts.photos_with_gps == 0 ? ", no GPS EXIF" : ", not all with GPS EXIF";
   return matcher;
 }
