@@ -14,6 +14,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/option_set.h"
 #include "core/subprocess.h"
 #include "core/view_range.h"
 #include "pipeline/file_hash.h"
@@ -41,16 +42,6 @@ std::string shell_quote(const std::string& s) {
   std::string out = "'";
   for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return out + "'";
-}
-
-int parse_int(const std::string& key, const std::string& value, int min) {
-  try {
-    std::size_t used = 0;
-    const int v = std::stoi(value, &used);
-    if (used == value.size() && v >= min) return v;
-  } catch (const std::exception&) {
-  }
-  throw ConfigError("--executor-option " + key + "=" + value, "must be an integer >= " + std::to_string(min));
 }
 
 std::vector<std::string> with_common_flags(std::vector<std::string> argv,
@@ -611,42 +602,37 @@ int SlurmOptions::tasks_of(const std::string& stage) const {
   throw ConfigError("--executor-option " + stage + "_tasks", "the stage " + stage + " does not split");
 }
 
+void register_options(OptionSet& set, SlurmOptions& o) {
+  set.add("partition", o.partition, "sbatch --partition (empty: the cluster's default)");
+  set.add("account", o.account, "sbatch --account (empty: the cluster's default)");
+  set.add("qos", o.qos, "sbatch --qos (empty: the cluster's default)");
+  set.add("constraint", o.constraint, "sbatch --constraint (empty: none)");
+  set.add("time", o.time, "sbatch --time of every job (empty: each job's own estimate)");
+  set.add("mem_mb", o.mem_mb, "sbatch --mem of jobs without an estimate of their own (0: not given)", 0, 1 << 30);
+  set.add("cpus", o.cpus, "sbatch --cpus-per-task (0: not given)", 0, 65536);
+  set.add("mvs_tasks", o.mvs_tasks, "array tasks of the mvs depth maps", 1, 100000);
+  set.add("texture_tasks", o.texture_tasks, "array tasks of the texture view data", 1, 100000);
+  set.add("poll_seconds", o.poll_seconds, "seconds between squeue queries while waiting", 0.0, 3600.0);
+  set.add("status_grace_seconds", o.status_grace_seconds,
+          "seconds a job that left the queue may lack its status file before it counts as failed", 0.0, 86400.0);
+  set.add("wait", o.wait, "wait for the jobs (false: submit and return)");
+}
+
 SlurmOptions parse_slurm_options(const std::vector<std::string>& items) {
   SlurmOptions o;
+  OptionSet set("slurm");
+  register_options(set, o);
   for (const std::string& item : items) {
     const auto eq = item.find('=');
     if (eq == std::string::npos) throw ConfigError("--executor-option " + item, "expected KEY=VALUE");
-    const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
-    if (key == "partition") {
-      o.partition = value;
-    } else if (key == "account") {
-      o.account = value;
-    } else if (key == "qos") {
-      o.qos = value;
-    } else if (key == "constraint") {
-      o.constraint = value;
-    } else if (key == "time") {
-      o.time = value;
-    } else if (key == "mem_mb") {
-      o.mem_mb = parse_int(key, value, 0);
-    } else if (key == "cpus") {
-      o.cpus = parse_int(key, value, 0);
-    } else if (key == "mvs_tasks") {
-      o.mvs_tasks = parse_int(key, value, 1);
-    } else if (key == "texture_tasks") {
-      o.texture_tasks = parse_int(key, value, 1);
-    } else if (key == "poll_seconds") {
-      o.poll_seconds = parse_int(key, value, 0);
-    } else if (key == "status_grace_seconds") {
-      o.status_grace_seconds = parse_int(key, value, 0);
-    } else if (key == "wait") {
-      if (value != "true" && value != "false") throw ConfigError("--executor-option " + item, "must be true or false");
-      o.wait = value == "true";
-    } else {
+    const std::string key = item.substr(0, eq);
+    if (!set.has_key(key)) {
+      std::string keys;
+      for (const std::string& k : set.keys()) keys += (keys.empty() ? "" : ", ") + k;
       throw ConfigError("--executor-option " + item,
-                        "unknown key; the keys are partition, account, qos, constraint, time, mem_mb, cpus, "
-                        "mvs_tasks, texture_tasks, poll_seconds, status_grace_seconds, wait");
+                        "unknown key; did you mean " + set.closest_key(key) + "? The keys are " + keys);
     }
+    set.apply_assignment(key, item.substr(eq + 1), "--executor-option");
   }
   return o;
 }

@@ -27,6 +27,10 @@
 #include "pipeline/run_record.h"
 #include "pipeline/stage_paths.h"
 
+namespace hos {
+class OptionSet;
+}
+
 namespace hos::pipeline {
 
 // --executor-option KEY=VALUE.
@@ -51,8 +55,12 @@ struct SlurmOptions {
   int tasks_of(const std::string& stage) const;
 };
 
-// Parses KEY=VALUE items; ConfigError naming an unknown key (and the known
-// ones) or a bad value.
+// The keys --executor-option takes (section "slurm"), with their ranges and
+// documentation.
+void register_options(OptionSet& set, SlurmOptions& o);
+
+// Parses KEY=VALUE items through that table; ConfigError naming an unknown
+// key (and the known ones) or a bad value and the allowed ones.
 SlurmOptions parse_slurm_options(const std::vector<std::string>& items);
 
 // Checks that Slurm can take jobs from here: sbatch, squeue, scancel and

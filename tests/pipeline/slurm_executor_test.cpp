@@ -552,5 +552,26 @@ TEST(SlurmOptions, UnknownKeyAndBadValuesAreConfigErrors) {
   EXPECT_THROW(parse_slurm_options({"partition"}), ConfigError);
 }
 
+TEST(SlurmOptions, ErrorsNameTheKeyAndTheAllowedValues) {
+  const auto message = [](const std::string& item) {
+    try {
+      parse_slurm_options({item});
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("<no ConfigError>");
+  };
+  EXPECT_THAT(message("mvs_tasks=0"), HasSubstr("mvs_tasks"));
+  EXPECT_THAT(message("mvs_tasks=0"), HasSubstr("an integer in [1, 100000]"));
+  EXPECT_THAT(message("mem_mb=-1"), HasSubstr("an integer in [0, "));
+  EXPECT_THAT(message("cpus=two"), HasSubstr("is not a number"));
+  EXPECT_THAT(message("partion=long"), HasSubstr("did you mean partition?"));
+  EXPECT_THAT(message("partion=long"), HasSubstr("status_grace_seconds, wait"));
+  EXPECT_THAT(message("poll_seconds=nan"), HasSubstr("poll_seconds"));
+  EXPECT_DOUBLE_EQ(parse_slurm_options({"poll_seconds=0.5"}).poll_seconds, 0.5);
+  EXPECT_FALSE(parse_slurm_options({"wait=false"}).wait);
+  EXPECT_EQ(parse_slurm_options({"time=1-12:00:00", "cpus=8", "mem_mb=4000"}).time, "1-12:00:00");
+}
+
 }  // namespace
 }  // namespace hos::pipeline
