@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -83,6 +84,14 @@ struct SfmResult {
   double registered_fraction = 0.0;
   std::string coverage_warning;
   std::vector<SkippedInput> skipped;  // files of the folder that were not usable
+  // Every usable photo's EXIF GPS position (report.json "photos", read by
+  // the texture stage to place the model: texture/geo_alignment.h).
+  struct PhotoGps {
+    std::string name;
+    std::optional<GpsPosition> gps;
+  };
+  std::vector<PhotoGps> photos;
+  std::vector<VideoClipSummary> videos;  // video clips among the photos: frames kept and why
   std::int64_t points = 0;
   double mean_reprojection_error_px = 0.0;
   double mean_track_length = 0.0;
