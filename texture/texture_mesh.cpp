@@ -11,6 +11,7 @@
 #include "texture/exposure.h"
 #include "texture/mesh_topology.h"
 #include "texture/seam_leveling.h"
+#include "texture/unseen_faces.h"
 #include "texture/view_data.h"
 #include "texture/view_selection.h"
 #include "texture/visibility.h"
@@ -38,84 +39,6 @@ Histogram views_per_face_histogram(const FaceViewCandidates& candidates) {
   std::vector<double> views(static_cast<std::size_t>(candidates.num_faces()));
   for (int f = 0; f < candidates.num_faces(); ++f) views[std::size_t(f)] = candidates.end(f) - candidates.begin(f);
   return make_count_histogram(views, kMaxPlottedViewsPerFace);
-}
-
-// Colours of unseen faces: vertex colours of textured charts, diffused over
-// mesh edges into the unseen region ring by ring.
-std::vector<FlatFace> colour_unseen_faces(const TriangleMesh& mesh,
-                                          const MeshTopology& topology,
-                                          const std::vector<int>& labels,
-                                          const std::vector<Chart>& charts,
-                                          const SeamLeveling& leveling) {
-  const int num_vertices = static_cast<int>(mesh.vertices.size());
-  std::vector<Eigen::Vector3f> colour(num_vertices, Eigen::Vector3f::Zero());
-  std::vector<int> count(num_vertices, 0);
-  for (std::size_t c = 0; c < charts.size(); ++c) {
-    for (std::size_t i = 0; i < charts[c].vertices.size(); ++i) {
-      colour[charts[c].vertices[i]] += leveling.vertex_colors[c][i];
-      ++count[charts[c].vertices[i]];
-    }
-  }
-  std::vector<char> known(num_vertices, 0);
-  for (int v = 0; v < num_vertices; ++v) {
-    if (count[v] > 0) {
-      colour[v] /= static_cast<float>(count[v]);
-      known[v] = 1;
-    }
-  }
-  std::vector<FlatFace> flat;
-  std::vector<int> unseen;
-  for (int f = 0; f < static_cast<int>(labels.size()); ++f) {
-    if (labels[f] < 0) unseen.push_back(f);
-  }
-  if (unseen.empty()) return flat;
-  // Ring-by-ring propagation through faces: an unknown vertex takes the mean
-  // of the known vertices of its faces.
-  bool progress = true;
-  while (progress) {
-    progress = false;
-    std::vector<std::pair<int, Eigen::Vector3f>> updates;
-    for (int f : unseen) {
-      for (int c = 0; c < 3; ++c) {
-        const int v = mesh.faces[f][c];
-        if (known[v]) continue;
-        Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-        int n = 0;
-        for (int k = topology.vertex_face_offsets[v]; k < topology.vertex_face_offsets[v + 1]; ++k) {
-          for (int cc = 0; cc < 3; ++cc) {
-            const int u = mesh.faces[topology.vertex_faces[k]][cc];
-            if (known[u]) {
-              sum += colour[u];
-              ++n;
-            }
-          }
-        }
-        if (n > 0) updates.emplace_back(v, sum / static_cast<float>(n));
-      }
-    }
-    for (const auto& [v, c] : updates) {
-      if (!known[v]) {
-        colour[v] = c;
-        known[v] = 1;
-        progress = true;
-      }
-    }
-  }
-  for (int f : unseen) {
-    FlatFace face;
-    face.face = f;
-    int n = 0;
-    for (int c = 0; c < 3; ++c) {
-      if (known[mesh.faces[f][c]]) {
-        face.rgb += colour[mesh.faces[f][c]];
-        ++n;
-      }
-    }
-    // A component no view sees at all: neutral grey rather than black.
-    face.rgb = n > 0 ? Eigen::Vector3f(face.rgb / static_cast<float>(n)) : Eigen::Vector3f::Constant(128.0f);
-    flat.push_back(face);
-  }
-  return flat;
 }
 
 }  // namespace
@@ -226,10 +149,12 @@ void texture_from_candidates(const PreparedMesh& prepared,
   stats.seam_jumps_after = leveling.seam_jumps_after;
   timer.lap("seam leveling");
 
-  const std::vector<FlatFace> flat = colour_unseen_faces(mesh, topology, selection.labels, charts, leveling);
+  const std::vector<FlatFace> flat = colour_unseen_faces(
+      topology, candidates, selection.labels, seen_face_colours(candidates, selection.labels, charts, leveling),
+      uniform_backgrounds(views, gains), options.unseen);
   if (!flat.empty()) {
-    reporter.warn(format_message(flat.size(), " of ", mesh.faces.size(),
-                                 " faces are seen by no photo; they take their neighbours' colour"));
+    reporter.warn(format_message(flat.size(), " of ", mesh.faces.size(), " faces are seen by no photo; they take ",
+                                 unseen_faces_description(options.unseen)));
   }
   Atlas atlas = build_atlas(mesh, topology, candidates, charts, views, gains, leveling, flat, options, reporter);
   stats.texel_scale = atlas.texel_scale;

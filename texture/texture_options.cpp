@@ -39,6 +39,10 @@ void register_options(OptionSet& set, TextureOptions& o) {
           "lambda: in-patch offset smoothness is weighted 1/lambda (smaller = smoother)", 1e-4, 1e4);
   set.add("local_blending", o.local_blending, "blend the two views' colours along seams");
   set.add("seam_blend_texels", o.seam_blend_texels, "width of the blending band on each side (texels)", 0.0, 64.0);
+  set.add_enum("unseen", o.unseen,
+               {{"diffuse", UnseenFaces::kDiffuse}, {"grey", UnseenFaces::kGrey}, {"mark", UnseenFaces::kMark}},
+               "colour of faces no photo sees: diffuse (from the seen faces around them, over the surface), grey, "
+               "or mark (magenta, to show where the photos do not reach)");
   set.add("atlas_size", o.atlas_size, "maximum atlas width and height (pixels)", 64, 16384);
   set.add("padding", o.padding, "texels around each chart (dilated, against mipmap bleeding)", 0, 64);
   set.add("texel_scale", o.texel_scale, "atlas texels per source image pixel", 0.01, 4.0);

@@ -7,6 +7,13 @@
 
 namespace hos::texture {
 
+// How faces no photo sees are coloured (unseen_faces.h).
+enum class UnseenFaces {
+  kDiffuse,  // diffused over the surface from the seen faces around them
+  kGrey,     // neutral grey
+  kMark,     // magenta: shows where the photos do not reach
+};
+
 struct TextureOptions {
   // Decimate the mesh to at most this many faces before texturing (quadric
   // error metrics, meshoptimizer); 0 keeps the mesh as it is.
@@ -49,6 +56,9 @@ struct TextureOptions {
   // are mixed with the neighbouring view's colour (half-and-half on the seam).
   bool local_blending = true;
   double seam_blend_texels = 3.0;
+
+  // Faces no photo sees (unseen_faces.h).
+  UnseenFaces unseen = UnseenFaces::kDiffuse;
 
   // Atlas: maximum size (pixels, square), padding around every chart, texels
   // per source pixel.
