@@ -41,6 +41,7 @@ std::optional<T> parse_number(const std::string& text) {
 template std::optional<int> parse_number<int>(const std::string&);
 template std::optional<double> parse_number<double>(const std::string&);
 template std::optional<float> parse_number<float>(const std::string&);
+template std::optional<std::size_t> parse_number<std::size_t>(const std::string&);
 
 template <typename T>
 std::string number_problem(const std::string& text) {
@@ -58,6 +59,7 @@ std::string number_problem(const std::string& text) {
   }
   if constexpr (std::is_integral_v<T>) {
     if (wide != std::trunc(wide)) return "is not an integer";
+    if (wide < 0 && std::is_unsigned_v<T>) return "is negative (a count or a seed)";
     if (wide >= std::numeric_limits<T>::min() && wide <= std::numeric_limits<T>::max()) {
       return "is not written as an integer (no decimal point or exponent)";
     }
@@ -74,6 +76,7 @@ std::string number_problem(const std::string& text) {
 template std::string number_problem<int>(const std::string&);
 template std::string number_problem<double>(const std::string&);
 template std::string number_problem<float>(const std::string&);
+template std::string number_problem<std::size_t>(const std::string&);
 
 template <typename T>
 std::string print_number(T value) {
@@ -84,6 +87,7 @@ std::string print_number(T value) {
 template std::string print_number<int>(int);
 template std::string print_number<double>(double);
 template std::string print_number<float>(float);
+template std::string print_number<std::size_t>(std::size_t);
 
 namespace {
 

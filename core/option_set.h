@@ -131,6 +131,7 @@ std::optional<T> parse_number(const std::string& text);
 extern template std::optional<int> parse_number<int>(const std::string&);
 extern template std::optional<double> parse_number<double>(const std::string&);
 extern template std::optional<float> parse_number<float>(const std::string&);
+extern template std::optional<std::size_t> parse_number<std::size_t>(const std::string&);
 // Why parse_number<T> gave nothing for text: "is not a number", "is not an
 // integer", "underflows: ..." (1e-400 for a double), "overflows: ...".
 template <typename T>
@@ -138,12 +139,14 @@ std::string number_problem(const std::string& text);
 extern template std::string number_problem<int>(const std::string&);
 extern template std::string number_problem<double>(const std::string&);
 extern template std::string number_problem<float>(const std::string&);
+extern template std::string number_problem<std::size_t>(const std::string&);
 // The value as the config dump writes it (6 significant digits).
 template <typename T>
 std::string print_number(T value);
 extern template std::string print_number<int>(int);
 extern template std::string print_number<double>(double);
 extern template std::string print_number<float>(float);
+extern template std::string print_number<std::size_t>(std::size_t);
 
 // Edit distance, for "did you mean" messages.
 std::size_t edit_distance(const std::string& a, const std::string& b);

@@ -263,5 +263,16 @@ TEST(OptionSet, ZeroOrAndOddApplyToYamlValuesSetInCodeAndTheDocumentation) {
       << set.documented_yaml();
 }
 
+TEST(OptionSet, CountsTakeNoNegativeValue) {
+  std::size_t samples = 200000;
+  OptionSet set("eval");
+  set.add("samples", samples, "samples", std::size_t{1000}, std::size_t{1000000000});
+  EXPECT_EQ(assignment_error(set, "samples", "5000"), "<no ConfigError>");
+  EXPECT_EQ(samples, 5000u);
+  EXPECT_NE(assignment_error(set, "samples", "-5000").find("is negative"), std::string::npos);
+  EXPECT_NE(assignment_error(set, "samples", "999").find("an integer in [1000, 1000000000]"), std::string::npos);
+  EXPECT_EQ(samples, 5000u);
+}
+
 }  // namespace
 }  // namespace hos
