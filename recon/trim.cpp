@@ -16,20 +16,25 @@ class SampleHash {
     for (std::size_t i = 0; i < samples.size(); ++i) cells_[key(cell_of(samples[i]))].push_back(i);
   }
 
-  bool near(const Eigen::Vector3f& x) const {
+  bool near(const Eigen::Vector3f& x) const { return count_within(x, radius2_, 1) > 0; }
+
+  // Samples within sqrt(radius2) of x, counted up to limit.
+  int count_within(const Eigen::Vector3f& x, double radius2, int limit) const {
+    const int reach = std::max(1, static_cast<int>(std::ceil(std::sqrt(radius2) / cell_ - 1e-9)));
     const Eigen::Vector3i c = cell_of(x);
-    for (int dz = -1; dz <= 1; ++dz) {
-      for (int dy = -1; dy <= 1; ++dy) {
-        for (int dx = -1; dx <= 1; ++dx) {
+    int count = 0;
+    for (int dz = -reach; dz <= reach; ++dz) {
+      for (int dy = -reach; dy <= reach; ++dy) {
+        for (int dx = -reach; dx <= reach; ++dx) {
           const auto it = cells_.find(key(c + Eigen::Vector3i(dx, dy, dz)));
           if (it == cells_.end()) continue;
           for (std::size_t i : it->second) {
-            if ((samples_[i] - x).cast<double>().squaredNorm() <= radius2_) return true;
+            if ((samples_[i] - x).cast<double>().squaredNorm() <= radius2 && ++count >= limit) return count;
           }
         }
       }
     }
-    return false;
+    return count;
   }
 
  private:
@@ -46,6 +51,34 @@ class SampleHash {
   double radius2_;
   std::unordered_map<std::int64_t, std::vector<std::size_t>> cells_;
 };
+
+// Sparse but consistent support: a sample with fewer than kSupport others
+// within the trim distance, but at least kSupport within kSparseReach times
+// it, lies on surface that few samples cover (ground seen at grazing angles,
+// a side few photos see); around it the trim distance is kSparseReach times
+// longer, so the mesh between such samples stays. An isolated sample (an
+// outlier) keeps the plain distance.
+constexpr int kSupport = 4;
+constexpr double kSparseReach = 3.0;
+
+std::vector<Eigen::Vector3f> sparse_supported_samples(const std::vector<Eigen::Vector3f>& samples,
+                                                      const SampleHash& hash,
+                                                      double max_distance) {
+  const double near2 = max_distance * max_distance, wide2 = near2 * kSparseReach * kSparseReach;
+  const std::int64_t n = static_cast<std::int64_t>(samples.size());
+  std::vector<char> sparse(samples.size(), 0);
+#pragma omp parallel for schedule(dynamic, 4096)
+  for (std::int64_t i = 0; i < n; ++i) {
+    // Counts include the sample itself.
+    sparse[i] = hash.count_within(samples[i], near2, kSupport + 1) <= kSupport &&
+                hash.count_within(samples[i], wide2, kSupport + 1) > kSupport;
+  }
+  std::vector<Eigen::Vector3f> out;
+  for (std::int64_t i = 0; i < n; ++i) {
+    if (sparse[i]) out.push_back(samples[i]);
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -77,10 +110,12 @@ std::size_t trim_far_from_samples(TriangleMesh& mesh,
                                   const std::vector<Eigen::Vector3f>& samples,
                                   double max_distance) {
   const SampleHash hash(samples, max_distance);
+  const std::vector<Eigen::Vector3f> sparse = sparse_supported_samples(samples, hash, max_distance);
+  const SampleHash sparse_hash(sparse, kSparseReach * max_distance);
   std::vector<char> near(mesh.vertices.size());
   const std::int64_t nv = static_cast<std::int64_t>(mesh.vertices.size());
 #pragma omp parallel for schedule(dynamic, 1024)
-  for (std::int64_t v = 0; v < nv; ++v) near[v] = hash.near(mesh.vertices[v]);
+  for (std::int64_t v = 0; v < nv; ++v) near[v] = hash.near(mesh.vertices[v]) || sparse_hash.near(mesh.vertices[v]);
   std::vector<Eigen::Vector3i> kept;
   kept.reserve(mesh.faces.size());
   for (const auto& f : mesh.faces) {
