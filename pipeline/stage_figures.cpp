@@ -88,6 +88,21 @@ GlbFigures read_glb_figures(const fs::path& file) {
   return out;
 }
 
+namespace {
+
+// The keys a stage's report.json has, copied into f (none if it cannot be read).
+void copy_report_figures(const fs::path& report, std::initializer_list<const char*> keys, nlohmann::ordered_json& f) {
+  std::ifstream in(report);
+  if (!in) return;
+  const nlohmann::json r = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (!r.is_object()) return;
+  for (const char* key : keys) {
+    if (r.contains(key)) f[key] = r[key];
+  }
+}
+
+}  // namespace
+
 nlohmann::ordered_json stage_figures(const std::string& stage, const fs::path& workspace) {
   const StagePaths paths(workspace);
   nlohmann::ordered_json f = nlohmann::ordered_json::object();
@@ -106,7 +121,10 @@ nlohmann::ordered_json stage_figures(const std::string& stage, const fs::path& w
       auto counts = ply_element_counts(stage == "recon" ? paths.mesh : paths.refined_mesh);
       f["vertices"] = counts["vertex"];
       f["faces"] = counts["face"];
+      if (stage == "recon")
+        copy_report_figures(paths.recon_report, {"debris_pieces_removed", "debris_area_removed", "surface_area"}, f);
     } else if (stage == "texture") {
+      copy_report_figures(paths.texture_report, {"unseen_faces"}, f);
       const GlbFigures g = read_glb_figures(paths.textured_model);
       f["bytes"] = g.bytes;
       f["vertices"] = g.vertices;
@@ -145,8 +163,17 @@ std::string figures_text(const std::string& stage, const nlohmann::ordered_json&
     text << num("points") << " dense points";
   } else if (stage == "recon" || stage == "refine") {
     text << num("vertices") << " vertices, " << num("faces") << " faces";
+    if (f.contains("debris_pieces_removed") && f["debris_pieces_removed"].get<std::int64_t>() > 0) {
+      text << "; " << num("debris_pieces_removed") << " debris pieces removed";
+      const double removed = f.value("debris_area_removed", 0.0), kept = f.value("surface_area", 0.0);
+      if (removed + kept > 0.0)
+        text << " (" << std::setprecision(2) << 100.0 * removed / (removed + kept) << "% of the area)";
+    }
   } else if (stage == "texture") {
     text << num("triangles") << " triangles";
+    if (f.contains("unseen_faces") && f["unseen_faces"].get<std::int64_t>() > 0) {
+      text << ", " << num("unseen_faces") << " faces seen by no photo";
+    }
     if (f.contains("textures") && !f["textures"].empty()) {
       text << ", texture";
       for (const auto& s : f["textures"]) text << " " << s.get<std::string>();

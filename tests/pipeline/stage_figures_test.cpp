@@ -74,5 +74,23 @@ TEST(StageFigures, SfmStepTimesReachTheSummary) {
             "vocab_tree_builder 2.0 s; mapper 8.0 s");
 }
 
+// Debris and unseen faces reach the summary from the stages' report.json.
+TEST(StageFigures, DebrisAndUnseenFacesReachTheSummary) {
+  hos::testing::TempDir dir;
+  fs::create_directories(dir / "recon");
+  std::ofstream(dir / "recon" / "mesh.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                               "property float y\nproperty float z\nelement face 1\n"
+                                               "property list uchar int vertex_indices\nend_header\n"
+                                               "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  std::ofstream(dir / "recon" / "report.json")
+      << R"({"faces": 1, "debris_pieces_removed": 3, "debris_area_removed": 0.5, "surface_area": 99.5})";
+  EXPECT_EQ(figures_text("recon", stage_figures("recon", dir.path())),
+            "3 vertices, 1 faces; 3 debris pieces removed (0.5% of the area)");
+  fs::create_directories(dir / "texture");
+  std::ofstream(dir / "texture" / "report.json") << R"({"unseen_faces": 42})";
+  const auto texture = stage_figures("texture", dir.path());
+  EXPECT_EQ(texture["unseen_faces"], 42);
+}
+
 }  // namespace
 }  // namespace hos::pipeline
