@@ -8,6 +8,9 @@ namespace hos::mvs {
 void MvsOptions::validate() const {
   check_option_table("mvs", *this);
   if (window_step > window_radius) throw ConfigError("mvs.window_step", "must be at most mvs.window_radius");
+  if (pixel_source_views != 0 && pixel_source_views < best_k) {
+    throw ConfigError("mvs.pixel_source_views", "must be 0 or at least mvs.best_k");
+  }
 }
 
 void register_options(OptionSet& set, MvsOptions& o) {
@@ -18,6 +21,10 @@ void register_options(OptionSet& set, MvsOptions& o) {
           "longest image side of the full PatchMatch level (levels double up to max_image_size)", 64, 16384);
   set.add("num_source_views", o.num_source_views, "source views per reference view", 1, 32);
   set.add("best_k", o.best_k, "photo-consistency: mean of the best K source views", 1, 32);
+  set.add("pixel_source_views", o.pixel_source_views,
+          "sweeps after the first score a pixel's candidates on the sources that score its plane best, this "
+          "many (0 = every source; at least best_k)",
+          0, 32);
   set.add("window_radius", o.window_radius, "matching window half size (pixels)", 1, 15);
   set.add("window_step", o.window_step, "window sampling step (pixels)", 1, 15);
   set.add("iterations", o.iterations, "PatchMatch sweeps at the coarse level", 1, 20);

@@ -22,9 +22,13 @@ struct MvsOptions {
   int coarse_image_size = 640;  // longest side of the full PatchMatch level; >= max_image_size: one level
   int num_source_views = 5;     // source views per reference view
   int best_k = 2;               // photo-consistency: mean of the best K source costs (occlusions)
-  int window_radius = 4;        // matching window half size in pixels
-  int window_step = 2;          // sample every step-th pixel of the window
-  int iterations = 4;           // coarse level sweeps (red-black, both colours)
+  // Per-pixel view selection: after the coarse level's first sweep and
+  // before each finer sweep, a pixel's candidates are scored on the sources
+  // that score its current plane best, this many of them (0 = every source).
+  int pixel_source_views = 3;
+  int window_radius = 4;  // matching window half size in pixels
+  int window_step = 2;    // sample every step-th pixel of the window
+  int iterations = 4;     // coarse level sweeps (red-black, both colours)
   // Sweeps per finer level (they start from a converged plane); 2 scored
   // above 1 on the 1280x960 synthetic scene (docs/benchmarks-mvs.md).
   int refine_iterations = 2;

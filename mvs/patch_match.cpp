@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -84,6 +85,9 @@ class PatchMatcher {
     changed_.assign(std::size_t(w) * h, -1);
     settled_.assign(std::size_t(w) * h, 0);
     inherited_.assign(std::size_t(w) * h, kTextureless);
+    const int nsrc = static_cast<int>(std::min<std::size_t>(sources.size(), 32));
+    views_.assign(std::size_t(w) * h, nsrc == 32 ? ~0u : (1u << nsrc) - 1u);
+    reselect_.assign(std::size_t(w) * h, 1);
     prepare_windows();
   }
 
@@ -168,6 +172,40 @@ class PatchMatcher {
 #pragma omp parallel for schedule(dynamic, 2)
       for (int y = 0; y < h; ++y) {
         for (int x = (y + colour) % 2; x < w; x += 2) update(x, y, iteration, colour, scale);
+      }
+    }
+  }
+
+  // Per-pixel view selection: each pixel whose plane changed since its
+  // views were chosen keeps the options.pixel_source_views sources that
+  // score its plane best (photometric + geometric), and later candidates are
+  // scored on those alone. They include the best K, so the pixel's own cost
+  // stays as it is; a candidate is scored at best as well as on every view
+  // (its best K among fewer), so none wins that would not have on all.
+  void select_views() {
+    const int keep = options_.pixel_source_views;
+    const int nsrc = static_cast<int>(std::min<std::size_t>(sources_.size(), 32));
+    if (keep == 0 || keep >= nsrc) return;
+    const int w = ref_.width(), h = ref_.height();
+    const std::uint32_t all = nsrc == 32 ? ~0u : (1u << nsrc) - 1u;
+#pragma omp parallel for schedule(dynamic, 4)
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const std::size_t i = std::size_t(y) * w + x;
+        if (!textured_[i] || settled_[i] || !reselect_[i]) continue;
+        reselect_[i] = 0;
+        views_[i] = all;
+        float view_costs[32];
+        if (!score_views(x, y, planes_[i], view_costs)) continue;
+        std::uint32_t chosen = 0;
+        for (int n = 0; n < keep; ++n) {
+          int best = -1;
+          for (int s = 0; s < nsrc; ++s) {
+            if (!(chosen >> s & 1u) && (best < 0 || view_costs[s] < view_costs[best])) best = s;
+          }
+          chosen |= 1u << best;
+        }
+        views_[i] = chosen;
       }
     }
   }
@@ -466,6 +504,26 @@ class PatchMatcher {
     return 1.0f - cov / std::sqrt(var_r * var_s);
   }
 
+  // Each source view's cost (1 - NCC plus the geometric vote) of plane at
+  // pixel (x, y), into out[s]; false where the plane cannot be scored.
+  HOS_CPU_CLONES bool score_views(int x, int y, const Plane& plane, float* out) const {
+    const std::size_t i = std::size_t(y) * ref_.width() + x;
+    if (!(plane.depth > 0)) return false;
+    const std::size_t k = offsets_.size();
+    const Eigen::Vector3d n = plane.normal.cast<double>();
+    const Eigen::Vector3d x_ref = ray(x, y) * plane.depth;
+    const double nd = n.dot(x_ref);
+    if (std::abs(nd) < 1e-12) return false;
+    const Eigen::Vector3f m = (ref_.K_inv.transpose() * n / nd).cast<float>();
+    const int nsrc = static_cast<int>(std::min<std::size_t>(sources_.size(), 32));
+    for (int s = 0; s < nsrc; ++s) {
+      const Eigen::Matrix3f H = relative_[s].A + relative_[s].b * m.transpose();
+      out[s] = view_cost(x, y, H, *sources_[s], &weights_[i * k], &centred_[i * k], ref_var_[i]) +
+               (has_priors_ ? geometric_cost(s, x_ref.cast<float>(), x, y) : 0.0f);
+    }
+    return true;
+  }
+
   // Cost of plane at pixel (x, y): the mean of the best K source views,
   // each scored by its 1 - NCC plus (finer levels) its geometric vote.
   // Stops early, returning a lower bound >= to_beat, once the views still to
@@ -479,7 +537,9 @@ class PatchMatcher {
     const double nd = n.dot(x_ref);
     if (std::abs(nd) < 1e-12) return {};
     const Eigen::Vector3f m = (ref_.K_inv.transpose() * n / nd).cast<float>();
-    const int nsrc = static_cast<int>(std::min<std::size_t>(sources_.size(), 32));
+    // The pixel's source views (bit s: source s; all until select_views).
+    std::uint32_t views = views_[i];
+    const int nsrc = std::popcount(views);
     if (nsrc == 0) return {};
     const int best = std::min(options_.best_k, nsrc);
     const float margin = static_cast<float>(options_.detail_restore_margin);
@@ -488,9 +548,11 @@ class PatchMatcher {
     // ascending on their own for the early-exit bound.
     float sorted[32], sorted_photo[32], photo_only[32];
     for (int s = 0; s < nsrc; ++s) {
-      const Eigen::Matrix3f H = relative_[s].A + relative_[s].b * m.transpose();
-      const float photo = view_cost(x, y, H, *sources_[s], &weights_[i * k], &centred_[i * k], ref_var_[i]);
-      const float c = photo + (has_priors_ ? geometric_cost(s, x_ref.cast<float>(), x, y) : 0.0f);
+      const int v = std::countr_zero(views);
+      views &= views - 1;
+      const Eigen::Matrix3f H = relative_[v].A + relative_[v].b * m.transpose();
+      const float photo = view_cost(x, y, H, *sources_[v], &weights_[i * k], &centred_[i * k], ref_var_[i]);
+      const float c = photo + (has_priors_ ? geometric_cost(v, x_ref.cast<float>(), x, y) : 0.0f);
       int j = s;
       for (; j > 0 && sorted[j - 1] > c; --j) {
         sorted[j] = sorted[j - 1];
@@ -550,6 +612,7 @@ class PatchMatcher {
     costs_[i] = c.effective;
     photo_[i] = c.photo;
     planes_[i] = candidate;
+    reselect_[i] = 1;
     return true;
   }
 
@@ -618,6 +681,10 @@ class PatchMatcher {
   std::vector<float> weights_, centred_, ref_var_;
   std::vector<char> textured_;
   std::vector<char> settled_;  // finer levels: the upsampled plane matched well, no sweeps
+  // Per pixel, the source views its planes are scored on (bit s: source s)
+  // and whether its plane changed since they were chosen.
+  std::vector<std::uint32_t> views_;
+  std::vector<char> reselect_;
   // Finer levels: the coarser pixel's cost. A window flat at this level
   // whose coarser pixel matched (its window spans twice the scene and saw
   // texture) keeps the upsampled plane and that cost; kTextureless elsewhere.
@@ -679,9 +746,9 @@ MvsView downscale_view(const MvsView& view, int max_image_size) {
 double matcher_bytes_per_pixel(const MvsOptions& options) {
   const int side = 2 * options.window_radius / options.window_step + 1;
   // Two floats per window sample (weights, centred values), the Plane, four
-  // floats (costs, photometric costs, inherited costs, variance) and three
-  // bytes (changed, settled, textured).
-  return 2.0 * sizeof(float) * side * side + sizeof(Plane) + 4.0 * sizeof(float) + 3.0;
+  // floats (costs, photometric costs, inherited costs, variance), the view
+  // mask and four bytes (changed, settled, textured, reselect).
+  return 2.0 * sizeof(float) * side * side + sizeof(Plane) + 4.0 * sizeof(float) + sizeof(std::uint32_t) + 4.0;
 }
 
 PlaneMap match_planes(const MvsView& ref,
@@ -693,7 +760,11 @@ PlaneMap match_planes(const MvsView& ref,
                       Reporter& reporter) {
   PatchMatcher matcher(ref, sources, depth_min, depth_max, options);
   matcher.initialise(seed_points);
-  for (int it = 0; it < options.iterations; ++it) matcher.iterate(it, 1.0 / (1 << it), reporter);
+  for (int it = 0; it < options.iterations; ++it) {
+    // The first sweep's random planes say nothing about which views see the pixel.
+    if (it > 0) matcher.select_views();
+    matcher.iterate(it, 1.0 / (1 << it), reporter);
+  }
   return matcher.planes();
 }
 
@@ -711,6 +782,7 @@ PlaneMap refine_planes(const MvsView& ref,
   matcher.initialise_from(coarse, seed_points);
   // Perturbations continue from where the coarse level's sweeps stopped.
   for (int it = 0; it < options.refine_iterations; ++it) {
+    matcher.select_views();
     matcher.iterate(it, 1.0 / (1 << (options.iterations + it)), reporter);
   }
   if (stats) matcher.add_refinement_stats(*stats);
