@@ -34,13 +34,18 @@ int main(int argc, char** argv) {
   CLI::App app{
       "hos-pipeline: a folder of photos in, a textured mesh (.glb) out.\n"
       "Re-running the same command resumes: stages whose inputs and options are unchanged are skipped."};
-  app.add_option("PHOTOS", options.photos, "folder of photos");
-  app.add_option("OUT", options.output, "output file, .glb");
+  app.add_option("PHOTOS", options.photos, "folder of photos (and video clips), or one video clip");
+  app.add_option("OUT", options.output, "output model, format by extension: .glb, .gltf, .obj or .ply");
   app.add_option("--workspace", options.workspace, "workspace folder (default: next to OUT, <OUT name>_workspace)");
   app.add_option("--config", options.config_file,
                  "YAML config file with sections " + hos::pipeline::stage_names_text(":, ") + ":");
   app.add_option("--preset", options.preset, "fast | default | quality, or a YAML file (applied before --config)");
   app.add_option("--set", options.assignments, "override one option: --set recon.lambda=0.2 (repeatable)");
+  std::vector<std::string> scale_distance;
+  app.add_option("--scale-distance", scale_distance,
+                 "A.jpg B.jpg METRES: two photos' camera centres measured on site set the model's scale "
+                 "(= --set texture.scale_distance='A.jpg B.jpg METRES')")
+      ->expected(3);
   app.add_option("--from", options.from, "first stage to run: " + hos::pipeline::stage_names_text(" | "));
   app.add_option("--to", options.to, "last stage to run: " + hos::pipeline::stage_names_text(" | "));
   app.add_flag("--force", options.force, "run the stages even if they are up to date");
@@ -75,6 +80,10 @@ int main(int argc, char** argv) {
   if (options.photos.empty() || options.output.empty()) {
     std::cerr << "hos-pipeline: error: usage: hos-pipeline PHOTOS OUT.glb [options] (see --help)\n";
     return hos::kExitUsage;
+  }
+  if (!scale_distance.empty()) {
+    options.assignments.push_back("texture.scale_distance=" + scale_distance[0] + " " + scale_distance[1] + " " +
+                                  scale_distance[2]);
   }
   options.progress = flags.progress;
   options.verbose = flags.verbose;

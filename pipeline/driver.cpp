@@ -20,6 +20,8 @@
 #include "pipeline/stage_paths.h"
 #include "pipeline/stages.h"
 #include "pipeline/workspace_lock.h"
+#include "sfm/video_frames.h"
+#include "texture/model_writer.h"
 
 namespace hos::pipeline {
 namespace fs = std::filesystem;
@@ -35,14 +37,16 @@ void check_invocation(const DriverOptions& o) {
   std::error_code ec;
   if (o.photos.empty()) throw ConfigError("PHOTOS", "no photo folder given");
   if (!fs::exists(o.photos, ec)) throw InputError(o.photos.string(), "photo folder does not exist");
-  if (!fs::is_directory(o.photos, ec)) throw InputError(o.photos.string(), "is not a folder of photos");
+  if (!fs::is_directory(o.photos, ec) && !sfm::is_video_file(o.photos)) {
+    throw InputError(o.photos.string(), "is neither a folder of photos nor a video clip (.mp4 .mov .mkv .avi)");
+  }
   if (!o.existing_model.empty() && !fs::is_directory(o.existing_model, ec)) {
     throw InputError(o.existing_model.string(), "sparse model folder does not exist");
   }
   if (o.output.empty()) throw ConfigError("OUT", "no output file given");
-  std::string ext = o.output.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (ext != ".glb") throw ConfigError(o.output.string(), "the output must be a binary glTF file ending in .glb");
+  if (!texture::model_format_of(o.output)) {
+    throw ConfigError(o.output.string(), std::string("the output must be ") + texture::model_formats_text());
+  }
   const fs::path parent = o.output.parent_path().empty() ? fs::path(".") : o.output.parent_path();
   if (!fs::is_directory(parent, ec)) {
     throw OutputError(o.output.string(), "its folder " + parent.string() + " does not exist");

@@ -99,11 +99,13 @@ const std::vector<StageSpec>& pipeline_stages() {
        [](const DriverOptions&, const StagePaths& p) {
          return std::vector<std::string>{
              "--workspace", p.undistorted.string(),    "--mesh",   p.refined_mesh.string(),
-             "--output",    p.textured_model.string(), "--report", p.texture_report.string()};
+             "--output",    p.textured_model.string(), "--report", p.texture_report.string(),
+             "--geo",       p.sfm_report.string()};
        },
        [](Fingerprint& f, const DriverOptions&, const StagePaths& p) {
          f.add_file_contents(p.refined_mesh);
          add_undistorted_workspace(f, p);
+         f.add_file_contents(p.sfm_report);  // the photos' GPS (--geo)
        },
        [](const StagePaths& p) { return fs::exists(p.textured_model); },
        typed_config<texture::TextureOptions>("texture"),
@@ -115,9 +117,9 @@ const std::vector<StageSpec>& pipeline_stages() {
                   },
                   [](const StagePaths& p) {
                     return std::vector<std::string>{
-                        "--workspace",      p.undistorted.string(),   "--mesh",   p.refined_mesh.string(),
-                        "--from-view-data", p.view_data.string(),     "--output", p.textured_model.string(),
-                        "--report",         p.texture_report.string()};
+                        "--workspace",      p.undistorted.string(),    "--mesh",   p.refined_mesh.string(),
+                        "--from-view-data", p.view_data.string(),      "--output", p.textured_model.string(),
+                        "--report",         p.texture_report.string(), "--geo",    p.sfm_report.string()};
                   },
                   /*fixed_parts=*/nullptr}},
   };

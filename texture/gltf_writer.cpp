@@ -4,11 +4,13 @@
 
 #include <cstring>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
+#include <nlohmann/json.hpp>
+#include <sstream>
 #include <stdexcept>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "texture/image_encoding.h"
 
 namespace hos::texture {
 
@@ -112,24 +114,17 @@ void add_sampler(tinygltf::Model& model) {
   model.samplers.push_back(sampler);
 }
 
-// The page's atlas encoded into the buffer, its texture (sampler 0) and
-// material; returns the material's index.
-int add_page_material(tinygltf::Model& model,
-                      const cv::Mat& atlas,
-                      std::size_t page,
-                      const GltfWriteOptions& options,
-                      const std::filesystem::path& path) {
-  const bool jpeg = options.image_format == "jpeg";
-  std::vector<unsigned char> encoded;
-  std::vector<int> params;
-  if (jpeg) params = {cv::IMWRITE_JPEG_QUALITY, options.jpeg_quality};
-  if (!cv::imencode(jpeg ? ".jpg" : ".png", atlas, encoded, params)) {
-    throw OutputError(path.string(), "cannot encode the texture atlas");
-  }
+// The page's encoded atlas (in the buffer, or the file uri beside a .gltf),
+// its texture (sampler 0) and material; returns the material's index.
+int add_page_material(tinygltf::Model& model, const EncodedImage& encoded, std::size_t page, const std::string& uri) {
   tinygltf::Image image;
   image.name = "atlas" + std::to_string(page);
-  image.mimeType = jpeg ? "image/jpeg" : "image/png";
-  image.bufferView = add_buffer_view(model, encoded.data(), encoded.size(), 0);
+  image.mimeType = encoded.mime_type;
+  if (uri.empty()) {
+    image.bufferView = add_buffer_view(model, encoded.bytes.data(), encoded.bytes.size(), 0);
+  } else {
+    image.uri = uri;
+  }
   model.images.push_back(image);
   tinygltf::Texture texture;
   texture.sampler = 0;
@@ -187,39 +182,109 @@ void add_scene(tinygltf::Model& model, tinygltf::Mesh gltf_mesh, const Eigen::Ma
   model.defaultScene = 0;
 }
 
-void serialize(tinygltf::Model& model, const std::filesystem::path& path) {
-  write_atomically(path, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) throw OutputError(path.string(), "cannot open for writing");
-    tinygltf::TinyGLTF writer;
-    if (!writer.WriteGltfSceneToStream(&model, out, false, true)) {
-      throw OutputError(path.string(), "tinygltf could not serialize the model");
-    }
-    out.flush();
-    if (!out) throw OutputError(path.string(), "write failed");
-  });
+// asset.extras: the root frame's units and, when GPS placed the model, the
+// WGS84 position of its origin (texture/placement.h).
+tinygltf::Value placement_extras(const TexturedMesh& mesh) {
+  tinygltf::Value::Object extras;
+  extras["units"] = tinygltf::Value(std::string(mesh.metric ? "metres" : "arbitrary"));
+  if (mesh.geo_origin) {
+    tinygltf::Value::Object origin;
+    origin["latitude_deg"] = tinygltf::Value(mesh.geo_origin->latitude_deg);
+    origin["longitude_deg"] = tinygltf::Value(mesh.geo_origin->longitude_deg);
+    if (mesh.geo_origin->altitude_m) origin["altitude_m"] = tinygltf::Value(*mesh.geo_origin->altitude_m);
+    origin["axes"] = tinygltf::Value(std::string("+x east, +y up, -z north"));
+    extras["geo_origin"] = tinygltf::Value(origin);
+  }
+  return tinygltf::Value(extras);
 }
 
-}  // namespace
+// The model as a .glb (binary) or as .gltf JSON text.
+std::string serialize(tinygltf::Model& model, const std::filesystem::path& path, bool binary) {
+  std::ostringstream out;
+  tinygltf::TinyGLTF writer;
+  writer.SetImageWriter(nullptr, nullptr);  // images are encoded already: keep their uri
+  if (!writer.WriteGltfSceneToStream(&model, out, !binary, binary)) {
+    throw OutputError(path.string(), "tinygltf could not serialize the model");
+  }
+  return out.str();
+}
 
-void write_glb(const std::filesystem::path& path, const TexturedMesh& mesh, const GltfWriteOptions& options) {
+// The glTF model of the mesh; with file_stem, images and buffer refer to
+// the files file_stem_atlasN.EXT and file_stem.bin (a .gltf), else they are
+// embedded (a .glb).
+tinygltf::Model build_model(const TexturedMesh& mesh,
+                            const std::vector<EncodedImage>& images,
+                            const std::string& file_stem) {
   check_mesh(mesh);
+  if (images.size() != mesh.atlases.size()) throw std::invalid_argument("write_glb: one image per atlas is required");
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = "hos";
+  model.asset.extras = placement_extras(mesh);
   model.buffers.emplace_back();
   const VertexAccessors vertices = add_vertex_attributes(model, mesh);
   add_sampler(model);
   tinygltf::Mesh gltf_mesh;
   for (std::size_t page = 0; page < mesh.atlases.size(); ++page) {
     if (mesh.indices[page].empty()) continue;
-    const int material = add_page_material(model, mesh.atlases[page], page, options, path);
+    const std::string uri = file_stem.empty() ? "" : atlas_file_name(file_stem, page, images[page]);
+    const int material = add_page_material(model, images[page], page, uri);
     gltf_mesh.primitives.push_back(
         page_primitive(model, mesh.indices[page], mesh.positions.size(), vertices, material));
   }
   while (model.buffers[0].data.size() % 4 != 0) model.buffers[0].data.push_back(0);
+  if (!file_stem.empty()) model.buffers[0].uri = file_stem + ".bin";
   add_scene(model, std::move(gltf_mesh), mesh.root_matrix);
-  serialize(model, path);
+  return model;
+}
+
+}  // namespace
+
+std::string atlas_file_name(const std::string& stem, std::size_t page, const EncodedImage& image) {
+  return stem + "_atlas" + std::to_string(page) + image.extension;
+}
+
+std::vector<EncodedImage> encode_atlases(const TexturedMesh& mesh,
+                                         const GltfWriteOptions& options,
+                                         const std::filesystem::path& path) {
+  std::vector<EncodedImage> images;
+  for (const cv::Mat& atlas : mesh.atlases) {
+    try {
+      images.push_back(encode_image(atlas, options.image_format, options.jpeg_quality));
+    } catch (const std::exception& e) {
+      throw OutputError(path.string(), std::string("cannot encode the texture atlas: ") + e.what());
+    }
+  }
+  return images;
+}
+
+void write_glb(const std::filesystem::path& path, const TexturedMesh& mesh, const std::vector<EncodedImage>& images) {
+  tinygltf::Model model = build_model(mesh, images, "");
+  const std::string glb = serialize(model, path, true);
+  write_bytes(path, glb.data(), glb.size());
+}
+
+void write_glb(const std::filesystem::path& path, const TexturedMesh& mesh, const GltfWriteOptions& options) {
+  check_mesh(mesh);
+  write_glb(path, mesh, encode_atlases(mesh, options, path));
+}
+
+void write_gltf(const std::filesystem::path& path, const TexturedMesh& mesh, const std::vector<EncodedImage>& images) {
+  const std::string stem = path.stem().string();
+  tinygltf::Model model = build_model(mesh, images, stem);
+  const std::filesystem::path folder = path.parent_path();
+  write_bytes(folder / (stem + ".bin"), model.buffers[0].data.data(), model.buffers[0].data.size());
+  for (std::size_t page = 0; page < images.size(); ++page) {
+    if (mesh.indices[page].empty()) continue;
+    write_bytes(folder / atlas_file_name(stem, page, images[page]), images[page].bytes.data(),
+                images[page].bytes.size());
+  }
+  // tinygltf embeds buffers of JSON text as base64 whatever their uri: the
+  // JSON's buffer is pointed at the .bin instead.
+  nlohmann::ordered_json json = nlohmann::ordered_json::parse(serialize(model, path, false));
+  json["buffers"][0] = {{"byteLength", model.buffers[0].data.size()}, {"uri", stem + ".bin"}};
+  const std::string text = json.dump(1) + "\n";
+  write_bytes(path, text.data(), text.size());
 }
 
 }  // namespace hos::texture

@@ -1,25 +1,44 @@
-// Binary glTF 2.0 output with tinygltf: one mesh with a primitive per atlas
-// page (POSITION, NORMAL, TEXCOORD_0, indices), the atlases embedded as PNG
-// or JPEG in buffer views, a PBR material per page (baseColorTexture,
-// metallic 0, roughness 1, double-sided false), asset.generator "hos".
+// glTF 2.0 output with tinygltf: one mesh with a primitive per atlas page
+// (POSITION, NORMAL, TEXCOORD_0, indices), the atlases as JPEG or PNG
+// (embedded in buffer views of a .glb; files beside a .gltf), a PBR material per page (baseColorTexture,
+// metallic 0, roughness 1, double-sided false), asset.generator "hos",
+// asset.extras the root frame's "units" ("metres" or "arbitrary") and, when
+// GPS placed the model, "geo_origin" (texture/placement.h).
 // Vertices stay in the SfM model frame; the single root node carries
 // TexturedMesh::root_matrix (identity is written as no matrix).
 #pragma once
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
+#include "texture/image_encoding.h"
 #include "texture/textured_mesh.h"
 
 namespace hos::texture {
 
 struct GltfWriteOptions {
-  std::string image_format = "png";  // png | jpeg
-  int jpeg_quality = 90;
+  std::string image_format = "jpeg";  // jpeg | png
+  int jpeg_quality = 95;
 };
 
+// Every atlas encoded as the options say; OutputError (naming path) if one
+// cannot be.
+std::vector<EncodedImage> encode_atlases(const TexturedMesh& mesh,
+                                         const GltfWriteOptions& options,
+                                         const std::filesystem::path& path);
+
+// The file name of page's atlas beside a model named stem: stem_atlasN.jpg.
+std::string atlas_file_name(const std::string& stem, std::size_t page, const EncodedImage& image);
+
 // Writes atomically. Throws OutputError if the file cannot be written or an
-// image cannot be encoded; std::invalid_argument for an inconsistent mesh.
+// image cannot be encoded; std::invalid_argument for an inconsistent mesh
+// (images: one per atlas).
 void write_glb(const std::filesystem::path& path, const TexturedMesh& mesh, const GltfWriteOptions& options = {});
+void write_glb(const std::filesystem::path& path, const TexturedMesh& mesh, const std::vector<EncodedImage>& images);
+
+// A .gltf (JSON) with its buffer in STEM.bin and the atlases in
+// STEM_atlasN.jpg (or .png) in the same folder, STEM being path's stem.
+void write_gltf(const std::filesystem::path& path, const TexturedMesh& mesh, const std::vector<EncodedImage>& images);
 
 }  // namespace hos::texture

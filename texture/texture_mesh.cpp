@@ -41,25 +41,16 @@ Histogram views_per_face_histogram(const FaceViewCandidates& candidates) {
   return make_count_histogram(views, kMaxPlottedViewsPerFace);
 }
 
-}  // namespace
-
-Eigen::Vector3d estimate_up_direction(const std::vector<TextureView>& views) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (const auto& view : views) sum += view.pose.rotation().transpose() * Eigen::Vector3d(0, -1, 0);
-  if (sum.norm() < 1e-9) return Eigen::Vector3d::UnitY();
-  return sum.normalized();
+// The root matrix and how it was found; the identity for up_axis none.
+Placement placement_for(const TriangleMesh& mesh,
+                        const std::vector<TextureView>& views,
+                        const TextureOptions& options,
+                        const PlacementInput& input) {
+  if (options.up_axis == "none") return {};
+  PlacementInput with_options = input;
+  if (options.scale_distance != "none") with_options.scale_distance = parse_scale_distance(options.scale_distance);
+  return place_model(mesh.vertices, camera_poses(views), with_options);
 }
-
-Eigen::Matrix4d root_matrix_for(const std::vector<TextureView>& views, const TextureOptions& options) {
-  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-  if (options.up_axis == "cameras" && !views.empty()) {
-    const Eigen::Vector3d up = estimate_up_direction(views);
-    m.topLeftCorner<3, 3>() = Eigen::Quaterniond::FromTwoVectors(up, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  }
-  return m;
-}
-
-namespace {
 
 // The mesh texturing works on: the input after validation and (optional)
 // decimation, with its topology.
@@ -115,6 +106,7 @@ void texture_from_candidates(const PreparedMesh& prepared,
                              FaceViewCandidates candidates,
                              const std::vector<TextureView>& views,
                              const TextureOptions& options,
+                             const PlacementInput& placement,
                              Reporter& reporter,
                              TextureResult& result,
                              StepTimer& timer) {
@@ -139,7 +131,9 @@ void texture_from_candidates(const PreparedMesh& prepared,
   stats.num_unseen_faces = selection.num_unseen;
   timer.lap("view selection");
 
-  const std::vector<Chart> charts = build_charts(mesh, topology, selection.labels);
+  std::vector<int> labels = selection.labels;
+  stats.num_merged_charts = merge_small_charts(topology, candidates, options.min_chart_area_px, labels);
+  const std::vector<Chart> charts = build_charts(mesh, topology, labels);
   stats.num_charts = static_cast<int>(charts.size());
   const SeamLeveling leveling = level_seams(mesh, charts, views, gains, options, reporter);
   stats.num_seam_vertices = leveling.num_seam_vertices;
@@ -187,9 +181,13 @@ void texture_from_candidates(const PreparedMesh& prepared,
   }
   out.atlases = std::move(atlas.pages);
   stats.num_atlases = static_cast<int>(out.atlases.size());
+  stats.atlas_coverage = atlas_coverage(out);
   for (const auto& page : out.atlases) stats.atlas_sizes.emplace_back(page.cols, page.rows);
-  out.root_matrix = root_matrix_for(views, options);
-  stats.estimated_up = estimate_up_direction(views);
+  result.placement = placement_for(mesh, views, options, placement);
+  out.root_matrix = result.placement.root_matrix;
+  out.metric = result.placement.metric;
+  out.geo_origin = result.placement.geo_origin;
+  stats.estimated_up = result.placement.up.up;
   timer.lap("assemble");
 }
 
@@ -202,7 +200,8 @@ ViewDataKey view_data_key(const PreparedMesh& prepared, const TextureView& view,
 TextureResult texture_mesh(const TriangleMesh& input_mesh,
                            const std::vector<TextureView>& views,
                            const TextureOptions& options,
-                           Reporter& reporter) {
+                           Reporter& reporter,
+                           const PlacementInput& placement) {
   options.validate();
   TextureResult result;
   StepTimer timer(result.stats);
@@ -212,17 +211,18 @@ TextureResult texture_mesh(const TriangleMesh& input_mesh,
   prepare_mesh(input_mesh, options, reporter, prepared, result.stats, timer);
   FaceViewCandidates candidates = compute_visibility(*prepared.mesh, prepared.topology, views, options, reporter);
   timer.lap("visibility");
-  texture_from_candidates(prepared, std::move(candidates), views, options, reporter, result, timer);
+  texture_from_candidates(prepared, std::move(candidates), views, options, placement, reporter, result, timer);
   return result;
 }
 
 TextureResult texture_mesh(const TriangleMesh& mesh,
                            const UndistortedWorkspace& workspace,
                            const TextureOptions& options,
-                           Reporter& reporter) {
+                           Reporter& reporter,
+                           const PlacementInput& placement) {
   options.validate();
   const std::vector<TextureView> views = load_texture_views(workspace, reporter);
-  return texture_mesh(mesh, views, options, reporter);
+  return texture_mesh(mesh, views, options, reporter, placement);
 }
 
 int compute_view_data(const TriangleMesh& input_mesh,
@@ -267,7 +267,8 @@ TextureResult texture_mesh_from_view_data(const TriangleMesh& input_mesh,
                                           const UndistortedWorkspace& workspace,
                                           const TextureOptions& options,
                                           Reporter& reporter,
-                                          const std::filesystem::path& folder) {
+                                          const std::filesystem::path& folder,
+                                          const PlacementInput& placement) {
   options.validate();
   const std::vector<TextureView> views = load_texture_views(workspace, reporter);
   TextureResult result;
@@ -288,7 +289,7 @@ TextureResult texture_mesh_from_view_data(const TriangleMesh& input_mesh,
   reporter.end();
   FaceViewCandidates candidates = gather_candidates(static_cast<int>(prepared.mesh->faces.size()), per_view);
   timer.lap("view data");
-  texture_from_candidates(prepared, std::move(candidates), views, options, reporter, result, timer);
+  texture_from_candidates(prepared, std::move(candidates), views, options, placement, reporter, result, timer);
   return result;
 }
 

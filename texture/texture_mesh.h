@@ -18,6 +18,7 @@
 #include "core/types.h"
 #include "core/undistorted_workspace.h"
 #include "core/view_range.h"
+#include "texture/placement.h"
 #include "texture/texture_options.h"
 #include "texture/texture_view.h"
 #include "texture/textured_mesh.h"
@@ -34,9 +35,11 @@ struct TextureStats {
   std::int64_t num_outlier_rejections = 0;  // pairs removed by the photo-consistency check
   int num_unseen_faces = 0;                 // coloured from neighbours
   int num_charts = 0;
+  int num_merged_charts = 0;  // small charts that took a neighbour's view
   int num_atlases = 0;
   std::vector<std::pair<int, int>> atlas_sizes;  // width, height
   double texel_scale = 1.0;
+  double atlas_coverage = 0.0;  // share of atlas texels inside textured triangles
   int num_seam_vertices = 0;
   double mean_seam_jump_before = 0.0;  // 8-bit RGB distance at seam vertices
   double mean_seam_jump_after = 0.0;
@@ -53,23 +56,23 @@ struct TextureStats {
 struct TextureResult {
   TexturedMesh mesh;
   TextureStats stats;
+  // The root matrix's making (texture/placement.h); identity with up_axis none.
+  Placement placement;
 };
 
-// The mean "up" (-y of the image) of the photos in the model frame.
-Eigen::Vector3d estimate_up_direction(const std::vector<TextureView>& views);
-// The root matrix for options.up_axis ("cameras": rotates up onto +Y).
-Eigen::Matrix4d root_matrix_for(const std::vector<TextureView>& views, const TextureOptions& options);
-
+// placement: the photos' GPS or a measured distance, for the root matrix.
 TextureResult texture_mesh(const TriangleMesh& mesh,
                            const std::vector<TextureView>& views,
                            const TextureOptions& options,
-                           Reporter& reporter);
+                           Reporter& reporter,
+                           const PlacementInput& placement = {});
 
 // Loads the workspace's photos and textures the mesh.
 TextureResult texture_mesh(const TriangleMesh& mesh,
                            const UndistortedWorkspace& workspace,
                            const TextureOptions& options,
-                           Reporter& reporter);
+                           Reporter& reporter,
+                           const PlacementInput& placement = {});
 
 // Split runs (job arrays on a cluster, docs/scale.md): the views are the
 // workspace's registered images in the order of their ids, numbered from 0
@@ -94,6 +97,7 @@ TextureResult texture_mesh_from_view_data(const TriangleMesh& mesh,
                                           const UndistortedWorkspace& workspace,
                                           const TextureOptions& options,
                                           Reporter& reporter,
-                                          const std::filesystem::path& folder);
+                                          const std::filesystem::path& folder,
+                                          const PlacementInput& placement = {});
 
 }  // namespace hos::texture

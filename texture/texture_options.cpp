@@ -2,21 +2,20 @@
 
 #include "core/error.h"
 #include "core/option_set.h"
+#include "texture/placement.h"
 
 namespace hos::texture {
 
 void TextureOptions::validate() const {
   check_option_table("texture", *this);
-  if (max_faces != 0 && max_faces < 4) {
-    throw ConfigError("texture.max_faces", "must be 0 (no decimation) or at least 4");
-  }
+  if (scale_distance != "none") parse_scale_distance(scale_distance);  // throws ConfigError
   if (2 * padding + 1 >= atlas_size) {
     throw ConfigError("texture.padding", "must be smaller than half of texture.atlas_size");
   }
 }
 
 void register_options(OptionSet& set, TextureOptions& o) {
-  set.add("max_faces", o.max_faces, "decimate to at most this many faces first; 0 = keep", 0, 2000000000);
+  set.add_zero_or("max_faces", o.max_faces, "decimate to at most this many faces first; 0 = keep", 4, 2000000000);
   set.add("max_view_angle_deg", o.max_view_angle_deg,
           "largest angle between face normal and viewing ray for a view to count", 1.0, 89.9);
   set.add("depth_tolerance", o.depth_tolerance, "relative depth tolerance of the occlusion test", 0.0, 1.0);
@@ -43,14 +42,21 @@ void register_options(OptionSet& set, TextureOptions& o) {
                {{"diffuse", UnseenFaces::kDiffuse}, {"grey", UnseenFaces::kGrey}, {"mark", UnseenFaces::kMark}},
                "colour of faces no photo sees: diffuse (from the seen faces around them, over the surface), grey, "
                "or mark (magenta, to show where the photos do not reach)");
+  set.add("min_chart_area_px", o.min_chart_area_px,
+          "charts smaller than this (photo pixels) take a neighbouring chart's view where it sees them as well; "
+          "0 = off",
+          0.0, 1e9);
   set.add("atlas_size", o.atlas_size, "maximum atlas width and height (pixels)", 64, 16384);
-  set.add("padding", o.padding, "texels around each chart (dilated, against mipmap bleeding)", 0, 64);
+  set.add("padding", o.padding, "rings of texels around each chart (dilated, against bilinear and mipmap bleeding)", 0,
+          64);
   set.add("texel_scale", o.texel_scale, "atlas texels per source image pixel", 0.01, 4.0);
   set.add("max_atlases", o.max_atlases, "largest number of atlas images; beyond, texels shrink", 1, 1024);
-  set.add_choice("image_format", o.image_format, {"png", "jpeg"}, "atlas image encoding");
+  set.add_choice("image_format", o.image_format, {"jpeg", "png"}, "atlas image encoding (JPEG 4:4:4 or PNG)");
   set.add("jpeg_quality", o.jpeg_quality, "JPEG quality of the atlases", 1, 100);
   set.add_choice("up_axis", o.up_axis, {"cameras", "none"},
-                 "root node rotation: cameras = mean photo up onto +Y; none = identity");
+                 "root node: cameras = upright (gravity, ground or GPS), centred, on y = 0; none = identity");
+  set.add("scale_distance", o.scale_distance,
+          "'A.jpg B.jpg METRES': two photos' camera centres measured on site set the scale; none = GPS or arbitrary");
   set.add_flag("--max-faces", "max_faces");
   set.add_flag("--atlas-size", "atlas_size");
   set.add_flag("--image-format", "image_format");

@@ -277,15 +277,22 @@ TEST(TextureMesh, BadMeshOrNoViewsThrowHosErrors) {
   EXPECT_THROW(texture_mesh(synth::icosphere(1, kRadius), views, bad, null_reporter()), ConfigError);
 }
 
-TEST(TextureMesh, RootMatrixTakesCameraUpToY) {
+TEST(TextureMesh, RootMatrixStandsTheModelUpright) {
+  const TriangleMesh mesh = synth::icosphere(2, kRadius);
   const auto views = ring_views(6);
   TextureOptions options;
-  const Eigen::Matrix4d m = root_matrix_for(views, options);
-  // The ring's cameras have world +z up.
-  const Eigen::Vector3d up = m.topLeftCorner<3, 3>() * Eigen::Vector3d::UnitZ();
-  EXPECT_NEAR(up.y(), 1.0, 0.05);
+  const TextureResult placed = texture_mesh(mesh, views, options, null_reporter());
+  const Eigen::Matrix4d& m = placed.mesh.root_matrix;
+  EXPECT_EQ(placed.placement.up.method, UpMethod::kGravity);
+  // The ring's cameras have world +z up; the sphere's bottom is at z = -1.
+  const Eigen::Vector3d up = (m.topLeftCorner<3, 3>() * Eigen::Vector3d::UnitZ()).normalized();
+  EXPECT_GT(up.y(), std::cos(1.0 * 3.14159265358979 / 180.0));
+  const Eigen::Vector4d bottom = m * Eigen::Vector4d(0, 0, -kRadius, 1);
+  EXPECT_NEAR(bottom.y(), 0.0, 0.02 * kRadius);
+  EXPECT_NEAR(Eigen::Vector2d(bottom.x(), bottom.z()).norm(), 0.0, 0.02 * kRadius);
+  EXPECT_EQ(placed.mesh.root_matrix, placed.placement.root_matrix);
   options.up_axis = "none";
-  EXPECT_TRUE(root_matrix_for(views, options).isIdentity());
+  EXPECT_TRUE(texture_mesh(mesh, views, options, null_reporter()).mesh.root_matrix.isIdentity());
 }
 
 }  // namespace
