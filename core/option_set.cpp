@@ -42,6 +42,7 @@ template std::optional<int> parse_number<int>(const std::string&);
 template std::optional<double> parse_number<double>(const std::string&);
 template std::optional<float> parse_number<float>(const std::string&);
 template std::optional<std::size_t> parse_number<std::size_t>(const std::string&);
+template std::optional<std::uint32_t> parse_number<std::uint32_t>(const std::string&);
 
 template <typename T>
 std::string number_problem(const std::string& text) {
@@ -77,6 +78,7 @@ template std::string number_problem<int>(const std::string&);
 template std::string number_problem<double>(const std::string&);
 template std::string number_problem<float>(const std::string&);
 template std::string number_problem<std::size_t>(const std::string&);
+template std::string number_problem<std::uint32_t>(const std::string&);
 
 template <typename T>
 std::string print_number(T value) {
@@ -88,6 +90,7 @@ template std::string print_number<int>(int);
 template std::string print_number<double>(double);
 template std::string print_number<float>(float);
 template std::string print_number<std::size_t>(std::size_t);
+template std::string print_number<std::uint32_t>(std::uint32_t);
 
 namespace {
 

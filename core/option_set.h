@@ -11,6 +11,7 @@
 //   options.validate();                         // check_option_table + cross-option rules
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <sstream>
@@ -132,6 +133,7 @@ extern template std::optional<int> parse_number<int>(const std::string&);
 extern template std::optional<double> parse_number<double>(const std::string&);
 extern template std::optional<float> parse_number<float>(const std::string&);
 extern template std::optional<std::size_t> parse_number<std::size_t>(const std::string&);
+extern template std::optional<std::uint32_t> parse_number<std::uint32_t>(const std::string&);
 // Why parse_number<T> gave nothing for text: "is not a number", "is not an
 // integer", "underflows: ..." (1e-400 for a double), "overflows: ...".
 template <typename T>
@@ -140,6 +142,7 @@ extern template std::string number_problem<int>(const std::string&);
 extern template std::string number_problem<double>(const std::string&);
 extern template std::string number_problem<float>(const std::string&);
 extern template std::string number_problem<std::size_t>(const std::string&);
+extern template std::string number_problem<std::uint32_t>(const std::string&);
 // The value as the config dump writes it (6 significant digits).
 template <typename T>
 std::string print_number(T value);
@@ -147,6 +150,7 @@ extern template std::string print_number<int>(int);
 extern template std::string print_number<double>(double);
 extern template std::string print_number<float>(float);
 extern template std::string print_number<std::size_t>(std::size_t);
+extern template std::string print_number<std::uint32_t>(std::uint32_t);
 
 // Edit distance, for "did you mean" messages.
 std::size_t edit_distance(const std::string& a, const std::string& b);
