@@ -9,6 +9,7 @@
 #include "core/exit_codes.h"
 #include "synth/dataset.h"
 #include "synth/scene.h"
+#include "synth/synth_options.h"
 #include "synth/video.h"
 
 int main(int argc, char** argv) {
@@ -19,37 +20,20 @@ int main(int argc, char** argv) {
 
   CLI::App app{"hos-synth: render a synthetic scene with ground-truth cameras, mesh and depth"};
   app.add_option("--output", output, "output folder (replaced atomically)")->required();
-  app.add_option("--views", options.num_views, "number of views (at least 2)");
-  app.add_option("--width", options.width, "image width in pixels");
-  app.add_option("--height", options.height, "image height in pixels");
-  app.add_option("--focal", options.focal, "focal length in pixels (default 0.9 * width)");
-  app.add_option("--seed", scene_options.seed, "scene seed");
-  app.add_option("--scene", scene_options.name, "default|rock|torus|box|railing");
-  app.add_flag("--ground-plane", scene_options.ground_plane, "add a textured ground plane");
-  app.add_flag("--hanging-object", scene_options.hanging_object,
-               "add a lantern hanging on a thin wire from a thin pole in front of the objects");
-  app.add_option("--rings", options.rings, "elevation rings of views");
-  app.add_flag("--jpeg", options.jpeg, "write JPEG instead of PNG images");
-  app.add_flag("--depth", options.write_depth, "write depth/view_NNN.tiff (CV_32F z, 0 = empty)");
-  app.add_flag("--normals", options.write_normals,
-               "write normals/view_NNN.png (16-bit world normal, see docs/synth.md)");
-  app.add_option("--supersampling", options.supersampling, "samples per pixel per axis");
-  app.add_option("--holdout", options.holdout, "extra held-out views under holdout/");
-  app.add_option("--points", options.num_points, "ground-truth sparse points to write");
+  hos::synth::VideoOptions video;
+  // One table for the scene, the views and the clip: ranges and
+  // documentation in --help, checked like a stage's options.
+  hos::OptionSet table("synth");
+  register_options(table, scene_options);
+  register_options(table, options);
+  register_options(table, video);
+  hos::apps::add_option_flags(app, flags, table);
   app.add_option("--exposure-gains", options.exposure_gains, "per-view exposure gains (one per view)")->delimiter(',');
-  app.add_option("--tilt", options.tilt_deg, "turn every camera up (positive) or down by this many degrees");
   std::vector<double> gps;
   app.add_option("--gps", gps,
                  "LAT,LON,ALT: write the views' true positions as GPS EXIF, the scene origin here (--jpeg)")
       ->delimiter(',')
       ->expected(3);
-  app.add_option("--metres-per-unit", options.metres_per_unit, "metres of a scene unit for --gps");
-  hos::synth::VideoOptions video;
-  app.add_option("--video", video.name,
-                 "also film the scene: OUTPUT/video/NAME (.mp4 .mov .mkv .avi) and its frames' true cameras in "
-                 "OUTPUT/video/sparse");
-  app.add_option("--video-frames", video.frames, "frames of the --video clip (one turn around the scene)");
-  app.add_option("--video-fps", video.fps, "frame rate of the --video clip");
   app.add_option("--progress", flags.progress, "auto|bar|plain|json|none");
   app.add_option("--log", flags.log_file, "log file");
   app.add_flag("--verbose", flags.verbose, "show debug messages");
@@ -61,6 +45,7 @@ int main(int argc, char** argv) {
 
   if (!gps.empty()) options.gps_origin = hos::GeoPosition{gps[0], gps[1], gps[2]};
   return hos::apps::run_stage_main("synth", flags, [&](hos::Reporter& reporter) {
+    hos::apps::apply_config_and_overrides(table, flags);
     scene_options.validate();
     options.validate();
     if (app.count("--video") > 0) video.validate();

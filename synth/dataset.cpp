@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "core/ply_io.h"
 #include "synth/geo_tags.h"
+#include "synth/synth_options.h"
 
 namespace hos::synth {
 namespace fs = std::filesystem;
@@ -208,19 +209,11 @@ std::string view_name(int index, bool jpeg) {
 }
 
 void DatasetOptions::validate() const {
-  if (num_views < 2) throw ConfigError("views", "at least 2 views are needed");
-  if (width < 16 || height < 16) throw ConfigError("width/height", "images must be at least 16x16");
-  if (rings < 1) throw ConfigError("rings", "must be >= 1");
-  if (focal < 0 || !std::isfinite(focal)) throw ConfigError("focal", "must be >= 0 (0 = 0.9 * width)");
-  if (supersampling < 1 || supersampling > 8) throw ConfigError("supersampling", "must be in 1..8");
-  if (holdout < 0) throw ConfigError("holdout", "must be >= 0");
-  if (num_points < 0) throw ConfigError("num_points", "must be >= 0");
+  check_option_table("synth", *this);
+  // The rules the table cannot hold: lists and two options.
   if (!exposure_gains.empty() && static_cast<int>(exposure_gains.size()) != num_views)
     throw ConfigError("exposure_gains", "needs one gain per view");
-  if (!(std::abs(tilt_deg) <= 60.0)) throw ConfigError("tilt_deg", "must be within -60..60 degrees");
   if (gps_origin && !jpeg) throw ConfigError("gps", "GPS EXIF needs JPEG views (--jpeg)");
-  if (!(metres_per_unit > 0) || !std::isfinite(metres_per_unit))
-    throw ConfigError("metres_per_unit", "must be a positive number");
   for (const float g : exposure_gains)
     if (!(g > 0) || !std::isfinite(g)) throw ConfigError("exposure_gains", "gains must be positive");
 }

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "synth/shapes.h"
+#include "synth/synth_options.h"
 
 namespace hos::synth {
 namespace {
@@ -296,11 +297,7 @@ Rgb8 to_srgb8(const Eigen::Vector3f& linear) {
 
 }  // namespace
 
-void SceneOptions::validate() const {
-  const auto names = scene_names();
-  if (std::find(names.begin(), names.end(), name) == names.end())
-    throw ConfigError("scene", "unknown scene '" + name + "' (default, rock, torus, box, railing)");
-}
+void SceneOptions::validate() const { check_option_table("synth", *this); }
 
 std::vector<std::string> scene_names() { return {"default", "rock", "torus", "box", "railing"}; }
 

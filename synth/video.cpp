@@ -9,6 +9,7 @@
 #include "core/atomic_file.h"
 #include "core/colmap_io.h"
 #include "core/error.h"
+#include "synth/synth_options.h"
 
 namespace hos::synth {
 namespace fs = std::filesystem;
@@ -41,9 +42,7 @@ void VideoOptions::validate() const {
   if (ext != ".mp4" && ext != ".mov" && ext != ".mkv" && ext != ".avi") {
     throw ConfigError("video", "'" + name + "' must end in .mp4, .mov, .mkv or .avi");
   }
-  if (frames < 3) throw ConfigError("video_frames", "at least 3 frames are needed");
-  if (!(fps > 0) || !std::isfinite(fps)) throw ConfigError("video_fps", "must be a positive number");
-  if (!(turns > 0) || !std::isfinite(turns)) throw ConfigError("video_turns", "must be a positive number");
+  check_option_table("synth", *this);
 }
 
 std::string video_frame_file_name(const std::string& clip_name, int index) {
