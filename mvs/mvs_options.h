@@ -25,7 +25,10 @@ struct MvsOptions {
   // Per-pixel view selection: after the coarse level's first sweep and
   // before each finer sweep, a pixel's candidates are scored on the sources
   // that score its current plane best, this many of them (0 = every source).
-  int pixel_source_views = 3;
+  // 3 took 0.78-0.88x the mvs CPU on the Strecha sets at no loss of
+  // hold-out PSNR, but kept fewer of the synthetic railing's bars (0.746 ->
+  // 0.638 at 1%; docs/benchmarks-mvs.md), so every source by default.
+  int pixel_source_views = 0;
   int window_radius = 4;  // matching window half size in pixels
   int window_step = 2;    // sample every step-th pixel of the window
   int iterations = 4;     // coarse level sweeps (red-black, both colours)
