@@ -8,6 +8,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$root/scripts/install-deps.sh" --test
 "$root/scripts/check-format.sh"
 "$root/scripts/check-includes.sh"
+"$root/scripts/check-docs.sh"
 "$root/scripts/build.sh"
 # clang-tidy on the sources the last commits changed (the whole tree takes
 # about an hour on 2 cores: scripts/tidy.sh without arguments).
