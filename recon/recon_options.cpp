@@ -50,6 +50,9 @@ void register_options(OptionSet& set, ReconOptions& o) {
   set.add("trim.enabled", o.trim.enabled, "remove surface far from every sample");
   set.add("trim.distance_voxels", o.trim.distance_voxels,
           "trim distance in voxels (with resolution 0: voxels of the density's grid)", 0.1, 1000.0);
+  set.add("trim.sparse_reach", o.trim.sparse_reach,
+          "around samples with sparse but consistent support the trim distance is this many times longer (1 = off)",
+          1.0, 10.0);
   set.add("debris.remove", o.debris.remove,
           "remove small pieces detached from the main surface (false: keep every piece)");
   set.add("debris.min_area_fraction", o.debris.min_area_fraction,

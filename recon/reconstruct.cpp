@@ -390,7 +390,8 @@ void extract_surface(const GridGeometry& grid,
   result.mesh = extract_isosurface(grid, fn.f, fn.isovalue);
   stats.faces_before_trim = result.mesh.faces.size();
   if (options.trim.enabled) {
-    stats.faces_trimmed = trim_far_from_samples(result.mesh, points, options.trim.distance_voxels * grid.spacing);
+    stats.faces_trimmed = trim_far_from_samples(result.mesh, points, options.trim.distance_voxels * grid.spacing,
+                                                options.trim.sparse_reach);
   }
 }
 

@@ -341,8 +341,8 @@ ReconResult join_tiles(const TiledRun& run, const std::filesystem::path& dir, Re
   stats.faces_before_trim = result.mesh.faces.size();
   const ReconOptions& options = plan.options;
   if (options.trim.enabled) {
-    stats.faces_trimmed =
-        trim_far_from_samples(result.mesh, run.samples.points, options.trim.distance_voxels * lattice.spacing);
+    stats.faces_trimmed = trim_far_from_samples(
+        result.mesh, run.samples.points, options.trim.distance_voxels * lattice.spacing, options.trim.sparse_reach);
   } else {
     remove_unreferenced_vertices(result.mesh);
   }

@@ -53,18 +53,18 @@ class SampleHash {
 };
 
 // Sparse but consistent support: a sample with fewer than kSupport others
-// within the trim distance, but at least kSupport within kSparseReach times
+// within the trim distance, but at least kSupport within sparse_reach times
 // it, lies on surface that few samples cover (ground seen at grazing angles,
-// a side few photos see); around it the trim distance is kSparseReach times
+// a side few photos see); around it the trim distance is sparse_reach times
 // longer, so the mesh between such samples stays. An isolated sample (an
 // outlier) keeps the plain distance.
 constexpr int kSupport = 4;
-constexpr double kSparseReach = 3.0;
 
 std::vector<Eigen::Vector3f> sparse_supported_samples(const std::vector<Eigen::Vector3f>& samples,
                                                       const SampleHash& hash,
-                                                      double max_distance) {
-  const double near2 = max_distance * max_distance, wide2 = near2 * kSparseReach * kSparseReach;
+                                                      double max_distance,
+                                                      double sparse_reach) {
+  const double near2 = max_distance * max_distance, wide2 = near2 * sparse_reach * sparse_reach;
   const std::int64_t n = static_cast<std::int64_t>(samples.size());
   std::vector<char> sparse(samples.size(), 0);
 #pragma omp parallel for schedule(dynamic, 4096)
@@ -108,10 +108,13 @@ std::vector<int> remove_unreferenced_vertices(TriangleMesh& mesh) {
 
 std::size_t trim_far_from_samples(TriangleMesh& mesh,
                                   const std::vector<Eigen::Vector3f>& samples,
-                                  double max_distance) {
+                                  double max_distance,
+                                  double sparse_reach) {
   const SampleHash hash(samples, max_distance);
-  const std::vector<Eigen::Vector3f> sparse = sparse_supported_samples(samples, hash, max_distance);
-  const SampleHash sparse_hash(sparse, kSparseReach * max_distance);
+  const std::vector<Eigen::Vector3f> sparse = sparse_reach > 1.0
+                                                  ? sparse_supported_samples(samples, hash, max_distance, sparse_reach)
+                                                  : std::vector<Eigen::Vector3f>{};
+  const SampleHash sparse_hash(sparse, sparse_reach * max_distance);
   std::vector<char> near(mesh.vertices.size());
   const std::int64_t nv = static_cast<std::int64_t>(mesh.vertices.size());
 #pragma omp parallel for schedule(dynamic, 1024)

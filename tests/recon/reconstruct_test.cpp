@@ -219,7 +219,12 @@ TEST(ReconstructSurface, SparseButConsistentSupportSurvivesIsolatedOutliersDoNot
   std::normal_distribution<double> g;
   for (int i = 0; i < 20; ++i)
     add({2 * u(rng) - 1, 2 * u(rng) - 1, 0.3 + 0.3 * u(rng)}, Eigen::Vector3d(g(rng), g(rng), g(rng)));
-  const ReconResult r = reconstruct_surface(points, ReconOptions{}, null_reporter());
+  ReconOptions options;
+  options.trim.sparse_reach = 3.0;
+  const ReconResult r = reconstruct_surface(points, options, null_reporter());
+  options.trim.sparse_reach = 1.0;  // the plain distance cuts holes between the sparse samples
+  const ReconResult plain = reconstruct_surface(points, options, null_reporter());
+  EXPECT_LT(plain.mesh.num_faces(), r.mesh.num_faces() * 0.9);
   double sparse_area = 0.0, dense_area = 0.0, above = 0.0;
   for (const Eigen::Vector3i& f : r.mesh.faces) {
     const Eigen::Vector3d a = r.mesh.vertices[f[0]].cast<double>(), b = r.mesh.vertices[f[1]].cast<double>(),
