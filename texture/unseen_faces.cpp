@@ -1,6 +1,7 @@
 #include "texture/unseen_faces.h"
 
 #include <algorithm>
+#include <optional>
 
 namespace hos::texture {
 namespace {
@@ -14,6 +15,24 @@ const FaceViewSample* selected_sample(const FaceViewCandidates& candidates, int 
 }
 
 enum class Fill : char { kNone, kSource, kFilled };
+
+// The mean colour of f's neighbours that have one (sources and filled faces);
+// nothing when none has.
+std::optional<Eigen::Vector3f> mean_coloured_neighbour(const MeshTopology& topology,
+                                                       const std::vector<Fill>& state,
+                                                       const std::vector<Eigen::Vector3f>& colour,
+                                                       int f) {
+  Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+  int n = 0;
+  for (int g : topology.face_neighbors[f]) {
+    if (g >= 0 && state[g] != Fill::kNone) {
+      sum += colour[g];
+      ++n;
+    }
+  }
+  if (n == 0) return std::nullopt;
+  return Eigen::Vector3f(sum / static_cast<float>(n));
+}
 
 // Ring by ring from the sources through faces without a colour: each face
 // reached takes the mean of its neighbours reached before it. The start of
@@ -37,15 +56,7 @@ void propagate_from_sources(const MeshTopology& topology,
   while (!front.empty()) {
     updates.clear();
     for (int f : front) {
-      Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-      int n = 0;
-      for (int g : topology.face_neighbors[f]) {
-        if (g >= 0 && state[g] != Fill::kNone) {
-          sum += colour[g];
-          ++n;
-        }
-      }
-      if (n > 0) updates.emplace_back(f, sum / static_cast<float>(n));
+      if (const auto mean = mean_coloured_neighbour(topology, state, colour, f)) updates.emplace_back(f, *mean);
     }
     next.clear();
     for (const auto& [f, c] : updates) {
@@ -77,15 +88,8 @@ void relax_filled_faces(const MeshTopology& topology,
   for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
     float largest_change = 0.0f;
     for (int f : filled) {
-      Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-      int n = 0;
-      for (int g : topology.face_neighbors[f]) {
-        if (g >= 0 && state[g] != Fill::kNone) {
-          sum += colour[g];
-          ++n;
-        }
-      }
-      const Eigen::Vector3f mean = sum / static_cast<float>(n);  // n >= 1: f was reached from a neighbour
+      // Every filled face has a coloured neighbour: it was reached from one.
+      const Eigen::Vector3f mean = *mean_coloured_neighbour(topology, state, colour, f);
       largest_change = std::max(largest_change, (mean - colour[f]).cwiseAbs().maxCoeff());
       colour[f] = mean;
     }
