@@ -310,9 +310,11 @@ TEST_F(SfmTest, PhotosOfTwoSizesShareOneCameraPerSize) {
   EXPECT_EQ(mapped.cameras.size(), 2u) << "one camera per size";
   const SparseModel result = read_colmap_model(ws / "sfm" / "undistorted" / "sparse");
   ASSERT_EQ(result.images.size(), truth.images.size()) << "every view registers";
+  // COLMAP's multi-threaded runs of this set vary between 0.3 and 1.2
+  // degrees of rotation error; per-photo principal points gave 3.9.
   const PoseErrors errors = pose_errors(truth, result);
   EXPECT_LT(errors.worst_centre, 0.01);
-  EXPECT_LT(errors.worst_rotation_deg, 1.0);
+  EXPECT_LT(errors.worst_rotation_deg, 2.0);
   std::cout << "worst centre error " << errors.worst_centre * 100 << "% of the scene size, worst rotation error "
             << errors.worst_rotation_deg << " deg\n";
   std::ifstream in(ws / "sfm" / "report.json");
