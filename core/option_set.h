@@ -101,7 +101,8 @@ class OptionSet {
   // A number parsed like every other; `allowed` says in words which values
   // `is_allowed` accepts.
   template <typename Number, typename Predicate>
-  void add_number(const std::string& key, Number& value, std::string doc, std::string allowed, Predicate is_allowed);
+  void add_number(
+      const std::string& key, Number& value, std::string doc, const std::string& allowed, Predicate is_allowed);
   // "an integer in [1, 64]", "a number in [0, 1]".
   template <typename Number>
   static std::string range_text(Number min, Number max);
@@ -163,7 +164,7 @@ YAML::Node load_yaml_file(const std::string& path);
 
 template <typename Number, typename Predicate>
 void OptionSet::add_number(
-    const std::string& key, Number& value, std::string doc, std::string allowed, Predicate is_allowed) {
+    const std::string& key, Number& value, std::string doc, const std::string& allowed, Predicate is_allowed) {
   Entry entry;
   entry.key = key;
   entry.doc = std::move(doc);
