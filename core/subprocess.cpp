@@ -93,32 +93,37 @@ std::string find_executable(const std::string& program) {
   return {};
 }
 
-ProcessResult run_process(const ProcessOptions& options) {
-  if (options.argv.empty()) throw StageError("process", "no program given");
-  const std::string program = find_executable(options.argv[0]);
-  if (program.empty()) {
-    throw StageError(options.argv[0], "program not found or not executable: " + options.argv[0]);
+namespace {
+
+// The pipes between this process and the child: its output (when captured)
+// and an exec failure's errno (closed on exec).
+struct ChildPipes {
+  int out[2] = {-1, -1};
+  int exec[2] = {-1, -1};
+};
+
+ChildPipes open_pipes(const ProcessOptions& options, bool capture) {
+  ChildPipes pipes;
+  if ((capture && ::pipe2(pipes.out, O_CLOEXEC) != 0) || ::pipe2(pipes.exec, O_CLOEXEC) != 0) {
+    throw StageError(options.argv[0], std::string("cannot create a pipe: ") + std::strerror(errno));
   }
+  return pipes;
+}
+
+// Forks and executes the program; the child never returns from here.
+pid_t start_child(const ProcessOptions& options, const std::string& program, const ChildPipes& pipes, bool capture) {
   std::vector<std::string> args = options.argv;
   std::vector<std::string> env = child_environment(options.environment);
   std::vector<char*> argv = c_strings(args);
   std::vector<char*> envp = c_strings(env);
-
-  const bool capture = static_cast<bool>(options.on_line);
-  int out_pipe[2] = {-1, -1};
-  int exec_pipe[2] = {-1, -1};  // reports an exec failure's errno; closed on exec
-  if ((capture && ::pipe2(out_pipe, O_CLOEXEC) != 0) || ::pipe2(exec_pipe, O_CLOEXEC) != 0) {
-    throw StageError(options.argv[0], std::string("cannot create a pipe: ") + std::strerror(errno));
-  }
-  const auto start = std::chrono::steady_clock::now();
   const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) throw StageError(options.argv[0], std::string("cannot start: ") + std::strerror(errno));
   if (pid == 0) {
     // Child: only async-signal-safe calls from here on.
     if (capture) {
-      ::dup2(out_pipe[1], STDOUT_FILENO);
-      ::dup2(out_pipe[1], STDERR_FILENO);
+      ::dup2(pipes.out[1], STDOUT_FILENO);
+      ::dup2(pipes.out[1], STDERR_FILENO);
     }
     ::signal(SIGINT, SIG_DFL);
     ::signal(SIGTERM, SIG_DFL);
@@ -130,29 +135,42 @@ ProcessResult run_process(const ProcessOptions& options) {
     if (::getppid() != parent) ::_exit(128 + SIGTERM);
     ::execve(program.c_str(), argv.data(), envp.data());
     const int err = errno;
-    [[maybe_unused]] auto n = ::write(exec_pipe[1], &err, sizeof(err));
+    [[maybe_unused]] auto n = ::write(pipes.exec[1], &err, sizeof(err));
     ::_exit(127);
   }
-  ::close(exec_pipe[1]);
-  if (capture) ::close(out_pipe[1]);
-  int exec_errno = 0;
-  const bool exec_failed = ::read(exec_pipe[0], &exec_errno, sizeof(exec_errno)) == sizeof(exec_errno);
-  ::close(exec_pipe[0]);
+  return pid;
+}
 
-  ProcessResult result;
-  LineSplitter splitter(options.on_line);
+// The errno of a failed exec, 0 when the program started.
+int exec_errno_of(ChildPipes& pipes, bool capture) {
+  ::close(pipes.exec[1]);
+  if (capture) ::close(pipes.out[1]);
+  int exec_errno = 0;
+  const bool exec_failed = ::read(pipes.exec[0], &exec_errno, sizeof(exec_errno)) == sizeof(exec_errno);
+  ::close(pipes.exec[0]);
+  return exec_failed ? exec_errno : 0;
+}
+
+// Passes the child's output on line by line and waits for it to end,
+// asking it to stop (SIGTERM, then SIGKILL after the grace period) when the
+// run is cancelled. Returns the wait status; fills the child's usage.
+int wait_for_child(pid_t pid,
+                   const ProcessOptions& options,
+                   int out_fd,
+                   LineSplitter& splitter,
+                   ProcessResult& result,
+                   struct rusage& usage) {
   bool term_sent = false;
   std::chrono::steady_clock::time_point term_time;
-  bool pipe_open = capture;
+  bool pipe_open = out_fd >= 0;
   int status = 0;
-  struct rusage usage {};
   for (;;) {
     if (pipe_open) {
-      pollfd pfd{out_pipe[0], POLLIN, 0};
+      pollfd pfd{out_fd, POLLIN, 0};
       const int ready = ::poll(&pfd, 1, 100);
       if (ready > 0) {
         char buffer[4096];
-        const ssize_t n = ::read(out_pipe[0], buffer, sizeof(buffer));
+        const ssize_t n = ::read(out_fd, buffer, sizeof(buffer));
         if (n > 0) {
           splitter.feed(buffer, static_cast<std::size_t>(n));
         } else if (n == 0 || (errno != EINTR && errno != EAGAIN)) {
@@ -163,7 +181,7 @@ ProcessResult run_process(const ProcessOptions& options) {
       ::usleep(50 * 1000);
     }
     const pid_t done = ::wait4(pid, &status, WNOHANG, &usage);
-    if (done == pid) break;
+    if (done == pid) return status;
     if (options.cancel_source && options.cancel_source->cancel_requested()) {
       const auto now = std::chrono::steady_clock::now();
       if (!term_sent) {
@@ -176,28 +194,54 @@ ProcessResult run_process(const ProcessOptions& options) {
       }
     }
   }
-  // Drain what is left in the pipe after the child exited.
-  if (capture) {
-    char buffer[4096];
-    ::fcntl(out_pipe[0], F_SETFL, O_NONBLOCK);
-    for (ssize_t n; (n = ::read(out_pipe[0], buffer, sizeof(buffer))) > 0;) {
-      splitter.feed(buffer, static_cast<std::size_t>(n));
-    }
-    splitter.flush();
-    ::close(out_pipe[0]);
+}
+
+// Passes on what is left in the pipe after the child exited.
+void drain_output(int out_fd, LineSplitter& splitter) {
+  char buffer[4096];
+  ::fcntl(out_fd, F_SETFL, O_NONBLOCK);
+  for (ssize_t n; (n = ::read(out_fd, buffer, sizeof(buffer))) > 0;) {
+    splitter.feed(buffer, static_cast<std::size_t>(n));
   }
-  result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  result.cpu_seconds = seconds_of(usage.ru_utime) + seconds_of(usage.ru_stime);
-  result.peak_rss_bytes = static_cast<std::int64_t>(usage.ru_maxrss) * 1024;  // Linux: kilobytes
-  if (exec_failed) {
-    throw StageError(options.argv[0], "cannot execute " + program + ": " + std::strerror(exec_errno));
-  }
+  splitter.flush();
+  ::close(out_fd);
+}
+
+void record_exit_status(int status, ProcessResult& result) {
   if (WIFEXITED(status)) {
     result.exit_code = WEXITSTATUS(status);
   } else if (WIFSIGNALED(status)) {
     result.signal = WTERMSIG(status);
     result.exit_code = 128 + result.signal;
   }
+}
+
+}  // namespace
+
+ProcessResult run_process(const ProcessOptions& options) {
+  if (options.argv.empty()) throw StageError("process", "no program given");
+  const std::string program = find_executable(options.argv[0]);
+  if (program.empty()) {
+    throw StageError(options.argv[0], "program not found or not executable: " + options.argv[0]);
+  }
+  const bool capture = static_cast<bool>(options.on_line);
+  ChildPipes pipes = open_pipes(options, capture);
+  const auto start = std::chrono::steady_clock::now();
+  const pid_t pid = start_child(options, program, pipes, capture);
+  const int exec_errno = exec_errno_of(pipes, capture);
+
+  ProcessResult result;
+  LineSplitter splitter(options.on_line);
+  struct rusage usage {};
+  const int status = wait_for_child(pid, options, capture ? pipes.out[0] : -1, splitter, result, usage);
+  if (capture) drain_output(pipes.out[0], splitter);
+  result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.cpu_seconds = seconds_of(usage.ru_utime) + seconds_of(usage.ru_stime);
+  result.peak_rss_bytes = static_cast<std::int64_t>(usage.ru_maxrss) * 1024;  // Linux: kilobytes
+  if (exec_errno != 0) {
+    throw StageError(options.argv[0], "cannot execute " + program + ": " + std::strerror(exec_errno));
+  }
+  record_exit_status(status, result);
   // A child stopped by the user's Ctrl-C (delivered to the whole process
   // group) counts as cancelled too.
   if (options.cancel_source && options.cancel_source->cancel_requested()) result.cancelled = true;

@@ -166,6 +166,90 @@ const float* MultigridPreconditioner::apply(const float* r, float* work) const {
 
 namespace {
 
+// z = M^-1 r for CG: the V-cycle's own single-precision result, or
+// l1-Jacobi's; both are read only through z_at.
+template <typename Real>
+class CgPreconditioner {
+ public:
+  CgPreconditioner(const EnergyOperator& op, const SolverOptions& options)
+      : op_(op),
+        use_multigrid_(options.multigrid),
+        multigrid_(op, options.multigrid ? options.max_levels : 1, options.smoothing_steps) {
+    if (use_multigrid_) return;
+    const auto n = static_cast<std::size_t>(op.active().storage_size());
+    inv_l1_ = ZeroedArray<Real>(n);
+    z_jacobi_ = ZeroedArray<Real>(n);
+    op.l1_diagonals(inv_l1_.data());
+    for_each_active_range(op.active(), [&](std::int64_t first, std::int64_t last) {
+      for (std::int64_t i = first; i < last; ++i) inv_l1_[i] = Real(1) / inv_l1_[i];
+    });
+  }
+
+  int num_levels() const { return multigrid_.num_levels(); }
+
+  // A float r is read in place by the V-cycle, with `free_work` (unused
+  // until the next operator application) lent as the finest smoother step.
+  void apply(const Real* r, Real* free_work) {
+    if (use_multigrid_) {
+      if constexpr (std::is_same_v<Real, float>) {
+        z_multigrid_ = multigrid_.apply(r, free_work);
+      } else {
+        z_multigrid_ = multigrid_.apply(r);
+      }
+    } else {
+      for_each_active_range(op_.active(), [&](std::int64_t first, std::int64_t last) {
+        for (std::int64_t i = first; i < last; ++i) z_jacobi_[i] = r[i] * inv_l1_[i];
+      });
+    }
+  }
+
+  Real z_at(std::int64_t i) const { return use_multigrid_ ? Real(z_multigrid_[i]) : z_jacobi_[i]; }
+
+  double dot_rz(const Real* r) const {
+    return use_multigrid_ ? dot(op_, r, z_multigrid_) : dot(op_, r, z_jacobi_.data());
+  }
+
+  // x += alpha p, r -= alpha Ap; returns r'r and the old r'z.
+  std::pair<double, double> step(double alpha, const Real* p, const Real* ap, Real* x, Real* r) const {
+    return use_multigrid_ ? cg_step(op_, alpha, p, ap, x, r, z_multigrid_)
+                          : cg_step(op_, alpha, p, ap, x, r, z_jacobi_.data());
+  }
+
+ private:
+  const EnergyOperator& op_;
+  bool use_multigrid_;
+  MultigridPreconditioner multigrid_;
+  ZeroedArray<Real> inv_l1_, z_jacobi_;
+  const float* z_multigrid_ = nullptr;
+};
+
+// Turns r from b into b - A x and returns the norm the residual is relative
+// to (|b| over the rows being solved); 0 when x = 0 already solves it.
+template <typename Real>
+double initial_residual(const EnergyOperator& op, Real* r, Real* x) {
+  double b_norm = std::sqrt(dot(op, r, r));
+  if (!std::isfinite(b_norm)) throw NumericalError("recon", "right-hand side is not finite");
+  if (b_norm == 0.0 && op.active().is_all()) {
+    for_each_active_range(op.active(),
+                          [&](std::int64_t first, std::int64_t last) { std::fill(x + first, x + last, Real(0)); });
+    return 0.0;
+  }
+  // r = b - A x in b's storage (each row reads x only).
+  op.residual(r, x, r);
+  // A band whose rows have no data of their own: only the values held
+  // outside drive it, so the first residual sets the scale.
+  if (b_norm == 0.0) b_norm = std::sqrt(dot(op, r, r));
+  return b_norm;
+}
+
+// p = z + beta p over the active rows.
+template <typename Real>
+void update_direction(const EnergyOperator& op, const CgPreconditioner<Real>& m, double beta, Real* p) {
+  for_each_active_range(op.active(), [&](std::int64_t first, std::int64_t last) {
+    for (std::int64_t i = first; i < last; ++i) p[i] = m.z_at(i) + static_cast<Real>(beta) * p[i];
+  });
+}
+
 // Flexible preconditioned CG on raw arrays of the operator's layout: r holds
 // b on entry and the residual on return, x the initial guess and the result.
 template <typename Real>
@@ -177,73 +261,26 @@ SolveReport conjugate_gradients(
   };
   const auto t_setup = Clock::now();
   SolveReport report;
-  const auto n = static_cast<std::size_t>(op.active().storage_size());
-  // The residual is relative to |b| over the rows being solved.
-  double b_norm = std::sqrt(dot(op, r, r));
-  if (!std::isfinite(b_norm)) throw NumericalError("recon", "right-hand side is not finite");
-  if (b_norm == 0.0 && op.active().is_all()) {
-    for_each_active_range(op.active(),
-                          [&](std::int64_t first, std::int64_t last) { std::fill(x + first, x + last, Real(0)); });
+  const double b_norm = initial_residual(op, r, x);
+  if (b_norm == 0.0) {
     report.relative_residual = 0.0;
     report.converged = true;
     return report;
   }
-  // r = b - A x in b's storage (each row reads x only).
-  op.residual(r, x, r);
-  if (b_norm == 0.0) {
-    // A band whose rows have no data of their own: only the values held
-    // outside drive it, so the first residual sets the scale.
-    b_norm = std::sqrt(dot(op, r, r));
-    if (b_norm == 0.0) {
-      report.relative_residual = 0.0;
-      report.converged = true;
-      return report;
-    }
-  }
-  const MultigridPreconditioner multigrid(op, options.multigrid ? options.max_levels : 1, options.smoothing_steps);
-  report.levels = multigrid.num_levels();
+  CgPreconditioner<Real> m(op, options);
+  report.levels = m.num_levels();
   // Only the active nodes of these are written (and p, zero elsewhere, read
   // around them).
+  const auto n = static_cast<std::size_t>(op.active().storage_size());
   const ZeroedArray<Real> p_values(n), ap_values(n);
   Real* const p = p_values.data();
   Real* const ap = ap_values.data();
-  ZeroedArray<Real> inv_l1, z_jacobi;
-  if (!options.multigrid) {
-    inv_l1 = ZeroedArray<Real>(n);
-    z_jacobi = ZeroedArray<Real>(n);
-    op.l1_diagonals(inv_l1.data());
-    for_each_active_range(op.active(), [&](std::int64_t first, std::int64_t last) {
-      for (std::int64_t i = first; i < last; ++i) inv_l1[i] = Real(1) / inv_l1[i];
-    });
-  }
-  // z = M^-1 r: the V-cycle's own single-precision result, or l1-Jacobi's;
-  // both are read only through z_at.
-  const float* z_multigrid = nullptr;
-  const auto precondition = [&]() {
-    if (options.multigrid) {
-      // A float r is read in place, with ap (free until the next operator
-      // application) lent as the finest smoother step.
-      if constexpr (std::is_same_v<Real, float>) {
-        z_multigrid = multigrid.apply(r, ap);
-      } else {
-        z_multigrid = multigrid.apply(r);
-      }
-    } else {
-      for_each_active_range(op.active(), [&](std::int64_t first, std::int64_t last) {
-        for (std::int64_t i = first; i < last; ++i) z_jacobi[i] = r[i] * inv_l1[i];
-      });
-    }
-  };
-  const auto z_at = [&](std::int64_t i) { return options.multigrid ? Real(z_multigrid[i]) : z_jacobi[i]; };
-  const auto dot_rz = [&]() { return options.multigrid ? dot(op, r, z_multigrid) : dot(op, r, z_jacobi.data()); };
   report.seconds_setup = seconds_since(t_setup);
   const auto t_iterations = Clock::now();
 
-  precondition();
-  for_each_active_range(op.active(), [&](std::int64_t first, std::int64_t last) {
-    for (std::int64_t i = first; i < last; ++i) p[i] = z_at(i);
-  });
-  double rz = dot_rz();
+  m.apply(r, ap);
+  update_direction(op, m, 0.0, p);
+  double rz = m.dot_rz(r);
   report.relative_residual = std::sqrt(dot(op, r, r)) / b_norm;
   for (int it = 0; it < options.max_iterations && report.relative_residual > options.tolerance; ++it) {
     reporter.throw_if_cancelled();
@@ -253,9 +290,7 @@ SolveReport conjugate_gradients(
       throw NumericalError("recon",
                            "conjugate gradients lost positive definiteness (p'Ap = " + std::to_string(pap) + ")");
     }
-    const double alpha = rz / pap;
-    const auto [rr, r_z_old] = options.multigrid ? cg_step(op, alpha, p, ap, x, r, z_multigrid)
-                                                 : cg_step(op, alpha, p, ap, x, r, z_jacobi.data());
+    const auto [rr, r_z_old] = m.step(rz / pap, p, ap, x, r);
     report.relative_residual = std::sqrt(rr) / b_norm;
     report.residual_history.push_back(report.relative_residual);
     report.iterations = it + 1;
@@ -266,13 +301,11 @@ SolveReport conjugate_gradients(
     if (report.relative_residual <= options.tolerance) break;
     // Flexible (Polak-Ribiere) beta = r' (z_new - z_old) / r_old' z_old: it
     // keeps CG convergent with the slightly nonlinear single-precision V-cycle.
-    precondition();
-    const double rz_new = dot_rz();
+    m.apply(r, ap);
+    const double rz_new = m.dot_rz(r);
     const double beta = (rz_new - r_z_old) / rz;
     rz = rz_new;
-    for_each_active_range(op.active(), [&](std::int64_t first, std::int64_t last) {
-      for (std::int64_t i = first; i < last; ++i) p[i] = z_at(i) + static_cast<Real>(beta) * p[i];
-    });
+    update_direction(op, m, beta, p);
   }
   report.converged = report.relative_residual <= options.tolerance;
   report.seconds_iterations = seconds_since(t_iterations);
