@@ -172,32 +172,31 @@ std::vector<PhotoPosition> read_photo_positions(const std::filesystem::path& fil
   return out;
 }
 
-GeoAlignment align_to_gps(const std::vector<CameraPose>& cameras,
-                          const std::vector<PhotoPosition>& positions,
-                          const Eigen::Vector3d& up_in_model,
-                          const GeoAlignmentOptions& options) {
-  GeoAlignment result;
-  std::map<std::string, GeoPosition> by_name;
-  for (const PhotoPosition& p : positions) by_name[p.name] = p.gps;
+namespace {
+
+// The registered cameras' centres and the GPS positions of the same photos.
+struct MatchedPositions {
   std::vector<Eigen::Vector3d> centres;
   std::vector<GeoPosition> gps;
+  int altitudes = 0;  // how many of them have an altitude
+};
+
+MatchedPositions match_positions(const std::vector<CameraPose>& cameras, const std::vector<PhotoPosition>& positions) {
+  std::map<std::string, GeoPosition> by_name;
+  for (const PhotoPosition& p : positions) by_name[p.name] = p.gps;
+  MatchedPositions m;
   for (const CameraPose& c : cameras) {
     const auto it = by_name.find(c.name);
     if (it == by_name.end()) continue;
-    centres.push_back(c.centre);
-    gps.push_back(it->second);
+    m.centres.push_back(c.centre);
+    m.gps.push_back(it->second);
+    m.altitudes += it->second.altitude_m.has_value();
   }
-  result.photos_with_gps = static_cast<int>(gps.size());
-  if (gps.empty()) {
-    result.reason = "no GPS";
-    return result;
-  }
-  if (gps.size() < 3) {
-    result.reason = format_message("only ", gps.size(), " registered photos have GPS");
-    return result;
-  }
+  return m;
+}
 
-  // The local frame at the mean position.
+// The local frame at the mean position (altitude: the mean of those given).
+EnuFrame mean_frame(const std::vector<GeoPosition>& gps) {
   GeoPosition reference;
   double altitude_sum = 0.0;
   int altitudes = 0;
@@ -207,15 +206,17 @@ GeoAlignment align_to_gps(const std::vector<CameraPose>& cameras,
     if (g.altitude_m) altitude_sum += *g.altitude_m, ++altitudes;
   }
   if (altitudes > 0) reference.altitude_m = altitude_sum / altitudes;
-  result.frame = EnuFrame(reference);
-  const auto n = static_cast<Eigen::Index>(gps.size());
-  Points<3> enu(3, n), model(3, n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    enu.col(i) = result.frame.enu_from_geodetic(gps[std::size_t(i)]);
-    model.col(i) = centres[std::size_t(i)];
-  }
+  return EnuFrame(reference);
+}
 
-  // Horizontal fit with the vertical from up_in_model.
+// The horizontal similarity with the vertical from up_in_model; false (and
+// the reason in result) when the positions do not fix it.
+bool fit_horizontal(const Points<3>& model,
+                    const Points<3>& enu,
+                    const std::vector<GeoPosition>& gps,
+                    const Eigen::Vector3d& up_in_model,
+                    const GeoAlignmentOptions& options,
+                    GeoAlignment& result) {
   const Eigen::Matrix3d level =
       Eigen::Quaterniond::FromTwoVectors(up_in_model, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   const Points<3> levelled = level * model;
@@ -223,7 +224,7 @@ GeoAlignment align_to_gps(const std::vector<CameraPose>& cameras,
   const auto fit2 = robust_similarity<2>(from2, to2, options.inlier_threshold_m, options.ransac_iterations);
   if (!fit2) {
     result.reason = "the GPS positions fit no similarity of the cameras";
-    return result;
+    return false;
   }
   result.inliers = static_cast<int>(fit2->inliers.size());
   for (std::size_t a = 0; a < fit2->inliers.size(); ++a) {
@@ -234,7 +235,7 @@ GeoAlignment align_to_gps(const std::vector<CameraPose>& cameras,
   if (result.spread_m < options.min_spread_m) {
     result.reason =
         "GPS spread " + rounded_metres(result.spread_m) + " m < " + rounded_metres(options.min_spread_m) + " m";
-    return result;
+    return false;
   }
   std::vector<double> heights;
   double squared = 0.0;
@@ -250,13 +251,18 @@ GeoAlignment align_to_gps(const std::vector<CameraPose>& cameras,
   result.enu_from_model.scale = fit2->scale;
   result.enu_from_model.rotation = rotation2 * level;
   result.enu_from_model.translation << fit2->translation, heights.empty() ? 0.0 : median(heights);
+  return true;
+}
 
-  // The full 3D fit, when every photo has an altitude and they fix the tilt
-  // well: the standard error of a plane's slope, vertical residual over the
-  // horizontal spread of the inliers.
-  if (altitudes != static_cast<int>(gps.size())) return result;
+// The full 3D fit replaces the horizontal one when it fixes the tilt well:
+// the standard error of a plane's slope, vertical residual over the
+// horizontal spread of the inliers.
+void fit_vertical_too(const Points<3>& model,
+                      const Points<3>& enu,
+                      const GeoAlignmentOptions& options,
+                      GeoAlignment& result) {
   const auto fit3 = robust_similarity<3>(model, enu, options.inlier_threshold_m, options.ransac_iterations);
-  if (!fit3 || fit3->inliers.size() < 3) return result;
+  if (!fit3 || fit3->inliers.size() < 3) return;
   Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
   for (int i : fit3->inliers) centroid += enu.col(i).head<2>();
   centroid /= double(fit3->inliers.size());
@@ -270,13 +276,42 @@ GeoAlignment align_to_gps(const std::vector<CameraPose>& cameras,
   const double count = double(fit3->inliers.size());
   result.tilt_uncertainty_deg =
       std::atan(std::sqrt(vertical / count) / (std::sqrt(radius / count) * std::sqrt(count))) * 180.0 / kPi;
-  if (!(result.tilt_uncertainty_deg <= options.max_tilt_uncertainty_deg)) return result;
+  if (!(result.tilt_uncertainty_deg <= options.max_tilt_uncertainty_deg)) return;
   result.vertical_from_gps = true;
   result.inliers = static_cast<int>(fit3->inliers.size());
   result.rms_residual_m = std::sqrt(residual / count);
   result.enu_from_model.scale = fit3->scale;
   result.enu_from_model.rotation = fit3->rotation;
   result.enu_from_model.translation = fit3->translation;
+}
+
+}  // namespace
+
+GeoAlignment align_to_gps(const std::vector<CameraPose>& cameras,
+                          const std::vector<PhotoPosition>& positions,
+                          const Eigen::Vector3d& up_in_model,
+                          const GeoAlignmentOptions& options) {
+  GeoAlignment result;
+  const MatchedPositions matched = match_positions(cameras, positions);
+  const std::vector<GeoPosition>& gps = matched.gps;
+  result.photos_with_gps = static_cast<int>(gps.size());
+  if (gps.empty()) {
+    result.reason = "no GPS";
+    return result;
+  }
+  if (gps.size() < 3) {
+    result.reason = format_message("only ", gps.size(), " registered photos have GPS");
+    return result;
+  }
+  result.frame = mean_frame(gps);
+  const auto n = static_cast<Eigen::Index>(gps.size());
+  Points<3> enu(3, n), model(3, n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    enu.col(i) = result.frame.enu_from_geodetic(gps[std::size_t(i)]);
+    model.col(i) = matched.centres[std::size_t(i)];
+  }
+  if (!fit_horizontal(model, enu, gps, up_in_model, options, result)) return result;
+  if (matched.altitudes == static_cast<int>(gps.size())) fit_vertical_too(model, enu, options, result);
   return result;
 }
 
