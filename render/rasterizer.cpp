@@ -260,6 +260,79 @@ void validate_inputs(const std::vector<RenderObject>& objects, const Camera& cam
   }
 }
 
+CameraFrame camera_frame(const Camera& camera, const ImageRecord& pose) {
+  CameraFrame frame;
+  frame.R = pose.rotation().cast<float>();
+  frame.t = pose.cam_from_world_translation.cast<float>();
+  frame.fx = static_cast<float>(camera.focal_x());
+  frame.fy = static_cast<float>(camera.focal_y());
+  frame.cx = static_cast<float>(camera.principal_x());
+  frame.cy = static_cast<float>(camera.principal_y());
+  return frame;
+}
+
+FaceLookup face_lookup(const std::vector<RenderObject>& objects) {
+  FaceLookup lookup;
+  int total = 0;
+  for (const RenderObject& o : objects) {
+    lookup.first_face.push_back(total);
+    total += static_cast<int>(o.mesh.faces.size());
+  }
+  return lookup;
+}
+
+// Depth, coverage, normal and face/object ids at the pixel centres.
+void write_geometry(const std::vector<RenderObject>& objects,
+                    const FaceLookup& lookup,
+                    const SampleBuffer& centre,
+                    int W,
+                    int H,
+                    RenderedView& view) {
+  view.depth = cv::Mat(H, W, CV_32F, cv::Scalar(0));
+  view.mask = cv::Mat(H, W, CV_8U, cv::Scalar(0));
+  view.normal = cv::Mat(H, W, CV_32FC3, cv::Scalar::all(0));
+  view.face_id = cv::Mat(H, W, CV_32S, cv::Scalar(-1));
+  view.object_id = cv::Mat(H, W, CV_32S, cv::Scalar(-1));
+  for (int y = 0; y < H; ++y) {
+    for (int x = 0; x < W; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * W + x;
+      if (centre.face[i] < 0) continue;
+      view.depth.at<float>(y, x) = centre.z[i];
+      view.mask.at<std::uint8_t>(y, x) = 255;
+      view.face_id.at<int>(y, x) = centre.face[i];
+      view.object_id.at<int>(y, x) = centre.object[i];
+      const int o = centre.object[i];
+      const Eigen::Vector3f n = normal_at(objects[o].mesh, lookup.local(o, centre.face[i]), centre.bary[i]);
+      view.normal.at<cv::Vec3f>(y, x) = cv::Vec3f(n.x(), n.y(), n.z());
+    }
+  }
+}
+
+// The colour image from s x s samples per pixel (box filter in linear RGB);
+// shade(object, face, barycentric) gives a sample's linear colour.
+template <typename Shade>
+cv::Mat box_filtered_colour(
+    const SampleBuffer& samples, int W, int H, int s, const Eigen::Vector3f& background, const Shade& shade) {
+  cv::Mat colour(H, W, CV_8UC3);
+#pragma omp parallel for schedule(dynamic, 4)
+  for (int y = 0; y < H; ++y) {
+    for (int x = 0; x < W; ++x) {
+      Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+      for (int sy = 0; sy < s; ++sy) {
+        for (int sx = 0; sx < s; ++sx) {
+          const std::size_t i = static_cast<std::size_t>(y * s + sy) * samples.width + (x * s + sx);
+          sum += samples.face[i] < 0 ? background : shade(samples.object[i], samples.face[i], samples.bary[i]);
+        }
+      }
+      sum /= static_cast<float>(s * s);
+      colour.at<cv::Vec3b>(y, x) = cv::Vec3b(static_cast<std::uint8_t>(std::lround(255.0f * linear_to_srgb(sum.z()))),
+                                             static_cast<std::uint8_t>(std::lround(255.0f * linear_to_srgb(sum.y()))),
+                                             static_cast<std::uint8_t>(std::lround(255.0f * linear_to_srgb(sum.x()))));
+    }
+  }
+  return colour;
+}
+
 }  // namespace
 
 RenderedView render_view(const std::vector<RenderObject>& objects,
@@ -268,20 +341,8 @@ RenderedView render_view(const std::vector<RenderObject>& objects,
                          const RenderOptions& options) {
   validate_inputs(objects, camera, options);
   const int W = camera.width, H = camera.height, s = options.supersampling;
-  CameraFrame frame;
-  frame.R = pose.rotation().cast<float>();
-  frame.t = pose.cam_from_world_translation.cast<float>();
-  frame.fx = static_cast<float>(camera.focal_x());
-  frame.fy = static_cast<float>(camera.focal_y());
-  frame.cx = static_cast<float>(camera.principal_x());
-  frame.cy = static_cast<float>(camera.principal_y());
-
-  FaceLookup lookup;
-  int total = 0;
-  for (const RenderObject& o : objects) {
-    lookup.first_face.push_back(total);
-    total += static_cast<int>(o.mesh.faces.size());
-  }
+  const CameraFrame frame = camera_frame(camera, pose);
+  const FaceLookup lookup = face_lookup(objects);
 
   const Eigen::Vector3f light = options.lighting.direction_to_light.normalized();
   const Eigen::Vector3f cam_center = -frame.R.transpose() * frame.t;
@@ -303,28 +364,8 @@ RenderedView render_view(const std::vector<RenderObject>& objects,
   };
 
   RenderedView view;
-  // Geometry at the pixel centres.
   const SampleBuffer centre = rasterize(setup_triangles(objects, frame, 1.0f, options.cull_back_faces, W, H), W, H);
-  view.depth = cv::Mat(H, W, CV_32F, cv::Scalar(0));
-  view.mask = cv::Mat(H, W, CV_8U, cv::Scalar(0));
-  view.normal = cv::Mat(H, W, CV_32FC3, cv::Scalar::all(0));
-  view.face_id = cv::Mat(H, W, CV_32S, cv::Scalar(-1));
-  view.object_id = cv::Mat(H, W, CV_32S, cv::Scalar(-1));
-  for (int y = 0; y < H; ++y) {
-    for (int x = 0; x < W; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * W + x;
-      if (centre.face[i] < 0) continue;
-      view.depth.at<float>(y, x) = centre.z[i];
-      view.mask.at<std::uint8_t>(y, x) = 255;
-      view.face_id.at<int>(y, x) = centre.face[i];
-      view.object_id.at<int>(y, x) = centre.object[i];
-      const int o = centre.object[i];
-      const Eigen::Vector3f n = normal_at(objects[o].mesh, lookup.local(o, centre.face[i]), centre.bary[i]);
-      view.normal.at<cv::Vec3f>(y, x) = cv::Vec3f(n.x(), n.y(), n.z());
-    }
-  }
-
-  // Colour: s x s samples per pixel, box filter in linear RGB.
+  write_geometry(objects, lookup, centre, W, H, view);
   SampleBuffer super;
   const SampleBuffer* samples = &centre;
   if (s > 1) {
@@ -332,25 +373,7 @@ RenderedView render_view(const std::vector<RenderObject>& objects,
                       W * s, H * s);
     samples = &super;
   }
-  view.color = cv::Mat(H, W, CV_8UC3);
-  const Eigen::Vector3f background = options.background * options.exposure_gain;
-#pragma omp parallel for schedule(dynamic, 4)
-  for (int y = 0; y < H; ++y) {
-    for (int x = 0; x < W; ++x) {
-      Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-      for (int sy = 0; sy < s; ++sy) {
-        for (int sx = 0; sx < s; ++sx) {
-          const std::size_t i = static_cast<std::size_t>(y * s + sy) * samples->width + (x * s + sx);
-          sum += samples->face[i] < 0 ? background : shade(samples->object[i], samples->face[i], samples->bary[i]);
-        }
-      }
-      sum /= static_cast<float>(s * s);
-      view.color.at<cv::Vec3b>(y, x) =
-          cv::Vec3b(static_cast<std::uint8_t>(std::lround(255.0f * linear_to_srgb(sum.z()))),
-                    static_cast<std::uint8_t>(std::lround(255.0f * linear_to_srgb(sum.y()))),
-                    static_cast<std::uint8_t>(std::lround(255.0f * linear_to_srgb(sum.x()))));
-    }
-  }
+  view.color = box_filtered_colour(*samples, W, H, s, options.background * options.exposure_gain, shade);
   return view;
 }
 

@@ -317,6 +317,63 @@ RenderedDataset render_dataset(const Scene& scene, const DatasetOptions& o, Repo
   return data;
 }
 
+namespace {
+
+// scene.json: the scene's objects, bounds, lighting and the capture's
+// settings, for the tests and benchmarks that read the truth.
+nlohmann::json scene_description(const Scene& scene,
+                                 const SceneOptions& scene_options,
+                                 const DatasetOptions& o,
+                                 std::size_t sparse_points) {
+  BoundingBox box;
+  nlohmann::json objects = nlohmann::json::array();
+  for (std::size_t k = 0; k < scene.objects.size(); ++k) {
+    BoundingBox b;
+    for (const Eigen::Vector3f& v : scene.objects[k].mesh.vertices) b.extend(v);
+    if (!scene.is_ground[k]) box.extend(b.min), box.extend(b.max);
+    objects.push_back({{"name", scene.names[k]},
+                       {"ground", static_cast<bool>(scene.is_ground[k])},
+                       {"vertices", scene.objects[k].mesh.num_vertices()},
+                       {"faces", scene.objects[k].mesh.num_faces()},
+                       {"bbox_min", vec_json(b.min)},
+                       {"bbox_max", vec_json(b.max)}});
+  }
+  const render::Lighting lighting;
+  nlohmann::json gps_origin;  // null without GPS
+  if (o.gps_origin) {
+    gps_origin = {{"latitude_deg", o.gps_origin->latitude_deg},
+                  {"longitude_deg", o.gps_origin->longitude_deg},
+                  {"altitude_m", o.gps_origin->altitude_m.value_or(0.0)}};
+  }
+  return {{"seed", scene_options.seed},
+          {"scene", scene_options.name},
+          {"ground_plane", scene_options.ground_plane},
+          {"hanging_object", scene_options.hanging_object},
+          {"objects", objects},
+          {"bbox_min", vec_json(box.min)},
+          {"bbox_max", vec_json(box.max)},
+          {"diagonal", box.diagonal()},
+          {"centre", vec_json(scene.centre)},
+          {"radius", scene.radius},
+          {"up", vec_json(scene.up)},
+          {"light_direction", vec_json(lighting.direction_to_light.normalized())},
+          {"ambient", lighting.ambient},
+          {"diffuse", lighting.diffuse},
+          {"views", o.num_views},
+          {"holdout", o.holdout},
+          {"width", o.width},
+          {"height", o.height},
+          {"focal", focal_of(o)},
+          {"supersampling", o.supersampling},
+          {"exposure_gains", o.exposure_gains},
+          {"tilt_deg", o.tilt_deg},
+          {"gps_origin", gps_origin},
+          {"metres_per_unit", o.metres_per_unit},
+          {"sparse_points", sparse_points}};
+}
+
+}  // namespace
+
 void write_dataset(const fs::path& folder,
                    const Scene& scene,
                    const SceneOptions& scene_options,
@@ -359,51 +416,7 @@ void write_dataset(const fs::path& folder,
     write_mesh_ply(tmp / "gt_mesh.ply", merged_mesh(scene, true));
     write_mesh_ply(tmp / "gt_objects.ply", merged_mesh(scene, false));
 
-    BoundingBox box;
-    nlohmann::json objects = nlohmann::json::array();
-    for (std::size_t k = 0; k < scene.objects.size(); ++k) {
-      BoundingBox b;
-      for (const Eigen::Vector3f& v : scene.objects[k].mesh.vertices) b.extend(v);
-      if (!scene.is_ground[k]) box.extend(b.min), box.extend(b.max);
-      objects.push_back({{"name", scene.names[k]},
-                         {"ground", static_cast<bool>(scene.is_ground[k])},
-                         {"vertices", scene.objects[k].mesh.num_vertices()},
-                         {"faces", scene.objects[k].mesh.num_faces()},
-                         {"bbox_min", vec_json(b.min)},
-                         {"bbox_max", vec_json(b.max)}});
-    }
-    const render::Lighting lighting;
-    nlohmann::json gps_origin;  // null without GPS
-    if (o.gps_origin) {
-      gps_origin = {{"latitude_deg", o.gps_origin->latitude_deg},
-                    {"longitude_deg", o.gps_origin->longitude_deg},
-                    {"altitude_m", o.gps_origin->altitude_m.value_or(0.0)}};
-    }
-    const nlohmann::json json = {{"seed", scene_options.seed},
-                                 {"scene", scene_options.name},
-                                 {"ground_plane", scene_options.ground_plane},
-                                 {"hanging_object", scene_options.hanging_object},
-                                 {"objects", objects},
-                                 {"bbox_min", vec_json(box.min)},
-                                 {"bbox_max", vec_json(box.max)},
-                                 {"diagonal", box.diagonal()},
-                                 {"centre", vec_json(scene.centre)},
-                                 {"radius", scene.radius},
-                                 {"up", vec_json(scene.up)},
-                                 {"light_direction", vec_json(lighting.direction_to_light.normalized())},
-                                 {"ambient", lighting.ambient},
-                                 {"diffuse", lighting.diffuse},
-                                 {"views", o.num_views},
-                                 {"holdout", o.holdout},
-                                 {"width", o.width},
-                                 {"height", o.height},
-                                 {"focal", focal_of(o)},
-                                 {"supersampling", o.supersampling},
-                                 {"exposure_gains", o.exposure_gains},
-                                 {"tilt_deg", o.tilt_deg},
-                                 {"gps_origin", gps_origin},
-                                 {"metres_per_unit", o.metres_per_unit},
-                                 {"sparse_points", data.model.points.size()}};
+    const nlohmann::json json = scene_description(scene, scene_options, o, data.model.points.size());
     std::ofstream out(tmp / "scene.json");
     out << json.dump(2) << "\n";
     if (!out) throw OutputError((folder / "scene.json").string(), "could not write");
