@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 
 #include "core/error.h"
+#include "core/mesh_connectivity.h"
 #include "eval/surface_distance.h"
 
 namespace hos::eval {
@@ -27,21 +27,12 @@ VertexCurvature compute_vertex_curvature(const TriangleMesh& mesh) {
   VertexCurvature out;
   out.mixed_area.assign(nv, 0.0);
   std::vector<bool> referenced(nv, false);
-  // Edge -> number of faces, to find boundary vertices.
-  std::unordered_map<std::uint64_t, int> edge_faces;
-  edge_faces.reserve(mesh.faces.size() * 2);
-  auto edge_key = [](int a, int b) {
-    return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
-  };
   for (const Eigen::Vector3i& f : mesh.faces) {
     const Eigen::Vector3d x[3] = {mesh.vertices[f[0]].cast<double>(), mesh.vertices[f[1]].cast<double>(),
                                   mesh.vertices[f[2]].cast<double>()};
     const Eigen::Vector3d n = (x[1] - x[0]).cross(x[2] - x[0]);
     const double area = 0.5 * n.norm();
-    for (int c = 0; c < 3; ++c) {
-      ++edge_faces[edge_key(f[c], f[(c + 1) % 3])];
-      referenced[f[c]] = true;
-    }
+    for (int c = 0; c < 3; ++c) referenced[f[c]] = true;
     if (!(area > 0.0)) continue;
     double angle[3], cot[3];
     bool obtuse = false;
@@ -72,15 +63,7 @@ VertexCurvature compute_vertex_curvature(const TriangleMesh& mesh) {
       out.mixed_area[i] += a;
     }
   }
-  std::vector<bool> boundary(nv, false);
-  for (const Eigen::Vector3i& f : mesh.faces) {
-    for (int c = 0; c < 3; ++c) {
-      if (edge_faces[edge_key(f[c], f[(c + 1) % 3])] != 2) {
-        boundary[f[c]] = true;
-        boundary[f[(c + 1) % 3]] = true;
-      }
-    }
-  }
+  const std::vector<bool> boundary = vertices_off_two_sided_edges(mesh_edges(mesh), nv);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   out.mean.assign(nv, nan);
   out.gaussian.assign(nv, nan);

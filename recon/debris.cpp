@@ -2,20 +2,12 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <numeric>
 
+#include "core/mesh_connectivity.h"
 #include "recon/trim.h"
 
 namespace hos::recon {
 namespace {
-
-int find_root(std::vector<int>& parent, int x) {
-  while (parent[x] != x) {
-    parent[x] = parent[parent[x]];
-    x = parent[x];
-  }
-  return x;
-}
 
 double face_area(const TriangleMesh& mesh, const Eigen::Vector3i& f) {
   const Eigen::Vector3d a = mesh.vertices[f[0]].cast<double>();
@@ -26,33 +18,12 @@ double face_area(const TriangleMesh& mesh, const Eigen::Vector3i& f) {
 
 }  // namespace
 
-std::vector<int> connected_pieces(const TriangleMesh& mesh, int& count) {
-  std::vector<int> parent(mesh.vertices.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  for (const auto& f : mesh.faces) {
-    const int r0 = find_root(parent, f[0]);
-    for (int c = 1; c < 3; ++c) {
-      const int r = find_root(parent, f[c]);
-      if (r != r0) parent[r] = r0;
-    }
-  }
-  std::vector<int> piece_of_root(mesh.vertices.size(), -1);
-  std::vector<int> piece(mesh.faces.size());
-  count = 0;
-  for (std::size_t i = 0; i < mesh.faces.size(); ++i) {
-    int& p = piece_of_root[find_root(parent, mesh.faces[i][0])];
-    if (p < 0) p = count++;
-    piece[i] = p;
-  }
-  return piece;
-}
-
 DebrisReport remove_debris(TriangleMesh& mesh, const DebrisOptions& options) {
   DebrisReport report;
-  int count = 0;
-  const std::vector<int> piece = connected_pieces(mesh, count);
-  report.components = static_cast<std::size_t>(count);
-  std::vector<double> area(static_cast<std::size_t>(count), 0.0);
+  const MeshPieces pieces = connected_pieces(mesh);
+  const std::vector<int>& piece = pieces.face_piece;
+  report.components = static_cast<std::size_t>(pieces.count);
+  std::vector<double> area(static_cast<std::size_t>(pieces.count), 0.0);
   for (std::size_t i = 0; i < mesh.faces.size(); ++i) area[piece[i]] += face_area(mesh, mesh.faces[i]);
   const double largest = area.empty() ? 0.0 : *std::max_element(area.begin(), area.end());
   std::vector<char> debris(area.size(), 0);

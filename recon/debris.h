@@ -21,12 +21,9 @@ struct DebrisReport {
   double area_kept = 0.0;
 };
 
-// The connected piece of every face, #F: faces that share a vertex are in
-// the same piece (a thin part attached to the surface belongs to it).
-// Pieces are numbered 0 .. count-1 in order of their first face.
-std::vector<int> connected_pieces(const TriangleMesh& mesh, int& count);
-
-// Removes the pieces whose area is below options.min_area_fraction of the
+// Removes the pieces (connected_pieces of core/mesh_connectivity.h: faces
+// sharing a vertex, so a thin part attached to the surface belongs to it)
+// whose area is below options.min_area_fraction of the
 // largest piece's, then the vertices no face uses. With options.remove off
 // only counts the pieces and their area.
 DebrisReport remove_debris(TriangleMesh& mesh, const DebrisOptions& options);

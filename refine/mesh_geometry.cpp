@@ -1,33 +1,8 @@
 #include "refine/mesh_geometry.h"
 
 #include <Eigen/Geometry>
-#include <algorithm>
 
 namespace hos::refine {
-
-VertexRings vertex_rings(const TriangleMesh& mesh) {
-  // Step 1: every directed edge of every face, both ways.
-  std::vector<std::pair<int, int>> edges;
-  edges.reserve(mesh.faces.size() * 6);
-  for (const Eigen::Vector3i& f : mesh.faces) {
-    for (int c = 0; c < 3; ++c) {
-      edges.emplace_back(f[c], f[(c + 1) % 3]);
-      edges.emplace_back(f[(c + 1) % 3], f[c]);
-    }
-  }
-  // Step 2: sorted and unique, they are the CSR rows.
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-  VertexRings rings;
-  rings.offsets.assign(mesh.vertices.size() + 1, 0);
-  rings.neighbors.reserve(edges.size());
-  for (const auto& [a, b] : edges) {
-    ++rings.offsets[a + 1];
-    rings.neighbors.push_back(b);
-  }
-  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) rings.offsets[v + 1] += rings.offsets[v];
-  return rings;
-}
 
 std::vector<Eigen::Vector3f> face_area_normals(const TriangleMesh& mesh) {
   std::vector<Eigen::Vector3f> normals(mesh.faces.size());

@@ -1,24 +1,15 @@
 // The per-vertex geometry one refinement round needs: one-rings (the
-// umbrella Laplacian's stencil), area-weighted normals, face normals.
+// umbrella Laplacian's stencil: VertexRings of core/mesh_connectivity.h),
+// area-weighted normals, face normals.
 #pragma once
 
 #include <Eigen/Core>
 #include <vector>
 
+#include "core/mesh_connectivity.h"
 #include "core/types.h"
 
 namespace hos::refine {
-
-// The vertices sharing an edge with each vertex, CSR (neighbors of v are
-// neighbors[offsets[v] .. offsets[v + 1]), sorted, no duplicates).
-struct VertexRings {
-  std::vector<int> offsets;
-  std::vector<int> neighbors;
-
-  int degree(int v) const { return offsets[v + 1] - offsets[v]; }
-};
-
-VertexRings vertex_rings(const TriangleMesh& mesh);
 
 // Unnormalised face normals (length = twice the area).
 std::vector<Eigen::Vector3f> face_area_normals(const TriangleMesh& mesh);

@@ -2,9 +2,8 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
-#include <map>
-#include <numeric>
-#include <set>
+
+#include "core/mesh_connectivity.h"
 
 namespace hos::recon::testing {
 
@@ -19,31 +18,17 @@ MeshTopology analyze_topology(const TriangleMesh& mesh) {
   MeshTopology t;
   t.vertices = mesh.num_vertices();
   t.faces = mesh.num_faces();
-  std::map<std::pair<int, int>, std::pair<int, int>> edges;  // (min,max) -> (count, forward count)
-  for (const auto& f : mesh.faces) {
-    for (int c = 0; c < 3; ++c) {
-      const int a = f[c], b = f[(c + 1) % 3];
-      auto& e = edges[{std::min(a, b), std::max(a, b)}];
-      ++e.first;
-      if (a < b) ++e.second;
+  const MeshEdges edges = mesh_edges(mesh);
+  t.edges = edges.size();
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    if (edges.boundary(e)) ++t.boundary_edges;
+    if (edges.non_manifold(e)) ++t.nonmanifold_edges;
+    if (edges.side_count(e) == 2 &&
+        edges.sides[edges.offsets[e]].forward(mesh) == edges.sides[edges.offsets[e] + 1].forward(mesh)) {
+      ++t.misoriented_edges;
     }
   }
-  t.edges = edges.size();
-  for (const auto& [key, e] : edges) {
-    if (e.first == 1) ++t.boundary_edges;
-    if (e.first > 2) ++t.nonmanifold_edges;
-    if (e.first == 2 && e.second != 1) ++t.misoriented_edges;
-  }
-  std::vector<int> parent(mesh.num_vertices());
-  std::iota(parent.begin(), parent.end(), 0);
-  std::function<int(int)> root = [&](int x) { return parent[x] == x ? x : parent[x] = root(parent[x]); };
-  for (const auto& f : mesh.faces) {
-    parent[root(f[1])] = root(f[0]);
-    parent[root(f[2])] = root(f[0]);
-  }
-  std::set<int> roots;
-  for (const auto& f : mesh.faces) roots.insert(root(f[0]));
-  t.components = static_cast<int>(roots.size());
+  t.components = connected_pieces(mesh).count;
   return t;
 }
 
