@@ -9,8 +9,8 @@
 #include "core/exit_codes.h"
 #include "pipeline/driver.h"
 #include "pipeline/pipeline_config.h"
-#include "pipeline/report.h"
-#include "pipeline/report_viewer.h"
+#include "pipeline/report/report.h"
+#include "pipeline/report/report_viewer.h"
 #include "pipeline/stages.h"
 
 namespace {

@@ -13,9 +13,10 @@
 #include "pipeline/file_hash.h"
 #include "pipeline/output_checks.h"
 #include "pipeline/pipeline_config.h"
-#include "pipeline/report.h"
-#include "pipeline/report_viewer.h"
-#include "pipeline/slurm_executor.h"
+#include "pipeline/report/report.h"
+#include "pipeline/report/report_viewer.h"
+#include "pipeline/slurm/slurm_executor.h"
+#include "pipeline/stage_failure.h"
 #include "pipeline/stage_figures.h"
 #include "pipeline/stage_paths.h"
 #include "pipeline/stages.h"
@@ -67,25 +68,6 @@ std::string format_memory(std::int64_t bytes) {
 }
 
 }  // namespace
-
-// Maps a failed stage's exit code onto the same error kind, so the driver
-// exits with the code that names the cause. input_hint is added when the
-// stage rejects its input.
-void throw_stage_failure(const std::string& stage, int code, const fs::path& log, const std::string& input_hint) {
-  const std::string where = "see " + log.string();
-  switch (code) {
-    case kExitUsage:
-      throw ConfigError(stage, "the stage rejected its configuration; " + where);
-    case kExitBadInput:
-      throw InputError(stage, "the stage rejected its input; " + where + (input_hint.empty() ? "" : "; " + input_hint));
-    case kExitOutputFailed:
-      throw OutputError(stage, "the stage could not write its output; " + where);
-    case kExitInterrupted:
-      throw Cancelled();
-    default:
-      throw StageError(stage, "failed (exit code " + std::to_string(code) + "); " + where);
-  }
-}
 
 fs::path default_workspace(const fs::path& output) {
   const fs::path parent = output.parent_path().empty() ? fs::path(".") : output.parent_path();

@@ -27,7 +27,7 @@ struct RunRecord {
   std::string photos;
   std::string output;
   std::map<std::string, StageRecord> stages;
-  // The Slurm executor's jobs (pipeline/slurm_executor.h); empty for local runs.
+  // The Slurm executor's jobs (pipeline/slurm/slurm_executor.h); empty for local runs.
   nlohmann::ordered_json slurm = nlohmann::ordered_json::object();
 };
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/driver.h"
+#include "pipeline/driver_options.h"
 #include "pipeline/file_hash.h"
 #include "pipeline/pipeline_config.h"
 #include "pipeline/stage_config.h"

@@ -1,7 +1,7 @@
 // pipeline/job_estimates.*: the memory and time a cluster job asks for.
 // The time estimates must grow with what they depend on, never fall below
 // the floor, give way to the time option, and be text sbatch accepts.
-#include "pipeline/job_estimates.h"
+#include "pipeline/slurm/job_estimates.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-#include "pipeline/report.h"
+#include "pipeline/report/report.h"
 
 #include <gtest/gtest.h>
 
@@ -8,10 +8,10 @@
 #include "core/colmap_io.h"
 #include "core/error.h"
 #include "mvs/mvs_report.h"
-#include "pipeline/report_viewer.h"
+#include "pipeline/report/report_viewer.h"
+#include "pipeline/report/svg_plot.h"
 #include "pipeline/run_record.h"
 #include "pipeline/stage_paths.h"
-#include "pipeline/svg_plot.h"
 #include "recon/recon_report.h"
 #include "tests/support/test_support.h"
 #include "texture/texture_report.h"

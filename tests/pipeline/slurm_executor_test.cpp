@@ -2,7 +2,7 @@
 // ranges, resume and cancel, with shell scripts on PATH standing in for
 // sbatch, squeue, sacct and scancel (the one-node Slurm test is
 // slurm_cluster_test.cpp).
-#include "pipeline/slurm_executor.h"
+#include "pipeline/slurm/slurm_executor.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

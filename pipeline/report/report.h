@@ -10,7 +10,7 @@
 namespace hos::pipeline {
 
 struct ReportOptions {
-  // model-viewer's bundle (default_viewer_script in pipeline/report_viewer.h);
+  // model-viewer's bundle (default_viewer_script in pipeline/report/report_viewer.h);
   // empty or missing: the page links the model instead of showing it.
   std::filesystem::path viewer_script;
 };

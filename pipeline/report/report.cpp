@@ -1,4 +1,4 @@
-#include "pipeline/report.h"
+#include "pipeline/report/report.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,13 +10,13 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "pipeline/report_plots.h"
-#include "pipeline/report_viewer.h"
+#include "pipeline/report/report_plots.h"
+#include "pipeline/report/report_viewer.h"
+#include "pipeline/report/svg_plot.h"
 #include "pipeline/run_record.h"
 #include "pipeline/stage_figures.h"
 #include "pipeline/stage_paths.h"
 #include "pipeline/stages.h"
-#include "pipeline/svg_plot.h"
 
 namespace hos::pipeline {
 namespace fs = std::filesystem;
@@ -305,7 +305,7 @@ std::string run_report_html(const fs::path& workspace, const ReportOptions& opti
   html << model_viewer_html(paths, options.viewer_script);  // 2. the model
   write_stage_table(html, record, paths);
   html << "<h2>Plots</h2>\n";
-  write_stage_plots(html, paths);  // 4. plots (pipeline/report_plots.h)
+  write_stage_plots(html, paths);  // 4. plots (pipeline/report/report_plots.h)
   write_eval_results(html, paths);
   write_photos(html, record, paths, sfm_report);
   write_config_and_logs(html, paths);

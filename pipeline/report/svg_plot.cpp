@@ -1,4 +1,4 @@
-#include "pipeline/svg_plot.h"
+#include "pipeline/report/svg_plot.h"
 
 #include <algorithm>
 #include <cmath>

@@ -18,50 +18,15 @@
 #include <cstddef>
 #include <filesystem>
 #include <string>
-#include <vector>
 
 #include "core/reporter.h"
-#include "pipeline/driver.h"
-#include "pipeline/job_estimates.h"
+#include "pipeline/driver_options.h"
 #include "pipeline/pipeline_config.h"
 #include "pipeline/run_record.h"
+#include "pipeline/slurm/slurm_options.h"
 #include "pipeline/stage_paths.h"
 
-namespace hos {
-class OptionSet;
-}
-
 namespace hos::pipeline {
-
-// --executor-option KEY=VALUE.
-struct SlurmOptions {
-  std::string partition;     // sbatch --partition (empty: the cluster's default)
-  std::string account;       // sbatch --account
-  std::string qos;           // sbatch --qos
-  std::string constraint;    // sbatch --constraint
-  std::string time;          // sbatch --time of every job (empty: each job's own estimate, job_estimates.h)
-  int mem_mb = 0;            // sbatch --mem of jobs without an estimate of their own (0: not given)
-  int cpus = 0;              // sbatch --cpus-per-task (0: not given)
-  int mvs_tasks = 4;         // array tasks of the mvs depth maps
-  int texture_tasks = 4;     // array tasks of the texture view data
-  double poll_seconds = 10;  // between squeue queries while waiting
-  // A job squeue no longer lists whose status file is not (yet) visible
-  // counts as failed after this long: a shared filesystem may show a file
-  // written on a compute node later on the login node.
-  double status_grace_seconds = 30;
-  bool wait = true;  // wait for the jobs (Ctrl-C cancels them); false: submit and return
-
-  // The array tasks of a stage that splits (mvs_tasks, texture_tasks).
-  int tasks_of(const std::string& stage) const;
-};
-
-// The keys --executor-option takes (section "slurm"), with their ranges and
-// documentation.
-void register_options(OptionSet& set, SlurmOptions& o);
-
-// Parses KEY=VALUE items through that table; ConfigError naming an unknown
-// key (and the known ones) or a bad value and the allowed ones.
-SlurmOptions parse_slurm_options(const std::vector<std::string>& items);
 
 // Checks that Slurm can take jobs from here: sbatch, squeue, scancel and
 // sinfo are on PATH and sinfo reaches the controller. Throws ConfigError

@@ -1,4 +1,4 @@
-#include "pipeline/job_estimates.h"
+#include "pipeline/slurm/job_estimates.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "pipeline/report_viewer.h"
+#include "pipeline/report/report_viewer.h"
 
 #include <algorithm>
 #include <cmath>

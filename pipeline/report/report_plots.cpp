@@ -1,4 +1,4 @@
-#include "pipeline/report_plots.h"
+#include "pipeline/report/report_plots.h"
 
 #include <algorithm>
 #include <fstream>
@@ -11,7 +11,7 @@
 #include "core/error.h"
 #include "core/histogram.h"
 #include "core/json_report.h"
-#include "pipeline/svg_plot.h"
+#include "pipeline/report/svg_plot.h"
 
 namespace hos::pipeline {
 namespace fs = std::filesystem;
