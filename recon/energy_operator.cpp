@@ -77,6 +77,31 @@ void EnergyOperator::set_active(std::shared_ptr<const ActiveNodes> active) {
   active_ = std::move(active);
 }
 
+template <typename T>
+void EnergyOperator::add_total_variation(const NodeSpan& span, std::int64_t start, const T* x, T* row) const {
+  // -div(w grad x) with edge weights (w_i + w_j) / 2; ghosts are zero. The
+  // weights are per grid node: TV operators cover the whole grid, whose
+  // storage index is the node index.
+  const Eigen::Vector3i d = geometry_.dims;
+  const double tv_scale = tv_weight_ / (geometry_.spacing * geometry_.spacing);
+  const std::int64_t strides[3] = {1, d.x(), std::int64_t{d.x()} * d.y()};
+  for (int i = span.begin; i < span.end; ++i) {
+    const Eigen::Vector3i p(i, span.j, span.k);
+    const std::int64_t idx = start + i;
+    const double wi = tv_node_weights_[idx];
+    double t = 0.0;
+    for (int a = 0; a < 3; ++a) {
+      for (int sgn : {-1, 1}) {
+        const bool inside = sgn > 0 ? p[a] < d[a] - 1 : p[a] > 0;
+        const std::int64_t nb = idx + sgn * strides[a];
+        const double wj = inside ? tv_node_weights_[nb] : wi;
+        t += 0.5 * (wi + wj) * (x[idx] - (inside ? x[nb] : T(0)));
+      }
+    }
+    row[i] += static_cast<T>(tv_scale * t);
+  }
+}
+
 template <bool kWithL1, typename T, typename SpanFn>
 void EnergyOperator::for_each_span(const T* x, SpanFn&& span_fn) const {
   const GridGeometry& g = geometry_;
@@ -90,8 +115,6 @@ void EnergyOperator::for_each_span(const T* x, SpanFn&& span_fn) const {
     for (int q = 0; q < stencil_rows_[r].count; ++q) row_coefficients[r][q] = static_cast<T>(stencil_rows_[r].c[q]);
   }
   const bool tv = !tv_node_weights_.empty();
-  const double tv_scale = tv_weight_ / (g.spacing * g.spacing);
-  const std::int64_t strides[3] = {1, d.x(), std::int64_t{d.x()} * d.y()};
   const ActiveNodes& active = *active_;
   const std::vector<NodeSpan>& spans = active.spans();
   const std::int64_t num_spans = static_cast<std::int64_t>(spans.size());
@@ -128,26 +151,7 @@ void EnergyOperator::for_each_span(const T* x, SpanFn&& span_fn) const {
       }
       // Storage index of node i of this span: start + i.
       const std::int64_t start = span.first - b;
-      if (tv) {
-        // -div(w grad x) with edge weights (w_i + w_j) / 2; ghosts are zero.
-        // The weights are per grid node: TV operators cover the whole grid,
-        // whose storage index is the node index.
-        for (int i = b; i < e; ++i) {
-          const Eigen::Vector3i p(i, j, k);
-          const std::int64_t idx = start + i;
-          const double wi = tv_node_weights_[idx];
-          double t = 0.0;
-          for (int a = 0; a < 3; ++a) {
-            for (int sgn : {-1, 1}) {
-              const bool inside = sgn > 0 ? p[a] < d[a] - 1 : p[a] > 0;
-              const std::int64_t nb = idx + sgn * strides[a];
-              const double wj = inside ? tv_node_weights_[nb] : wi;
-              t += 0.5 * (wi + wj) * (x[idx] - (inside ? x[nb] : T(0)));
-            }
-          }
-          row[i] += static_cast<T>(tv_scale * t);
-        }
-      }
+      if (tv) add_total_variation(span, start, x, row);
       if (!screening_->empty()) {
         std::array<const T*, 9> x_rows;
         for (int q = 0; q < 9; ++q) x_rows[q] = x_row(q % 3 - 1, q / 3 - 1);

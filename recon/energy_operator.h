@@ -82,6 +82,10 @@ class EnergyOperator {
   // (span_fn(start, begin, end, ax, l1), l1 indexed like ax).
   template <bool kWithL1 = false, typename T, typename SpanFn>
   void for_each_span(const T* x, SpanFn&& span_fn) const;
+  // row[i] += the total-variation term's row of node i of the span applied
+  // to x (storage index of node i: start + i).
+  template <typename T>
+  void add_total_variation(const NodeSpan& span, std::int64_t start, const T* x, T* row) const;
   // l1_row[i] = the l1 row sum of node i of the span, begin <= i < end.
   template <typename T>
   void l1_row(const NodeSpan& span, T* l1_row) const;

@@ -416,11 +416,7 @@ ScalarGrid density_scaled_rhs(const GridGeometry& geometry,
   const std::int64_t plane = std::int64_t{d.x()} * d.y();
   // Per thread a window of F in planes k - 1, k, k + 1 (see
   // for_each_plane_in_blocks).
-  int blocks = 1;
-#ifdef _OPENMP
-  if (worth_threads(geometry.num_nodes())) blocks = 4 * omp_get_max_threads();
-#endif
-  blocks = std::min(blocks, d.z());
+  const int blocks = plane_blocks(geometry.num_nodes(), d.z());
 #pragma omp parallel
   {
     // window[k mod 3][a]: component a of F in plane k.
@@ -447,6 +443,31 @@ ScalarGrid density_scaled_rhs(const GridGeometry& geometry,
   return rhs;
 }
 
+namespace {
+
+// The stored spans of a band grouped by plane: the spans of plane k are
+// [plane_span[k], plane_span[k + 1]), their storage contiguous from first(k).
+struct StoredPlanes {
+  StoredPlanes(const ActiveNodes& nodes, int num_planes)
+      : spans(nodes.stored_spans()), plane_span(num_planes + 1, spans.size()), storage_size(nodes.storage_size()) {
+    for (std::size_t s = spans.size(); s-- > 0;) plane_span[spans[s].k] = s;
+    for (int k = num_planes - 1; k >= 0; --k) plane_span[k] = std::min(plane_span[k], plane_span[k + 1]);
+  }
+  std::int64_t first(int k) const { return plane_span[k] < spans.size() ? spans[plane_span[k]].first : storage_size; }
+  // The most nodes any plane stores.
+  std::int64_t largest() const {
+    std::int64_t n = 0;
+    for (int k = 0; k + 1 < static_cast<int>(plane_span.size()); ++k) n = std::max(n, first(k + 1) - first(k));
+    return n;
+  }
+
+  std::vector<NodeSpan> spans;
+  std::vector<std::size_t> plane_span;
+  std::int64_t storage_size;
+};
+
+}  // namespace
+
 StoredField density_scaled_rhs_near_samples(const GridGeometry& geometry,
                                             const std::vector<Eigen::Vector3f>& points,
                                             const std::vector<Eigen::Vector3f>& normals,
@@ -469,24 +490,14 @@ StoredField density_scaled_rhs_near_samples(const GridGeometry& geometry,
   // density is) evaluated plane by plane: three planes of it at a time
   // instead of three band-sized arrays (bunny at grid 1024: 800 MB).
   const Eigen::Vector3i d = geometry.dims;
-  const std::vector<NodeSpan> spans = nodes.stored_spans();
-  // Spans of plane k: [plane_span[k], plane_span[k + 1]); their storage is
-  // contiguous, from plane_first(k) on.
-  std::vector<std::size_t> plane_span(d.z() + 1, spans.size());
-  for (std::size_t s = spans.size(); s-- > 0;) plane_span[spans[s].k] = s;
-  for (int k = d.z() - 1; k >= 0; --k) plane_span[k] = std::min(plane_span[k], plane_span[k + 1]);
-  const auto plane_first = [&](int k) {
-    return plane_span[k] < spans.size() ? spans[plane_span[k]].first : nodes.storage_size();
-  };
-  std::int64_t largest_plane = 0;
-  for (int k = 0; k < d.z(); ++k) largest_plane = std::max(largest_plane, plane_first(k + 1) - plane_first(k));
+  const StoredPlanes planes(nodes, d.z());
+  const std::vector<NodeSpan>& spans = planes.spans;
+  const std::vector<std::size_t>& plane_span = planes.plane_span;
+  const auto plane_first = [&](int k) { return planes.first(k); };
+  const std::int64_t largest_plane = planes.largest();
   const double factor = -scale / (2.0 * geometry.spacing);
   assign_large(rhs.values, static_cast<std::size_t>(nodes.storage_size()));
-  int blocks = 1;
-#ifdef _OPENMP
-  if (worth_threads(nodes.storage_size())) blocks = 4 * omp_get_max_threads();
-#endif
-  blocks = std::max(1, std::min(blocks, d.z()));
+  const int blocks = plane_blocks(nodes.storage_size(), d.z());
 #pragma omp parallel
   {
     // window[k mod 3][a]: component a of F in plane k, from plane_first(k) on.
@@ -540,3 +551,16 @@ StoredField density_scaled_rhs_near_samples(const GridGeometry& geometry,
 }
 
 }  // namespace hos::recon
+namespace {
+
+// How many blocks of planes the threads share in for_each_plane_in_blocks
+// (one without threads, never more than the planes).
+int plane_blocks(std::int64_t nodes, int num_planes) {
+  int blocks = 1;
+#ifdef _OPENMP
+  if (worth_threads(nodes)) blocks = 4 * omp_get_max_threads();
+#endif
+  return std::max(1, std::min(blocks, num_planes));
+}
+
+}  // namespace
