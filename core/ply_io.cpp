@@ -84,6 +84,74 @@ struct PlyHeader {
   std::size_t data_offset = 0;
 };
 
+// One header line's words with its error context.
+class HeaderLine {
+ public:
+  HeaderLine(const std::string& file, int number, const std::string& text) : file_(file), number_(number), s_(text) {}
+  std::istringstream& words() { return s_; }
+  InputError bad(const std::string& reason) const {
+    return InputError(file_, "PLY header line " + std::to_string(number_) + ": " + reason);
+  }
+  PlyType type_named(const std::string& name) const {
+    for (const auto& t : kTypeNames) {
+      if (name == t.name) return t.type;
+    }
+    throw bad("unknown property type '" + name + "'");
+  }
+
+ private:
+  const std::string& file_;
+  int number_;
+  std::istringstream s_;
+};
+
+PlyFormat parse_format(HeaderLine& line) {
+  std::string format, version;
+  line.words() >> format >> version;
+  if (format == "ascii") return PlyFormat::kAscii;
+  if (format == "binary_little_endian") return PlyFormat::kBinaryLittleEndian;
+  if (format == "binary_big_endian") return PlyFormat::kBinaryBigEndian;
+  throw line.bad("unknown format '" + format + "'");
+}
+
+void add_element(HeaderLine& line, PlyHeader& header) {
+  PlyElement element;
+  long long count = -1;
+  if (!(line.words() >> element.name >> count) || count < 0) throw line.bad("malformed element line");
+  for (const PlyElement& other : header.elements) {
+    if (other.name == element.name) throw line.bad("element '" + element.name + "' appears twice");
+  }
+  element.count = static_cast<std::size_t>(count);
+  header.elements.push_back(std::move(element));
+}
+
+void add_property(HeaderLine& line, PlyHeader& header) {
+  if (header.elements.empty()) throw line.bad("property before any element");
+  PlyProperty property;
+  std::string type;
+  std::istringstream& s = line.words();
+  if (!(s >> type)) throw line.bad("malformed property line");
+  if (type == "list") {
+    std::string count_type, item_type;
+    if (!(s >> count_type >> item_type >> property.name)) throw line.bad("malformed list property");
+    property.is_list = true;
+    property.count_type = line.type_named(count_type);
+    property.type = line.type_named(item_type);
+  } else {
+    property.type = line.type_named(type);
+    if (!(s >> property.name)) throw line.bad("property without a name");
+  }
+  // A repeated name would fill one attribute twice (and leave its length
+  // inconsistent): the file cannot be read unambiguously.
+  PlyElement& element = header.elements.back();
+  for (const PlyProperty& other : element.properties) {
+    if (other.name == property.name) {
+      throw line.bad("property '" + property.name + "' appears twice in element '" + element.name + "'");
+    }
+  }
+  element.properties.push_back(property);
+}
+
 PlyHeader parse_header(const std::string& file, std::string_view data) {
   if (data.compare(0, 3, "ply") != 0 || (data.size() > 3 && data[3] != '\n' && data[3] != '\r')) {
     throw InputError(file, "not a PLY file (missing 'ply' magic line)");
@@ -91,79 +159,28 @@ PlyHeader parse_header(const std::string& file, std::string_view data) {
   PlyHeader header;
   bool have_format = false;
   std::size_t pos = 0;
-  int line_number = 0;
-  while (true) {
+  for (int line_number = 1;; ++line_number) {
     const auto end = data.find('\n', pos);
     if (end == std::string::npos) {
       throw InputError(file, "PLY header is truncated (no 'end_header' line)");
     }
-    std::string line(data.substr(pos, end - pos));
+    std::string text(data.substr(pos, end - pos));
     pos = end + 1;
-    ++line_number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream s(line);
+    if (!text.empty() && text.back() == '\r') text.pop_back();
+    HeaderLine line(file, line_number, text);
     std::string keyword;
-    s >> keyword;
-    const auto bad = [&](const std::string& reason) {
-      return InputError(file, "PLY header line " + std::to_string(line_number) + ": " + reason);
-    };
-    const auto parse_type = [&](const std::string& name) {
-      for (const auto& t : kTypeNames) {
-        if (name == t.name) return t.type;
-      }
-      throw bad("unknown property type '" + name + "'");
-    };
-    if (line_number == 1 || keyword.empty() || keyword == "comment" || keyword == "obj_info") {
-      continue;
-    } else if (keyword == "format") {
-      std::string format, version;
-      s >> format >> version;
-      if (format == "ascii") {
-        header.format = PlyFormat::kAscii;
-      } else if (format == "binary_little_endian") {
-        header.format = PlyFormat::kBinaryLittleEndian;
-      } else if (format == "binary_big_endian") {
-        header.format = PlyFormat::kBinaryBigEndian;
-      } else {
-        throw bad("unknown format '" + format + "'");
-      }
+    line.words() >> keyword;
+    if (line_number == 1 || keyword.empty() || keyword == "comment" || keyword == "obj_info") continue;
+    if (keyword == "end_header") break;
+    if (keyword == "format") {
+      header.format = parse_format(line);
       have_format = true;
     } else if (keyword == "element") {
-      PlyElement element;
-      long long count = -1;
-      if (!(s >> element.name >> count) || count < 0) throw bad("malformed element line");
-      for (const PlyElement& other : header.elements) {
-        if (other.name == element.name) throw bad("element '" + element.name + "' appears twice");
-      }
-      element.count = static_cast<std::size_t>(count);
-      header.elements.push_back(std::move(element));
+      add_element(line, header);
     } else if (keyword == "property") {
-      if (header.elements.empty()) throw bad("property before any element");
-      PlyProperty property;
-      std::string type;
-      if (!(s >> type)) throw bad("malformed property line");
-      if (type == "list") {
-        std::string count_type, item_type;
-        if (!(s >> count_type >> item_type >> property.name)) throw bad("malformed list property");
-        property.is_list = true;
-        property.count_type = parse_type(count_type);
-        property.type = parse_type(item_type);
-      } else {
-        property.type = parse_type(type);
-        if (!(s >> property.name)) throw bad("property without a name");
-      }
-      // A repeated name would fill one attribute twice (and leave its
-      // length inconsistent): the file cannot be read unambiguously.
-      for (const PlyProperty& other : header.elements.back().properties) {
-        if (other.name == property.name) {
-          throw bad("property '" + property.name + "' appears twice in element '" + header.elements.back().name + "'");
-        }
-      }
-      header.elements.back().properties.push_back(property);
-    } else if (keyword == "end_header") {
-      break;
+      add_property(line, header);
     } else {
-      throw bad("unknown keyword '" + keyword + "'");
+      throw line.bad("unknown keyword '" + keyword + "'");
     }
   }
   if (!have_format) throw InputError(file, "PLY header has no 'format' line");
