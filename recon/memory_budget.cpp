@@ -8,7 +8,7 @@
 
 #include "core/error.h"
 #include "recon/active_nodes.h"
-#include "recon/reconstruct.h"
+#include "recon/domain.h"
 
 namespace hos::recon {
 namespace {

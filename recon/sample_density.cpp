@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "recon/reconstruct.h"
+#include "recon/domain.h"
 
 namespace hos::recon {
 

@@ -4,8 +4,9 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/reporter.h"
+#include "recon/domain.h"
 #include "recon/memory_budget.h"
-#include "recon/reconstruct.h"
 
 namespace hos::recon {
 namespace {
