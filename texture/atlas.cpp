@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <opencv2/imgproc.hpp>
 
 #include "texture/atlas_packing.h"
@@ -12,7 +13,8 @@ namespace hos::texture {
 
 namespace {
 
-constexpr int kFlatCell = 2;  // texels per side of a flat face's patch (sampled at its centre)
+constexpr int kFlatCell = 2;        // texels per side of a flat face's patch (sampled at its centre)
+constexpr int kFlatColourStep = 4;  // flat colours this close (8-bit) share a patch
 
 // A chart's map from its view's photo pixels to page texels (texel = linear *
 // pixel + offset; a rotation, scale and translation, so texels are resampled
@@ -128,7 +130,36 @@ std::vector<ChartFrame> project_charts(const TriangleMesh& mesh,
   return frames;
 }
 
-// Where every chart (first) and flat-face patch (after them) goes.
+// The distinct colours of the faces no view sees (rounded to
+// kFlatColourStep), one patch each, in one block of patches.
+struct FlatPatches {
+  std::vector<cv::Vec3b> colours;
+  std::vector<int> patch_of;  // per flat face
+  int columns = 0, rows = 0;  // of the block, in patches
+};
+
+FlatPatches flat_patches(const std::vector<FlatFace>& flat_faces) {
+  FlatPatches out;
+  std::map<std::array<int, 3>, int> index;
+  for (const FlatFace& face : flat_faces) {
+    const cv::Vec3b bgr = to_bgr(face.rgb);
+    std::array<int, 3> key;
+    cv::Vec3b rounded;
+    for (int k = 0; k < 3; ++k) {
+      key[k] = (bgr[k] + kFlatColourStep / 2) / kFlatColourStep;
+      rounded[k] = static_cast<std::uint8_t>(std::min(255, key[k] * kFlatColourStep));
+    }
+    const auto [it, inserted] = index.emplace(key, static_cast<int>(out.colours.size()));
+    if (inserted) out.colours.push_back(rounded);
+    out.patch_of.push_back(it->second);
+  }
+  const int n = static_cast<int>(out.colours.size());
+  out.columns = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));
+  out.rows = out.columns > 0 ? (n + out.columns - 1) / out.columns : 0;
+  return out;
+}
+
+// Where every chart (first) and the block of flat patches (last, if any) goes.
 struct Packing {
   std::vector<FootprintPlacement> placements;
   std::vector<cv::Size> footprint_sizes;  // before the turn
@@ -139,16 +170,16 @@ struct Packing {
 
 // The chart at scale s in its own footprint: sets frame.scale and the map
 // into the footprint's texels (before the turn and the placement) and returns
-// the footprint, the texels the chart covers dilated by the padding, cropped
-// to its bounding box.
-cv::Mat chart_footprint(const Chart& chart, ChartFrame& frame, double s, int pad, int page_size) {
+// the footprint, the texels whose centres the chart covers, cropped to their
+// bounding box (the packer keeps the padding between footprints).
+cv::Mat chart_footprint(const Chart& chart, ChartFrame& frame, double s, int page_size) {
   Eigen::Vector2d lo = Eigen::Vector2d::Constant(1e300), hi = Eigen::Vector2d::Constant(-1e300);
   for (const auto& p : frame.pixels) {
     lo = lo.cwiseMin(frame.orientation * p);
     hi = hi.cwiseMax(frame.orientation * p);
   }
   const Eigen::Vector2d extent = hi - lo;
-  const int margin = pad + 1;
+  const int margin = 1;
   // A chart wider than a page is scaled down on its own.
   const double limit = page_size - 2 * margin - 2;
   if (extent.maxCoeff() * s > limit) s = limit / extent.maxCoeff();
@@ -163,10 +194,6 @@ cv::Mat chart_footprint(const Chart& chart, ChartFrame& frame, double s, int pad
     raster_triangle(texel[face[0]], texel[face[1]], texel[face[2]], mask.cols, mask.rows,
                     [&](int x, int y, const Eigen::Vector3d&) { mask.at<std::uint8_t>(y, x) = 255; });
   }
-  // Every chart keeps at least one ring of its own texels (bilinear lookups
-  // at its border) and the padding's rings (mipmaps).
-  const int rings = std::max(pad, 1);
-  cv::dilate(mask, mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * rings + 1, 2 * rings + 1)));
   const cv::Rect box = cv::boundingRect(mask);
   if (box.area() == 0) return cv::Mat(1, 1, CV_8U, cv::Scalar(255));  // degenerate: one texel
   frame.offset -= Eigen::Vector2d(box.x, box.y);
@@ -194,20 +221,22 @@ double packed_texels(const std::vector<cv::Mat>& footprints,
 // suffice; sets every frame's map into its page.
 Packing pack_charts(const std::vector<Chart>& charts,
                     std::vector<ChartFrame>& frames,
-                    int num_flat,
+                    const FlatPatches& flat,
                     const TextureOptions& options) {
   const int num_charts = static_cast<int>(frames.size());
   const int page_size = options.atlas_size;
   Packing packing;
   packing.scale = options.texel_scale;
-  std::vector<cv::Mat> footprints(num_charts + num_flat);
+  const bool has_flat = !flat.colours.empty();
+  std::vector<cv::Mat> footprints(num_charts + (has_flat ? 1 : 0));
   for (int attempt = 0;; ++attempt) {
 #pragma omp parallel for schedule(dynamic)
     for (int c = 0; c < num_charts; ++c) {
-      footprints[c] = chart_footprint(charts[c], frames[c], packing.scale, options.padding, page_size);
+      footprints[c] = chart_footprint(charts[c], frames[c], packing.scale, page_size);
     }
-    for (int k = 0; k < num_flat; ++k)
-      footprints[num_charts + k] = cv::Mat(kFlatCell, kFlatCell, CV_8U, cv::Scalar(255));
+    if (has_flat) {
+      footprints[num_charts] = cv::Mat(flat.rows * kFlatCell, flat.columns * kFlatCell, CV_8U, cv::Scalar(255));
+    }
     // Page width: a few widths around the square root of the footprints'
     // area (small models get a page about their size, not a long strip),
     // keeping the packing with the fewest texels; a full page if the charts
@@ -223,7 +252,8 @@ Packing pack_charts(const std::vector<Chart>& charts,
       const int width =
           std::min(page_size, std::max(widest, (static_cast<int>(factor * std::sqrt(area)) + 15) / 16 * 16));
       int pages = 0;
-      std::vector<FootprintPlacement> placements = pack_footprints(footprints, width, page_size, &pages);
+      std::vector<FootprintPlacement> placements =
+          pack_footprints(footprints, options.padding, width, page_size, &pages);
       const double texels = packed_texels(footprints, placements, width, pages);
       if (texels < best_texels) {
         best_texels = texels;
@@ -423,24 +453,30 @@ void fill_chart(const AtlasSources& src,
   }
 }
 
-// The flat-coloured patches of faces that no view sees.
-void place_flat_faces(const std::vector<FlatFace>& flat_faces,
-                      const Packing& packing,
-                      int num_charts,
-                      Atlas& atlas,
-                      std::vector<cv::Mat>& filled) {
-  const int num_flat = static_cast<int>(flat_faces.size());
+// The flat-coloured patches of faces that no view sees: the block's
+// patches in rows of its placed (maybe turned) rectangle.
+void place_flat_faces(
+    const FlatPatches& flat, const Packing& packing, int num_charts, Atlas& atlas, std::vector<cv::Mat>& filled) {
+  const int num_flat = static_cast<int>(flat.patch_of.size());
   atlas.flat_page.resize(num_flat);
   atlas.flat_uvs.resize(num_flat);
-  for (int k = 0; k < num_flat; ++k) {
-    const cv::Rect r = placed_rect(packing, static_cast<std::size_t>(num_charts + k));
-    const int page = packing.placements[static_cast<std::size_t>(num_charts + k)].page;
-    cv::Mat& image = atlas.pages[page];
-    image(r).setTo(to_bgr(flat_faces[k].rgb));
+  if (flat.colours.empty()) return;
+  const cv::Rect block = placed_rect(packing, static_cast<std::size_t>(num_charts));
+  const int page = packing.placements[static_cast<std::size_t>(num_charts)].page;
+  cv::Mat& image = atlas.pages[page];
+  const int per_row = block.width / kFlatCell;
+  std::vector<Eigen::Vector2f> uv_of(flat.colours.size());
+  for (std::size_t k = 0; k < flat.colours.size(); ++k) {
+    const cv::Rect r(block.x + static_cast<int>(k % per_row) * kFlatCell,
+                     block.y + static_cast<int>(k / per_row) * kFlatCell, kFlatCell, kFlatCell);
+    image(r).setTo(flat.colours[k]);
     filled[page](r).setTo(255);
+    uv_of[k] = Eigen::Vector2f(static_cast<float>((r.x + 0.5 * r.width) / image.cols),
+                               static_cast<float>((r.y + 0.5 * r.height) / image.rows));
+  }
+  for (int k = 0; k < num_flat; ++k) {
     atlas.flat_page[k] = page;
-    atlas.flat_uvs[k] = Eigen::Vector2f(static_cast<float>((r.x + 0.5 * r.width) / image.cols),
-                                        static_cast<float>((r.y + 0.5 * r.height) / image.rows));
+    atlas.flat_uvs[k] = uv_of[flat.patch_of[k]];
   }
 }
 
@@ -458,7 +494,8 @@ Atlas build_atlas(const TriangleMesh& mesh,
                   Reporter& reporter) {
   const int num_charts = static_cast<int>(charts.size());
   std::vector<ChartFrame> frames = project_charts(mesh, charts, views);
-  const Packing packing = pack_charts(charts, frames, static_cast<int>(flat_faces.size()), options);
+  const FlatPatches flat = flat_patches(flat_faces);
+  const Packing packing = pack_charts(charts, frames, flat, options);
 
   Atlas atlas;
   atlas.texel_scale = packing.scale;
@@ -480,7 +517,7 @@ Atlas build_atlas(const TriangleMesh& mesh,
   }
   reporter.end();
 
-  place_flat_faces(flat_faces, packing, num_charts, atlas, filled);
+  place_flat_faces(flat, packing, num_charts, atlas, filled);
   for (int p = 0; p < packing.num_pages; ++p) dilate(atlas.pages[p], filled[p], options.padding + 1);
   return atlas;
 }

@@ -1,12 +1,14 @@
 // Texture atlas: every chart is projected with its view's camera and turned
 // so its minimum-area rectangle lies along the axes (a similarity of the
 // photo's pixels, so texels are resampled once); the charts' footprints (the
-// texels they cover plus options.padding rings) are packed by shape, in
-// quarter turns, into pages of at most options.atlas_size (atlas_packing.h),
-// and texels are filled from the photo (times the exposure gain, plus the
-// seam-leveling offset interpolated over each face). Texels around the
-// charts are dilated into the padding so mipmaps do not mix neighbouring
-// charts.
+// texels they cover) are packed by shape, in quarter turns, options.padding
+// free texels apart, into pages of at most options.atlas_size
+// (atlas_packing.h), and texels are filled from the photo (times the
+// exposure gain, plus the seam-leveling offset interpolated over each face).
+// The charts' texels are dilated into the gaps between them, each chart's
+// own colour meeting its neighbour's halfway, so bilinear lookups (one ring)
+// and the first mipmap levels do not mix neighbouring charts. Faces no view
+// sees share one 2x2 patch per distinct colour.
 #pragma once
 
 #include <Eigen/Core>

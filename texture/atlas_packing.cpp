@@ -1,8 +1,10 @@
 #include "texture/atlas_packing.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <limits>
 #include <numeric>
+#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
 namespace hos::texture {
@@ -48,124 +50,181 @@ QuarterTurn quarter_turn(int width, int height, int quarter_turns) {
 
 namespace {
 
-// A turned mask's shape as the packer sees it: per column the first and one
-// past the last occupied row (columns without texels: top = height, bottom = 0).
-struct Profile {
-  int width = 0, height = 0;
-  std::vector<int> top, bottom;
+// A turned mask as the packer tests it: its runs of occupied texels, row by
+// row (a concave shape's hollows stay open to other footprints).
+struct Run {
+  int row, begin, end;
 };
 
-Profile profile_of(const cv::Mat& mask) {
-  Profile p;
-  p.width = mask.cols;
-  p.height = mask.rows;
-  p.top.assign(mask.cols, mask.rows);
-  p.bottom.assign(mask.cols, 0);
+std::vector<Run> runs_of(const cv::Mat& mask) {
+  std::vector<Run> runs;
   for (int y = 0; y < mask.rows; ++y) {
     const std::uint8_t* row = mask.ptr<std::uint8_t>(y);
     for (int x = 0; x < mask.cols; ++x) {
       if (!row[x]) continue;
-      p.top[x] = std::min(p.top[x], y);
-      p.bottom[x] = y + 1;
+      const int begin = x;
+      while (x < mask.cols && row[x]) ++x;
+      runs.push_back(Run{y, begin, x});
     }
   }
-  return p;
+  return runs;
 }
 
-struct Candidate {
-  bool found = false;
-  int x = 0, y = 0;
-  double score = std::numeric_limits<double>::max();
+// One orientation of a footprint: its occupied texels and the span test of
+// those texels dilated by the gap (origin gap texels up and left of the mask's).
+struct Turn {
+  cv::Mat mask;
+  std::vector<Run> test;
 };
 
-// The best position of a profile on a page's skyline (first free row per
-// column): lowest resulting top edge, then least area left below the chart.
-Candidate best_position(const std::vector<int>& skyline, int page_height, const Profile& p) {
-  Candidate best;
-  const int page_width = static_cast<int>(skyline.size());
-  for (int x = 0; x + p.width <= page_width; ++x) {
-    int y = 0;
-    bool fits = true;
-    for (int i = 0; i < p.width; ++i) {
-      if (p.top[i] >= p.height) continue;
-      y = std::max(y, skyline[x + i] - p.top[i]);
-      if (y + p.height > page_height) {
-        fits = false;
-        break;
+// The texels of a page taken by placed masks, as the run of free texels from
+// each texel rightwards (positive) or of taken ones (negative), and the
+// longest free run per row: a position is tested in one lookup per row, and
+// a failed row says how far right the next candidate lies.
+class PageGrid {
+ public:
+  PageGrid(int width, int height)
+      : width_(width), height_(height), run_(std::size_t(width) * height, 1), longest_(height) {
+    for (int y = 0; y < height; ++y) update_row(y);
+  }
+
+  // The first position (lowest row, then leftmost column) of the turn's
+  // top-left texel where its mask lies inside the page, its bottom edge at
+  // most max_bottom, and its dilated runs (clipped to the page) meet no
+  // taken texel.
+  bool first_fit(const Turn& t, int gap, int max_bottom, int* out_x, int* out_y) const {
+    const std::vector<Run>& s = t.test;
+    for (int y = 0; y + t.mask.rows <= std::min(height_, max_bottom); ++y) {
+      if (!rows_may_fit(s, gap, y)) continue;
+      for (int x = 0; x + t.mask.cols <= width_;) {
+        const int next = blocked_until(s, gap, x, y);
+        if (next < 0) {
+          *out_x = x;
+          *out_y = y;
+          return true;
+        }
+        x = std::max(x + 1, next);
       }
     }
-    if (!fits) continue;
-    long long waste = 0;
-    int reach = 0;
-    for (int i = 0; i < p.width; ++i) {
-      if (p.top[i] >= p.height) continue;
-      waste += y + p.top[i] - skyline[x + i];
-      reach = std::max(reach, y + p.bottom[i]);
-    }
-    // Rows first keeps the skyline flat (the last page is cropped to it);
-    // the waste term lets a chart drop into a matching hollow.
-    const double score = static_cast<double>(reach) * p.width + static_cast<double>(waste);
-    if (score < best.score) best = Candidate{true, x, y, score};
+    return false;
   }
-  return best;
-}
+
+  void occupy(const cv::Mat& mask, int x0, int y0) {
+    for (int y = 0; y < mask.rows; ++y) {
+      const std::uint8_t* row = mask.ptr<std::uint8_t>(y);
+      bool any = false;
+      for (int x = 0; x < mask.cols; ++x) {
+        if (!row[x]) continue;
+        run_[std::size_t(y0 + y) * width_ + x0 + x] = -1;
+        any = true;
+      }
+      if (any) update_row(y0 + y);
+    }
+  }
+
+ private:
+  void update_row(int y) {
+    std::int16_t* r = &run_[std::size_t(y) * width_];
+    int free = 0, taken = 0, longest = 0;
+    for (int x = width_ - 1; x >= 0; --x) {
+      if (r[x] < 0) {
+        free = 0;
+        r[x] = static_cast<std::int16_t>(-++taken);
+      } else {
+        taken = 0;
+        r[x] = static_cast<std::int16_t>(++free);
+        longest = std::max(longest, free);
+      }
+    }
+    longest_[y] = longest;
+  }
+
+  // Quick rejection: some run (less what clipping may cut) is longer than
+  // the longest free run of its page row.
+  bool rows_may_fit(const std::vector<Run>& runs, int gap, int y) const {
+    for (const Run& r : runs) {
+      const int row = y - gap + r.row;
+      if (row >= 0 && row < height_ && longest_[row] < r.end - r.begin - 2 * gap) return false;
+    }
+    return true;
+  }
+
+  // -1 if the runs fit at (x, y); else the next column worth trying.
+  int blocked_until(const std::vector<Run>& runs, int gap, int x, int y) const {
+    for (const Run& r : runs) {
+      const int row = y - gap + r.row;
+      if (row < 0 || row >= height_) continue;
+      const int b = std::max(0, x - gap + r.begin), e = std::min(width_, x - gap + r.end);
+      if (b >= e) continue;
+      const std::int16_t* texels = &run_[std::size_t(row) * width_];
+      const int free = texels[b];
+      if (free >= e - b) continue;
+      // The run must start past the taken run at b (free < 0) or at b + free.
+      const int taken_at = free < 0 ? b : b + free;
+      return taken_at - texels[taken_at] + gap - r.begin;
+    }
+    return -1;
+  }
+
+  int width_, height_;
+  std::vector<std::int16_t> run_;
+  std::vector<int> longest_;
+};
 
 }  // namespace
 
-std::vector<FootprintPlacement> pack_footprints(const std::vector<cv::Mat>& masks,
-                                                int page_width,
-                                                int page_height,
-                                                int* num_pages) {
+std::vector<FootprintPlacement> pack_footprints(
+    const std::vector<cv::Mat>& masks, int gap, int page_width, int page_height, int* num_pages) {
+  if (page_width > std::numeric_limits<std::int16_t>::max()) throw std::invalid_argument("atlas page too wide");
   std::vector<int> order(masks.size());
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    const int sa = std::max(masks[a].rows, masks[a].cols), sb = std::max(masks[b].rows, masks[b].cols);
-    return sa != sb ? sa > sb : masks[a].total() > masks[b].total();
-  });
+  // Largest first (occupied texels): the small ones then fill the hollows.
+  std::vector<int> area(masks.size());
+  for (std::size_t i = 0; i < masks.size(); ++i) area[i] = cv::countNonZero(masks[i]);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return area[a] > area[b]; });
+  const cv::Mat ring = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * gap + 1, 2 * gap + 1));
   std::vector<FootprintPlacement> placements(masks.size());
-  std::vector<std::vector<int>> skylines;
-  std::vector<int> lowest;  // per page: the lowest skyline row (a page is full when nothing fits above it)
+  std::vector<PageGrid> pages;
   for (int i : order) {
+    cv::Mat dilated;
+    cv::copyMakeBorder(masks[i], dilated, gap, gap, gap, gap, cv::BORDER_CONSTANT, cv::Scalar(0));
+    if (gap > 0) cv::dilate(dilated, dilated, ring);
     const bool square = masks[i].rows == masks[i].cols;
-    std::vector<Profile> turns;
+    std::vector<Turn> turns;
     for (int q = 0; q < 4; ++q) {
       if (q > 0 && square && masks[i].total() <= 64) break;  // tiny: turning gains nothing
-      turns.push_back(profile_of(turn_mask(masks[i], q)));
+      turns.push_back(Turn{turn_mask(masks[i], q), runs_of(turn_mask(dilated, q))});
     }
+    // The first page that takes it; there the turn whose bottom edge is
+    // lowest (keeps the filled part compact), then the leftmost.
     FootprintPlacement chosen;
-    double chosen_score = std::numeric_limits<double>::max();
-    for (std::size_t page = 0; page < skylines.size() && chosen.page < 0; ++page) {
+    auto try_page = [&](int page) {
+      long long best = std::numeric_limits<long long>::max();
+      int best_bottom = page_height;  // a turn reaching lower cannot win
       for (int q = 0; q < static_cast<int>(turns.size()); ++q) {
-        if (lowest[page] + std::min(turns[q].height, turns[q].width) > page_height) continue;
-        const Candidate c = best_position(skylines[page], page_height, turns[q]);
-        if (c.found && c.score < chosen_score) {
-          chosen_score = c.score;
-          chosen = FootprintPlacement{static_cast<int>(page), c.x, c.y, q};
+        int x = 0, y = 0;
+        if (!pages[page].first_fit(turns[q], gap, best_bottom, &x, &y)) continue;
+        const long long key = static_cast<long long>(y + turns[q].mask.rows) * page_width + x;
+        if (key < best) {
+          best = key;
+          best_bottom = y + turns[q].mask.rows;
+          chosen = FootprintPlacement{page, x, y, q};
         }
       }
-    }
-    if (chosen.page < 0) {  // a new page
-      skylines.emplace_back(page_width, 0);
-      lowest.push_back(0);
-      const int page = static_cast<int>(skylines.size()) - 1;
-      for (int q = 0; q < static_cast<int>(turns.size()); ++q) {
-        const Candidate c = best_position(skylines[page], page_height, turns[q]);
-        if (c.found && c.score < chosen_score) {
-          chosen_score = c.score;
-          chosen = FootprintPlacement{page, c.x, c.y, q};
-        }
+      return chosen.page >= 0;
+    };
+    bool placed = false;
+    for (int page = 0; page < static_cast<int>(pages.size()) && !placed; ++page) placed = try_page(page);
+    if (!placed) {
+      pages.emplace_back(page_width, page_height);
+      if (!try_page(static_cast<int>(pages.size()) - 1)) {
+        throw std::invalid_argument("a chart is larger than the atlas page");
       }
-      if (chosen.page < 0) throw std::invalid_argument("a chart is larger than the atlas page");
     }
-    const Profile& p = turns[chosen.quarter_turns];
-    std::vector<int>& skyline = skylines[chosen.page];
-    for (int k = 0; k < p.width; ++k) {
-      if (p.top[k] < p.height) skyline[chosen.x + k] = std::max(skyline[chosen.x + k], chosen.y + p.bottom[k]);
-    }
-    lowest[chosen.page] = *std::min_element(skyline.begin(), skyline.end());
+    pages[chosen.page].occupy(turns[chosen.quarter_turns].mask, chosen.x, chosen.y);
     placements[i] = chosen;
   }
-  *num_pages = static_cast<int>(skylines.size());
+  *num_pages = static_cast<int>(pages.size());
   return placements;
 }
 

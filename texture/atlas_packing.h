@@ -1,7 +1,10 @@
-// Packing of chart footprints into atlas pages: a skyline packer that follows
-// every footprint's shape (its highest and lowest occupied texel per column),
-// so charts interlock instead of taking their whole bounding rectangle, and
-// tries the quarter turns of every footprint.
+// Packing of chart footprints into atlas pages by shape: every footprint,
+// largest (occupied texels) first, goes where its texels, dilated by the
+// gap, meet no texel already placed, in the quarter turn and position whose
+// bottom edge is lowest (then leftmost) on the first page that takes it; so
+// charts fill the hollows left between and inside earlier ones instead of
+// taking their whole bounding rectangle, and two charts share the gap
+// between them instead of each bringing its own.
 #pragma once
 
 #include <Eigen/Core>
@@ -19,13 +22,12 @@ struct FootprintPlacement {
 };
 
 // Packs the masks (CV_8U, nonzero = occupied) into pages of page_width x
-// page_height, largest first; returns one placement per mask and sets the
-// number of pages. Occupied texels of different masks never share a texel.
-// Throws std::invalid_argument if a mask fits a page in no orientation.
-std::vector<FootprintPlacement> pack_footprints(const std::vector<cv::Mat>& masks,
-                                                int page_width,
-                                                int page_height,
-                                                int* num_pages);
+// page_height; returns one placement per mask and sets the number of pages.
+// Occupied texels of different masks are more than gap texels apart in x or
+// y (gap free texels between them); the page border needs no gap. Throws
+// std::invalid_argument if a mask fits a page in no orientation.
+std::vector<FootprintPlacement> pack_footprints(
+    const std::vector<cv::Mat>& masks, int gap, int page_width, int page_height, int* num_pages);
 
 // The mask turned clockwise by quarter_turns (0-3) quarter turns.
 cv::Mat turn_mask(const cv::Mat& mask, int quarter_turns);

@@ -75,7 +75,7 @@ std::vector<cv::Mat> draw_placements(const std::vector<cv::Mat>& masks,
 TEST(AtlasPacking, FootprintsNeverOverlapAndStayInPages) {
   const std::vector<cv::Mat> masks = random_masks(600, 90, 3);
   int pages = 0;
-  const std::vector<FootprintPlacement> placements = pack_footprints(masks, 512, 512, &pages);
+  const std::vector<FootprintPlacement> placements = pack_footprints(masks, 0, 512, 512, &pages);
   EXPECT_GE(pages, 2);
   draw_placements(masks, placements, 512, 512, pages);
 }
@@ -84,10 +84,45 @@ TEST(AtlasPacking, FootprintsNeverOverlapAndStayInPages) {
 // pages up to the highest occupied row. Rectangles around these shapes
 // (ellipses pi/4, triangles 1/2, L shapes about 5/9 of their box) would
 // reach at most 0.6 even if the rectangles themselves were packed perfectly.
+// Two footprints' texels keep gap free texels between them in x and y:
+// every placed mask, dilated by the gap, meets no other mask's texel.
+TEST(AtlasPacking, FootprintsKeepTheGapBetweenThem) {
+  const std::vector<cv::Mat> masks = random_masks(300, 40, 7);
+  const int gap = 2;
+  int pages = 0;
+  const std::vector<FootprintPlacement> placements = pack_footprints(masks, gap, 256, 256, &pages);
+  std::vector<cv::Mat> owner(pages);
+  for (auto& o : owner) o = cv::Mat(256, 256, CV_32S, cv::Scalar(-1));
+  for (std::size_t i = 0; i < masks.size(); ++i) {
+    const FootprintPlacement& p = placements[i];
+    const cv::Mat turned = turn_mask(masks[i], p.quarter_turns);
+    cv::Mat region = owner[p.page](cv::Rect(p.x, p.y, turned.cols, turned.rows));
+    region.setTo(static_cast<int>(i), turned);
+  }
+  const cv::Mat ring = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * gap + 1, 2 * gap + 1));
+  int violations = 0;
+  for (std::size_t i = 0; i < masks.size(); ++i) {
+    const FootprintPlacement& p = placements[i];
+    cv::Mat page_mask(256, 256, CV_8U, cv::Scalar(0));
+    turn_mask(masks[i], p.quarter_turns)
+        .copyTo(page_mask(
+            cv::Rect(p.x, p.y, turn_mask(masks[i], p.quarter_turns).cols, turn_mask(masks[i], p.quarter_turns).rows)));
+    cv::dilate(page_mask, page_mask, ring);
+    for (int y = 0; y < 256; ++y) {
+      for (int x = 0; x < 256; ++x) {
+        const int o = owner[p.page].at<int>(y, x);
+        if (page_mask.at<std::uint8_t>(y, x) && o >= 0 && o != static_cast<int>(i)) ++violations;
+      }
+    }
+  }
+  EXPECT_EQ(violations, 0);
+  draw_placements(masks, placements, 256, 256, pages);
+}
+
 TEST(AtlasPacking, IrregularShapesFillMostOfThePage) {
   const std::vector<cv::Mat> masks = random_masks(400, 60, 5);
   int pages = 0;
-  const std::vector<FootprintPlacement> placements = pack_footprints(masks, 512, 4096, &pages);
+  const std::vector<FootprintPlacement> placements = pack_footprints(masks, 0, 512, 4096, &pages);
   ASSERT_EQ(pages, 1);
   const cv::Mat canvas = draw_placements(masks, placements, 512, 4096, pages)[0];
   int used_rows = 0;
@@ -102,7 +137,7 @@ TEST(AtlasPacking, IrregularShapesFillMostOfThePage) {
 TEST(AtlasPacking, TurnsLongFootprintsToFitThePage) {
   std::vector<cv::Mat> masks = {cv::Mat(10, 200, CV_8U, cv::Scalar(255)), cv::Mat(200, 10, CV_8U, cv::Scalar(255))};
   int pages = 0;
-  const std::vector<FootprintPlacement> placements = pack_footprints(masks, 64, 256, &pages);
+  const std::vector<FootprintPlacement> placements = pack_footprints(masks, 0, 64, 256, &pages);
   EXPECT_EQ(pages, 1);
   EXPECT_EQ(placements[0].quarter_turns % 2, 1);  // 200 wide does not fit 64 unless turned
   draw_placements(masks, placements, 64, 256, pages);
@@ -111,7 +146,7 @@ TEST(AtlasPacking, TurnsLongFootprintsToFitThePage) {
 TEST(AtlasPacking, OversizedFootprintThrows) {
   const std::vector<cv::Mat> masks = {cv::Mat(600, 600, CV_8U, cv::Scalar(255))};
   int pages = 0;
-  EXPECT_THROW(pack_footprints(masks, 512, 512, &pages), std::invalid_argument);
+  EXPECT_THROW(pack_footprints(masks, 0, 512, 512, &pages), std::invalid_argument);
 }
 
 TEST(AtlasPacking, QuarterTurnMapsTexelCentresLikeTurnMask) {
