@@ -13,6 +13,7 @@
 #include "core/ply_io.h"
 #include "core/undistorted_workspace.h"
 #include "core/view_range.h"
+#include "texture/decimate.h"
 #include "texture/gltf_writer.h"
 #include "texture/model_writer.h"
 #include "texture/texture_mesh.h"
@@ -88,7 +89,22 @@ int main(int argc, char** argv) {
     hos::texture::GltfWriteOptions write_options;
     write_options.image_format = options.image_format;
     write_options.jpeg_quality = options.jpeg_quality;
+    write_options.mesh_compression = options.mesh_compression;
     hos::texture::write_model(output_path, result.mesh, write_options);
+    if (options.preview_max_faces > 0) {
+      // The level of detail a web page embeds (the run report).
+      hos::texture::DecimationStats preview_stats;
+      const hos::texture::TexturedMesh preview = hos::texture::preview_model(
+          result.mesh, static_cast<std::size_t>(options.preview_max_faces), options.preview_atlas_size, &preview_stats);
+      const std::filesystem::path preview_path = hos::texture::preview_model_path(output_path);
+      hos::texture::GltfWriteOptions preview_options;
+      preview_options.image_format = "jpeg";
+      preview_options.jpeg_quality = options.jpeg_quality;
+      preview_options.mesh_compression = options.mesh_compression;
+      hos::texture::write_glb(preview_path, preview, preview_options);
+      reporter.info(hos::format_message("wrote the preview ", preview_path.string(), " (", preview_stats.faces_after,
+                                        " faces, atlas ", preview.atlases[0].cols, "x", preview.atlases[0].rows, ")"));
+    }
     if (!report_path.empty()) hos::texture::write_texture_report(report_path, result);
     const auto& s = result.stats;
     reporter.info(hos::format_message("textured ", s.faces, " faces from ", s.num_views, " photos: ", s.num_charts,

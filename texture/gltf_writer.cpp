@@ -2,9 +2,14 @@
 
 #include <tiny_gltf.h>
 
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -18,7 +23,7 @@ namespace {
 
 // Appends bytes to the single buffer, 4-byte aligned, and returns a new
 // bufferView index.
-int add_buffer_view(tinygltf::Model& model, const void* data, std::size_t size, int target) {
+int add_buffer_view(tinygltf::Model& model, const void* data, std::size_t size, int target, int stride = 0) {
   auto& buffer = model.buffers[0].data;
   while (buffer.size() % 4 != 0) buffer.push_back(0);
   tinygltf::BufferView view;
@@ -26,6 +31,7 @@ int add_buffer_view(tinygltf::Model& model, const void* data, std::size_t size, 
   view.byteOffset = buffer.size();
   view.byteLength = size;
   view.target = target;
+  view.byteStride = stride;
   const auto* bytes = static_cast<const unsigned char*>(data);
   buffer.insert(buffer.end(), bytes, bytes + size);
   model.bufferViews.push_back(view);
@@ -61,9 +67,11 @@ void check_mesh(const TexturedMesh& mesh) {
   }
 }
 
-// Accessors of the vertex attributes every primitive shares.
+// Accessors of the vertex attributes every primitive shares; with
+// quantized positions, the matrix that maps them back into the model frame.
 struct VertexAccessors {
   int position = -1, normal = -1, uv = -1;
+  std::optional<Eigen::Matrix4d> dequantize;
 };
 
 int add_float_accessor(tinygltf::Model& model,
@@ -76,32 +84,99 @@ int add_float_accessor(tinygltf::Model& model,
                       TINYGLTF_COMPONENT_TYPE_FLOAT, type, count, std::move(min), std::move(max));
 }
 
-VertexAccessors add_vertex_attributes(tinygltf::Model& model, const TexturedMesh& mesh) {
+Eigen::Vector3f unit_normal(const Eigen::Vector3f& v) {
+  return v.norm() > 0.0f ? Eigen::Vector3f(v.normalized()) : Eigen::Vector3f(0, 0, 1);
+}
+
+// The positions' bounds (glTF requires them); finite positions only.
+void position_bounds(const TexturedMesh& mesh, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
+  lo = Eigen::Vector3d::Constant(1e300);
+  hi = Eigen::Vector3d::Constant(-1e300);
+  for (const auto& p : mesh.positions) {
+    if (!p.allFinite()) throw std::invalid_argument("write_glb: non-finite position");
+    lo = lo.cwiseMin(p.cast<double>());
+    hi = hi.cwiseMax(p.cast<double>());
+  }
+  if (mesh.positions.empty()) lo = hi = Eigen::Vector3d::Zero();
+}
+
+VertexAccessors add_float_attributes(tinygltf::Model& model, const TexturedMesh& mesh) {
   const std::size_t n = mesh.positions.size();
   VertexAccessors out;
+  Eigen::Vector3d lo, hi;
+  position_bounds(mesh, lo, hi);
   std::vector<float> flat;
   flat.reserve(3 * n);
-  // glTF requires the positions' bounds.
-  std::vector<double> lo(3, 1e300), hi(3, -1e300);
-  for (const auto& p : mesh.positions) {
-    for (int k = 0; k < 3; ++k) {
-      if (!std::isfinite(p[k])) throw std::invalid_argument("write_glb: non-finite position");
-      flat.push_back(p[k]);
-      lo[k] = std::min<double>(lo[k], p[k]);
-      hi[k] = std::max<double>(hi[k], p[k]);
-    }
-  }
-  if (n == 0) lo = hi = {0.0, 0.0, 0.0};
-  out.position = add_float_accessor(model, flat, TINYGLTF_TYPE_VEC3, n, lo, hi);
+  for (const auto& p : mesh.positions) flat.insert(flat.end(), {p.x(), p.y(), p.z()});
+  out.position =
+      add_float_accessor(model, flat, TINYGLTF_TYPE_VEC3, n, {lo.x(), lo.y(), lo.z()}, {hi.x(), hi.y(), hi.z()});
   flat.clear();
   for (const auto& v : mesh.normals) {
-    const Eigen::Vector3f u = v.norm() > 0.0f ? Eigen::Vector3f(v.normalized()) : Eigen::Vector3f(0, 0, 1);
+    const Eigen::Vector3f u = unit_normal(v);
     flat.insert(flat.end(), {u.x(), u.y(), u.z()});
   }
   out.normal = add_float_accessor(model, flat, TINYGLTF_TYPE_VEC3, n);
   flat.clear();
   for (const auto& uv : mesh.uvs) flat.insert(flat.end(), {uv.x(), uv.y()});
   out.uv = add_float_accessor(model, flat, TINYGLTF_TYPE_VEC2, n);
+  return out;
+}
+
+// KHR_mesh_quantization: positions as unsigned 16-bit integers on a grid of
+// equal steps over the bounding box's longest side (a node's matrix scales
+// and moves them back; one step for all axes keeps the normals' directions),
+// normals as normalized signed bytes, UVs as normalized unsigned 16-bit
+// integers. Vertex elements padded to 4 bytes as glTF requires.
+VertexAccessors add_quantized_attributes(tinygltf::Model& model, const TexturedMesh& mesh) {
+  constexpr double kLevels = 65535.0;
+  const std::size_t n = mesh.positions.size();
+  VertexAccessors out;
+  Eigen::Vector3d lo, hi;
+  position_bounds(mesh, lo, hi);
+  const double step = std::max((hi - lo).maxCoeff(), 1e-30) / kLevels;
+  std::vector<std::uint16_t> positions;
+  positions.reserve(4 * n);
+  std::vector<double> qmin(3, kLevels), qmax(3, 0.0);
+  for (const auto& p : mesh.positions) {
+    for (int k = 0; k < 3; ++k) {
+      const double q = std::clamp(std::round((p[k] - lo[k]) / step), 0.0, kLevels);
+      positions.push_back(static_cast<std::uint16_t>(q));
+      qmin[k] = std::min(qmin[k], q);
+      qmax[k] = std::max(qmax[k], q);
+    }
+    positions.push_back(0);
+  }
+  if (n == 0) qmin = qmax = {0.0, 0.0, 0.0};
+  out.position = add_accessor(
+      model, add_buffer_view(model, positions.data(), positions.size() * 2, TINYGLTF_TARGET_ARRAY_BUFFER, 8),
+      TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC3, n, qmin, qmax);
+  std::vector<std::int8_t> normals;
+  normals.reserve(4 * n);
+  for (const auto& v : mesh.normals) {
+    const Eigen::Vector3f u = unit_normal(v);
+    for (int k = 0; k < 3; ++k) normals.push_back(static_cast<std::int8_t>(std::lround(127.0f * u[k])));
+    normals.push_back(0);
+  }
+  out.normal =
+      add_accessor(model, add_buffer_view(model, normals.data(), normals.size(), TINYGLTF_TARGET_ARRAY_BUFFER, 4),
+                   TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_TYPE_VEC3, n);
+  model.accessors[out.normal].normalized = true;
+  std::vector<std::uint16_t> uvs;
+  uvs.reserve(2 * n);
+  for (const auto& uv : mesh.uvs) {
+    for (int k = 0; k < 2; ++k) {
+      uvs.push_back(static_cast<std::uint16_t>(std::lround(std::clamp(uv[k], 0.0f, 1.0f) * kLevels)));
+    }
+  }
+  out.uv = add_accessor(model, add_buffer_view(model, uvs.data(), uvs.size() * 2, TINYGLTF_TARGET_ARRAY_BUFFER, 4),
+                        TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC2, n);
+  model.accessors[out.uv].normalized = true;
+  Eigen::Matrix4d dequantize = Eigen::Matrix4d::Identity();
+  dequantize.topLeftCorner<3, 3>() *= step;
+  dequantize.topRightCorner<3, 1>() = lo;
+  out.dequantize = dequantize;
+  model.extensionsUsed.push_back("KHR_mesh_quantization");
+  model.extensionsRequired.push_back("KHR_mesh_quantization");
   return out;
 }
 
@@ -163,18 +238,33 @@ tinygltf::Primitive page_primitive(tinygltf::Model& model,
 }
 
 // The single root node (carrying the root matrix unless it is the identity)
-// and the default scene; a mesh without primitives is left out.
-void add_scene(tinygltf::Model& model, tinygltf::Mesh gltf_mesh, const Eigen::Matrix4d& root_matrix) {
+// and the default scene; a mesh without primitives is left out. With
+// quantized positions the mesh hangs from a child node whose matrix
+// dequantizes them.
+void add_scene(tinygltf::Model& model,
+               tinygltf::Mesh gltf_mesh,
+               const Eigen::Matrix4d& root_matrix,
+               const std::optional<Eigen::Matrix4d>& dequantize) {
   gltf_mesh.name = "textured_mesh";
   const bool has_mesh = !gltf_mesh.primitives.empty();
   if (has_mesh) model.meshes.push_back(std::move(gltf_mesh));
   tinygltf::Node node;
   node.name = "hos_model";
-  if (has_mesh) node.mesh = 0;
   if (!root_matrix.isIdentity(1e-12)) {
     node.matrix.assign(root_matrix.data(), root_matrix.data() + 16);  // column-major
   }
-  model.nodes.push_back(node);
+  if (has_mesh && dequantize) {
+    node.children.push_back(1);
+    model.nodes.push_back(node);
+    tinygltf::Node mesh_node;
+    mesh_node.name = "hos_mesh";
+    mesh_node.mesh = 0;
+    mesh_node.matrix.assign(dequantize->data(), dequantize->data() + 16);
+    model.nodes.push_back(mesh_node);
+  } else {
+    if (has_mesh) node.mesh = 0;
+    model.nodes.push_back(node);
+  }
   tinygltf::Scene scene;
   scene.name = "scene";
   scene.nodes.push_back(0);
@@ -214,7 +304,8 @@ std::string serialize(tinygltf::Model& model, const std::filesystem::path& path,
 // embedded (a .glb).
 tinygltf::Model build_model(const TexturedMesh& mesh,
                             const std::vector<EncodedImage>& images,
-                            const std::string& file_stem) {
+                            const std::string& file_stem,
+                            const std::string& mesh_compression) {
   check_mesh(mesh);
   if (images.size() != mesh.atlases.size()) throw std::invalid_argument("write_glb: one image per atlas is required");
   tinygltf::Model model;
@@ -222,7 +313,8 @@ tinygltf::Model build_model(const TexturedMesh& mesh,
   model.asset.generator = "hos";
   model.asset.extras = placement_extras(mesh);
   model.buffers.emplace_back();
-  const VertexAccessors vertices = add_vertex_attributes(model, mesh);
+  const VertexAccessors vertices =
+      mesh_compression == "none" ? add_float_attributes(model, mesh) : add_quantized_attributes(model, mesh);
   add_sampler(model);
   tinygltf::Mesh gltf_mesh;
   for (std::size_t page = 0; page < mesh.atlases.size(); ++page) {
@@ -234,7 +326,7 @@ tinygltf::Model build_model(const TexturedMesh& mesh,
   }
   while (model.buffers[0].data.size() % 4 != 0) model.buffers[0].data.push_back(0);
   if (!file_stem.empty()) model.buffers[0].uri = file_stem + ".bin";
-  add_scene(model, std::move(gltf_mesh), mesh.root_matrix);
+  add_scene(model, std::move(gltf_mesh), mesh.root_matrix, vertices.dequantize);
   return model;
 }
 
@@ -258,20 +350,26 @@ std::vector<EncodedImage> encode_atlases(const TexturedMesh& mesh,
   return images;
 }
 
-void write_glb(const std::filesystem::path& path, const TexturedMesh& mesh, const std::vector<EncodedImage>& images) {
-  tinygltf::Model model = build_model(mesh, images, "");
+void write_glb(const std::filesystem::path& path,
+               const TexturedMesh& mesh,
+               const std::vector<EncodedImage>& images,
+               const std::string& mesh_compression) {
+  tinygltf::Model model = build_model(mesh, images, "", mesh_compression);
   const std::string glb = serialize(model, path, true);
   write_bytes(path, glb.data(), glb.size());
 }
 
 void write_glb(const std::filesystem::path& path, const TexturedMesh& mesh, const GltfWriteOptions& options) {
   check_mesh(mesh);
-  write_glb(path, mesh, encode_atlases(mesh, options, path));
+  write_glb(path, mesh, encode_atlases(mesh, options, path), options.mesh_compression);
 }
 
-void write_gltf(const std::filesystem::path& path, const TexturedMesh& mesh, const std::vector<EncodedImage>& images) {
+void write_gltf(const std::filesystem::path& path,
+                const TexturedMesh& mesh,
+                const std::vector<EncodedImage>& images,
+                const std::string& mesh_compression) {
   const std::string stem = path.stem().string();
-  tinygltf::Model model = build_model(mesh, images, stem);
+  tinygltf::Model model = build_model(mesh, images, stem, mesh_compression);
   const std::filesystem::path folder = path.parent_path();
   write_bytes(folder / (stem + ".bin"), model.buffers[0].data.data(), model.buffers[0].data.size());
   for (std::size_t page = 0; page < images.size(); ++page) {

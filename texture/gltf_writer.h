@@ -20,6 +20,10 @@ namespace hos::texture {
 struct GltfWriteOptions {
   std::string image_format = "jpeg";  // jpeg | png
   int jpeg_quality = 95;
+  // "quantized": KHR_mesh_quantization (16-bit positions and UVs, 8-bit
+  // normals; a required extension, so readers without it refuse the file);
+  // "none": 32-bit floats.
+  std::string mesh_compression = "none";
 };
 
 // Every atlas encoded as the options say; OutputError (naming path) if one
@@ -35,10 +39,16 @@ std::string atlas_file_name(const std::string& stem, std::size_t page, const Enc
 // image cannot be encoded; std::invalid_argument for an inconsistent mesh
 // (images: one per atlas).
 void write_glb(const std::filesystem::path& path, const TexturedMesh& mesh, const GltfWriteOptions& options = {});
-void write_glb(const std::filesystem::path& path, const TexturedMesh& mesh, const std::vector<EncodedImage>& images);
+void write_glb(const std::filesystem::path& path,
+               const TexturedMesh& mesh,
+               const std::vector<EncodedImage>& images,
+               const std::string& mesh_compression = "none");
 
 // A .gltf (JSON) with its buffer in STEM.bin and the atlases in
 // STEM_atlasN.jpg (or .png) in the same folder, STEM being path's stem.
-void write_gltf(const std::filesystem::path& path, const TexturedMesh& mesh, const std::vector<EncodedImage>& images);
+void write_gltf(const std::filesystem::path& path,
+                const TexturedMesh& mesh,
+                const std::vector<EncodedImage>& images,
+                const std::string& mesh_compression = "none");
 
 }  // namespace hos::texture

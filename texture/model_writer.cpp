@@ -189,16 +189,19 @@ std::optional<ModelFormat> model_format_of(const std::filesystem::path& path) {
 
 const char* model_formats_text() { return "a .glb, .gltf, .obj or .ply file"; }
 
-void write_model(const std::filesystem::path& path, const TexturedMesh& mesh, const std::vector<EncodedImage>& images) {
+void write_model(const std::filesystem::path& path,
+                 const TexturedMesh& mesh,
+                 const std::vector<EncodedImage>& images,
+                 const std::string& mesh_compression) {
   const std::optional<ModelFormat> format = model_format_of(path);
   if (!format) throw ConfigError(path.string(), std::string("the output must be ") + model_formats_text());
   check_images(mesh, images);
   switch (*format) {
     case ModelFormat::kGlb:
-      write_glb(path, mesh, images);
+      write_glb(path, mesh, images, mesh_compression);
       break;
     case ModelFormat::kGltf:
-      write_gltf(path, mesh, images);
+      write_gltf(path, mesh, images, mesh_compression);
       break;
     case ModelFormat::kObj:
       write_obj(path, mesh, images);
@@ -213,8 +216,31 @@ void write_model(const std::filesystem::path& path, const TexturedMesh& mesh, co
   if (!model_format_of(path)) {
     throw ConfigError(path.string(), std::string("the output must be ") + model_formats_text());
   }
-  write_model(path, mesh, encode_atlases(mesh, options, path));
+  write_model(path, mesh, encode_atlases(mesh, options, path), options.mesh_compression);
 }
+
+namespace {
+
+// The root frame's units and geographic origin from asset.extras, as
+// gltf_writer.h writes them.
+void read_placement_extras(const tinygltf::Value& extras, TexturedMesh& mesh) {
+  if (!extras.IsObject()) return;
+  const tinygltf::Value& units = extras.Get("units");
+  mesh.metric = units.IsString() && units.Get<std::string>() == "metres";
+  const tinygltf::Value& origin = extras.Get("geo_origin");
+  if (!origin.IsObject()) return;
+  const tinygltf::Value& latitude = origin.Get("latitude_deg");
+  const tinygltf::Value& longitude = origin.Get("longitude_deg");
+  if (!latitude.IsNumber() || !longitude.IsNumber()) return;
+  GeoPosition geo;
+  geo.latitude_deg = latitude.GetNumberAsDouble();
+  geo.longitude_deg = longitude.GetNumberAsDouble();
+  const tinygltf::Value& altitude = origin.Get("altitude_m");
+  if (altitude.IsNumber()) geo.altitude_m = altitude.GetNumberAsDouble();
+  mesh.geo_origin = geo;
+}
+
+}  // namespace
 
 StoredModel read_glb_model(const std::filesystem::path& path) {
   tinygltf::Model model;
@@ -226,6 +252,10 @@ StoredModel read_glb_model(const std::filesystem::path& path) {
   std::string error, warning;
   if (!loader.LoadBinaryFromFile(&model, &error, &warning, path.string())) {
     throw InputError(path.string(), "not a readable binary glTF: " + error);
+  }
+  if (!model.extensionsRequired.empty()) {
+    throw InputError(path.string(), "its mesh is compressed (" + model.extensionsRequired[0] +
+                                        "); write it with texture.mesh_compression none to convert it");
   }
   StoredModel out;
   if (model.meshes.empty() || model.meshes[0].primitives.empty()) return out;
@@ -261,7 +291,12 @@ StoredModel read_glb_model(const std::filesystem::path& path) {
   if (!model.nodes.empty() && model.nodes[0].matrix.size() == 16) {
     out.mesh.root_matrix = Eigen::Map<const Eigen::Matrix4d>(model.nodes[0].matrix.data());
   }
+  read_placement_extras(model.asset.extras, out.mesh);
   return out;
+}
+
+std::filesystem::path preview_model_path(const std::filesystem::path& model) {
+  return model.parent_path() / (model.stem().string() + ".preview.glb");
 }
 
 void convert_model(const std::filesystem::path& glb, const std::filesystem::path& target) {

@@ -28,7 +28,11 @@ const char* model_formats_text();
 // Writes path (and its companion files). Throws ConfigError for an unknown
 // extension, OutputError if a file cannot be written.
 void write_model(const std::filesystem::path& path, const TexturedMesh& mesh, const GltfWriteOptions& options);
-void write_model(const std::filesystem::path& path, const TexturedMesh& mesh, const std::vector<EncodedImage>& images);
+// mesh_compression as GltfWriteOptions has it (glTF formats only).
+void write_model(const std::filesystem::path& path,
+                 const TexturedMesh& mesh,
+                 const std::vector<EncodedImage>& images,
+                 const std::string& mesh_compression = "none");
 
 // A .glb this project wrote, read back (its atlases' encoded bytes kept and
 // decoded), so a finished model can be written in another format without
@@ -38,6 +42,10 @@ struct StoredModel {
   std::vector<EncodedImage> images;
 };
 StoredModel read_glb_model(const std::filesystem::path& path);
+
+// The preview model's file beside a model: out.glb -> out.preview.glb (any
+// extension; the preview is always a .glb).
+std::filesystem::path preview_model_path(const std::filesystem::path& model);
 
 // Copies the workspace's .glb to target in target's format.
 void convert_model(const std::filesystem::path& glb, const std::filesystem::path& target);

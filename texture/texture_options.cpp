@@ -47,12 +47,20 @@ void register_options(OptionSet& set, TextureOptions& o) {
           "0 = off",
           0.0, 1e9);
   set.add("atlas_size", o.atlas_size, "maximum atlas width and height (pixels)", 64, 16384);
-  set.add("padding", o.padding, "rings of texels around each chart (dilated, against bilinear and mipmap bleeding)", 0,
-          64);
+  set.add("padding", o.padding,
+          "free texels between charts (each side's colour dilated into them: 2 keeps bilinear lookups apart)", 0, 64);
   set.add("texel_scale", o.texel_scale, "atlas texels per source image pixel", 0.01, 4.0);
   set.add("max_atlases", o.max_atlases, "largest number of atlas images; beyond, texels shrink", 1, 1024);
   set.add_choice("image_format", o.image_format, {"jpeg", "png"}, "atlas image encoding (JPEG 4:4:4 or PNG)");
   set.add("jpeg_quality", o.jpeg_quality, "JPEG quality of the atlases", 1, 100);
+  set.add_choice("mesh_compression", o.mesh_compression, {"none", "quantized"},
+                 "glTF vertex data: none = 32-bit floats; quantized = KHR_mesh_quantization (16-bit positions and UVs, "
+                 "8-bit normals; not every importer reads it)");
+  set.add_zero_or("preview_max_faces", o.preview_max_faces,
+                  "faces of the preview model STEM.preview.glb written beside the output; 0 = no preview", 4,
+                  2000000000);
+  set.add("preview_atlas_size", o.preview_atlas_size, "largest side of the preview's single JPEG atlas (pixels)", 64,
+          16384);
   set.add_choice("up_axis", o.up_axis, {"cameras", "none"},
                  "root node: cameras = upright (gravity, ground or GPS), centred, on y = 0; none = identity");
   set.add("scale_distance", o.scale_distance,

@@ -65,9 +65,10 @@ struct TextureOptions {
   // larger charts pack better. 0 keeps the view selection's charts.
   double min_chart_area_px = 400.0;
 
-  // Atlas: maximum size (pixels, square), rings of texels around every chart
-  // (its own colour, so bilinear lookups and the first mipmap levels do not
-  // mix neighbouring charts), texels per source pixel.
+  // Atlas: maximum size (pixels, square), free texels between two charts
+  // (filled with each chart's colour from both sides, so at 2 bilinear
+  // lookups and the first mipmap level do not mix neighbouring charts),
+  // texels per source pixel.
   int atlas_size = 4096;
   int padding = 2;
   double texel_scale = 1.0;
@@ -77,6 +78,16 @@ struct TextureOptions {
   // held-out PSNR against PNG (docs/texture.md).
   std::string image_format = "jpeg";  // jpeg | png
   int jpeg_quality = 95;
+  // glTF vertex data: "none" (32-bit floats) or "quantized"
+  // (KHR_mesh_quantization, a required extension: Blender's importer in
+  // Debian does not read it; three.js, Babylon.js and model-viewer do).
+  std::string mesh_compression = "none";
+
+  // Preview model (texture/decimate.h): STEM.preview.glb beside the output
+  // STEM.EXT, at most preview_max_faces faces on one JPEG atlas of at most
+  // preview_atlas_size texels per side; preview_max_faces 0 writes none.
+  int preview_max_faces = 150000;
+  int preview_atlas_size = 2048;
 
   // The glTF root node (texture/placement.h): "cameras" stands the model
   // upright (vertical from the cameras' level x axes, the ground plane or

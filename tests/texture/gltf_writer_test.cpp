@@ -3,10 +3,14 @@
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
+#include <Eigen/Core>
+#include <cstring>
+
 #include "core/error.h"
 #include "synth/shapes.h"
 #include "tests/support/test_support.h"
 #include "tests/texture/scene_fixtures.h"
+#include "texture/model_writer.h"
 #include "texture/texture_mesh.h"
 
 namespace hos::texture {
@@ -96,6 +100,78 @@ TEST(GltfWriter, ReadsBackWithTinyGltf) {
   for (const auto& idx : mesh.indices) expected += idx.size() / 3;
   EXPECT_EQ(triangles, expected);
   EXPECT_EQ(model.accessors[model.meshes[0].primitives[0].attributes["POSITION"]].count, mesh.positions.size());
+}
+
+// The Khronos validator's report of a file (status 0: no errors).
+int validate(const fs::path& file, const fs::path& report) {
+  const fs::path modules = validator_modules();
+  if (modules.empty()) return -1;
+  const fs::path script = hos::testing::source_dir() / "tests" / "texture" / "validate_gltf.js";
+  return hos::testing::run_command("node " + hos::testing::shell_quote(script.string()) + " " +
+                                       hos::testing::shell_quote(modules.string()) + " " +
+                                       hos::testing::shell_quote(file.string()),
+                                   report);
+}
+
+// KHR_mesh_quantization: the validator reads the quantized accessors (it
+// checks their bounds and that the extension is declared), and the
+// positions, dequantized by the node matrices, come back within half a step
+// of the longest side / 65535; UVs (clamped to [0, 1]) within half of 1/65535.
+TEST(GltfWriter, QuantizedMeshPassesKhronosValidatorAndDequantizes) {
+  hos::testing::TempDir dir("hos-texture-gltf");
+  TexturedMesh mesh = textured_sphere();
+  mesh.root_matrix(1, 3) = 2.5;
+  GltfWriteOptions options;
+  options.mesh_compression = "quantized";
+  for (const std::string name : {"model.glb", "model.gltf"}) {
+    const fs::path file = dir / name;
+    if (name == "model.glb") {
+      write_glb(file, mesh, options);
+    } else {
+      write_gltf(file, mesh, encode_atlases(mesh, options, file), options.mesh_compression);
+    }
+    const int status = validate(file, dir / "report.json");
+    ASSERT_NE(status, -1) << "npm install gltf-validator failed";
+    const std::string text = hos::testing::read_text(dir / "report.json");
+    EXPECT_EQ(status, 0) << name << ": " << text;
+    EXPECT_NE(text.find("\"numErrors\": 0"), std::string::npos) << text;
+    EXPECT_NE(text.find("KHR_mesh_quantization"), std::string::npos) << text;
+  }
+  tinygltf::Model model;
+  tinygltf::TinyGLTF loader;
+  std::string error, warning;
+  ASSERT_TRUE(loader.LoadBinaryFromFile(&model, &error, &warning, (dir / "model.glb").string())) << error;
+  ASSERT_EQ(model.nodes.size(), 2u);
+  EXPECT_DOUBLE_EQ(model.nodes[0].matrix[13], 2.5);
+  ASSERT_EQ(model.nodes[0].children, std::vector<int>{1});
+  const Eigen::Matrix4d dequantize = Eigen::Map<const Eigen::Matrix4d>(model.nodes[1].matrix.data());
+  const auto& attributes = model.meshes[0].primitives[0].attributes;
+  const tinygltf::Accessor& positions = model.accessors[attributes.at("POSITION")];
+  const tinygltf::Accessor& uvs = model.accessors[attributes.at("TEXCOORD_0")];
+  ASSERT_EQ(positions.componentType, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+  ASSERT_EQ(positions.count, mesh.positions.size());
+  const tinygltf::BufferView& pview = model.bufferViews[positions.bufferView];
+  const tinygltf::BufferView& tview = model.bufferViews[uvs.bufferView];
+  const auto& data = model.buffers[0].data;
+  const double step = dequantize(0, 0);
+  double worst = 0.0, worst_uv = 0.0;
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    std::uint16_t q[3], t[2];
+    std::memcpy(q, data.data() + pview.byteOffset + i * pview.byteStride, sizeof q);
+    std::memcpy(t, data.data() + tview.byteOffset + i * 4, sizeof t);
+    const Eigen::Vector4d p = dequantize * Eigen::Vector4d(q[0], q[1], q[2], 1.0);
+    worst = std::max(worst, (p.head<3>() - mesh.positions[i].cast<double>()).cwiseAbs().maxCoeff());
+    // A chart vertex on a page's edge may lie up to a texel outside [0, 1]
+    // (texel centres decide what a chart covers): such UVs are clamped.
+    for (int k = 0; k < 2; ++k) {
+      worst_uv = std::max(worst_uv, std::abs(t[k] / 65535.0 - std::clamp(mesh.uvs[i][k], 0.0f, 1.0f)));
+    }
+  }
+  EXPECT_LE(worst, 0.5 * step * 1.0001);
+  EXPECT_LE(worst_uv, 0.5 / 65535.0 + 1e-7);
+  EXPECT_GT(step, 0.0);
+  // A compressed model cannot be converted: it says so.
+  EXPECT_THROW(read_glb_model(dir / "model.glb"), InputError);
 }
 
 TEST(GltfWriter, UnwritableTargetThrowsOutputError) {

@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
+#include <algorithm>
+#include <array>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -13,6 +16,7 @@
 #include "synth/shapes.h"
 #include "tests/support/test_support.h"
 #include "tests/texture/scene_fixtures.h"
+#include "texture/model_writer.h"
 
 namespace hos::texture {
 namespace {
@@ -54,6 +58,81 @@ TEST(HosTextureMain, WritesAGlbFromAWorkspace) {
   EXPECT_EQ(j["views"].get<int>(), 6);
   ASSERT_EQ(model.nodes[0].matrix.size(), 16u);
   for (int i = 0; i < 16; ++i) EXPECT_NEAR(j["root_matrix"][i].get<double>(), model.nodes[0].matrix[i], 1e-12);
+}
+
+// The atlas colour of a model at a vertex's UV.
+cv::Vec3b colour_at(const TexturedMesh& mesh, std::size_t page, std::uint32_t v) {
+  const cv::Mat& a = mesh.atlases[page];
+  const int x = std::clamp(static_cast<int>(mesh.uvs[v].x() * a.cols), 0, a.cols - 1);
+  const int y = std::clamp(static_cast<int>(mesh.uvs[v].y() * a.rows), 0, a.rows - 1);
+  return a.at<cv::Vec3b>(y, x);
+}
+
+// Beside model.glb, model.preview.glb: at most preview_max_faces faces on
+// one atlas of at most preview_atlas_size texels (the model's several pages
+// scaled down into one), each preview vertex showing the colour the model
+// shows at the same point; valid for the Khronos validator.
+TEST(HosTextureMain, WritesAPreviewBesideTheModel) {
+  hos::testing::TempDir dir("hos-texture-main");
+  write_scene(dir.path());
+  ASSERT_EQ(hos::testing::run_command(texture_command(dir.path(),
+                                                      "--atlas-size 128 --set texture.preview_max_faces=400 "
+                                                      "--set texture.preview_atlas_size=96"),
+                                      dir / "log.txt"),
+            kExitSuccess);
+  const fs::path preview_path = dir / "model.preview.glb";
+  ASSERT_TRUE(fs::exists(preview_path));
+  const StoredModel full = read_glb_model(dir / "model.glb");
+  const StoredModel preview = read_glb_model(preview_path);
+  ASSERT_GT(full.mesh.atlases.size(), 1u);
+  ASSERT_EQ(preview.mesh.atlases.size(), 1u);
+  EXPECT_LE(std::max(preview.mesh.atlases[0].cols, preview.mesh.atlases[0].rows), 96);
+  EXPECT_EQ(preview.images[0].mime_type, "image/jpeg");
+  const std::size_t faces = preview.mesh.indices[0].size() / 3;
+  std::cout << "[ figures  ] preview: " << faces << " faces, atlas " << preview.mesh.atlases[0].cols << "x"
+            << preview.mesh.atlases[0].rows << "\n";
+  EXPECT_LE(faces, 400u);
+  EXPECT_GE(faces, 200u);
+  for (int i = 0; i < 16; ++i) EXPECT_EQ(preview.mesh.root_matrix(i), full.mesh.root_matrix(i));
+  // Every preview vertex is a model vertex (same position); its colour is
+  // the model's there, up to the scaling's averaging and JPEG.
+  std::map<std::array<float, 3>, std::pair<std::size_t, std::uint32_t>> full_vertex;
+  for (std::size_t page = 0; page < full.mesh.indices.size(); ++page) {
+    for (std::uint32_t v : full.mesh.indices[page]) {
+      const Eigen::Vector3f& p = full.mesh.positions[v];
+      full_vertex[{p.x(), p.y(), p.z()}] = {page, v};
+    }
+  }
+  double error = 0.0;
+  std::size_t count = 0;
+  for (std::uint32_t v : preview.mesh.indices[0]) {
+    const Eigen::Vector3f& p = preview.mesh.positions[v];
+    const auto it = full_vertex.find({p.x(), p.y(), p.z()});
+    ASSERT_NE(it, full_vertex.end());
+    const cv::Vec3b a = colour_at(preview.mesh, 0, v), b = colour_at(full.mesh, it->second.first, it->second.second);
+    error += cv::norm(cv::Vec3d(a) - cv::Vec3d(b));
+    ++count;
+  }
+  std::cout << "[ figures  ] preview: mean colour difference at the vertices " << error / count << "\n";
+  EXPECT_LT(error / count, 25.0);
+  const fs::path modules = hos::testing::bin_dir().parent_path() / "node_tools" / "node_modules";
+  if (!fs::exists(modules / "gltf-validator")) GTEST_SKIP() << "gltf-validator is installed by GltfWriter tests";
+  const fs::path script = hos::testing::source_dir() / "tests" / "texture" / "validate_gltf.js";
+  const int status = hos::testing::run_command("node " + hos::testing::shell_quote(script.string()) + " " +
+                                                   hos::testing::shell_quote(modules.string()) + " " +
+                                                   hos::testing::shell_quote(preview_path.string()),
+                                               dir / "validator.json");
+  EXPECT_EQ(status, 0) << hos::testing::read_text(dir / "validator.json");
+}
+
+TEST(HosTextureMain, NoPreviewWhenItsFaceBudgetIsZero) {
+  hos::testing::TempDir dir("hos-texture-main");
+  write_scene(dir.path());
+  ASSERT_EQ(
+      hos::testing::run_command(texture_command(dir.path(), "--set texture.preview_max_faces=0"), dir / "log.txt"),
+      kExitSuccess);
+  EXPECT_TRUE(fs::exists(dir / "model.glb"));
+  EXPECT_FALSE(fs::exists(dir / "model.preview.glb"));
 }
 
 TEST(HosTextureMain, MissingMeshIsBadInput) {

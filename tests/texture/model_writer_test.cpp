@@ -12,6 +12,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
@@ -253,6 +254,27 @@ TEST(ModelWriter, GlbConvertsToObjWithTheSameAtlasBytes) {
   const std::string jpeg = hos::testing::read_text(dir / "copy_atlas0.jpg");
   EXPECT_EQ(jpeg, std::string(stored.images[0].bytes.begin(), stored.images[0].bytes.end()));
   expect_same_model(read_obj(dir / "copy.obj"), mesh, "converted obj");
+}
+
+// A .glb converted to .gltf keeps asset.extras: the units and the
+// geographic origin of the root frame.
+TEST(ModelWriter, GlbConvertsToGltfWithItsPlacement) {
+  hos::testing::TempDir dir("hos-model-convert");
+  TexturedMesh mesh = textured_sphere(4096);
+  mesh.metric = true;
+  mesh.geo_origin = GeoPosition{47.5, 8.25, 412.0};
+  write_model(dir / "model.glb", mesh, GltfWriteOptions{});
+  convert_model(dir / "model.glb", dir / "copy.gltf");
+  const nlohmann::json json = nlohmann::json::parse(hos::testing::read_text(dir / "copy.gltf"));
+  const nlohmann::json& extras = json["asset"]["extras"];
+  EXPECT_EQ(extras["units"], "metres");
+  EXPECT_DOUBLE_EQ(extras["geo_origin"]["latitude_deg"].get<double>(), 47.5);
+  EXPECT_DOUBLE_EQ(extras["geo_origin"]["longitude_deg"].get<double>(), 8.25);
+  EXPECT_DOUBLE_EQ(extras["geo_origin"]["altitude_m"].get<double>(), 412.0);
+  const StoredModel stored = read_glb_model(dir / "model.glb");
+  EXPECT_TRUE(stored.mesh.metric);
+  ASSERT_TRUE(stored.mesh.geo_origin.has_value());
+  EXPECT_EQ(stored.mesh.geo_origin->altitude_m, 412.0);
 }
 
 TEST(ModelWriter, UnknownExtensionIsAConfigError) {
