@@ -119,16 +119,15 @@ CentredPatch centre(const std::vector<float>& a) {
 }
 
 std::optional<float> zncc_centred(const CentredPatch& a, const float* b, float min_std) {
+  // a is centred, so the covariance is sum a_i b_i and b's sums give its
+  // variance: one pass over b.
   const std::size_t size = a.centred.size();
   const float n = static_cast<float>(size);
-  float mean_b = 0;
-  for (std::size_t i = 0; i < size; ++i) mean_b += b[i];
-  mean_b /= n;
-  float var_b = 0, cov = 0;
+  float sum_b = 0, sum_bb = 0, cov = 0;
   for (std::size_t i = 0; i < size; ++i) {
-    const float db = b[i] - mean_b;
-    var_b += db * db, cov += a.centred[i] * db;
+    sum_b += b[i], sum_bb += b[i] * b[i], cov += a.centred[i] * b[i];
   }
+  const float var_b = std::max(0.0f, sum_bb - sum_b * sum_b / n);
   const float min_var = min_std * min_std * n;
   if (a.variance < min_var || var_b < min_var) return std::nullopt;
   return cov / std::sqrt(a.variance * var_b);
@@ -166,7 +165,8 @@ void sample_moved_patch(const RefineView& view,
       if (!valid[k]) continue;
       const Eigen::Vector3f x = x0 + static_cast<float>(k - steps) * move;
       // Pixel coordinates from the top-left pixel's centre.
-      const float u = fx * x.x() / x.z() + cx, v = fy * x.y() / x.z() + cy;
+      const float inverse_z = 1.0f / x.z();
+      const float u = fx * x.x() * inverse_z + cx, v = fy * x.y() * inverse_z + cy;
       if (!(x.z() > 0.0f && u >= 0.0f && v >= 0.0f && u <= max_x && v <= max_y)) {
         valid[k] = 0;
         continue;
@@ -259,14 +259,30 @@ std::vector<VertexTarget> search_normal_offsets(const TriangleMesh& mesh,
                                                 double visibility_tolerance,
                                                 const RefineOptions& options,
                                                 Reporter& reporter) {
-  const int n = static_cast<int>(mesh.vertices.size());
-  std::vector<VertexTarget> targets(n);
-  constexpr int kChunk = 4096;
+  std::vector<int> all(mesh.vertices.size());
+  std::iota(all.begin(), all.end(), 0);
+  return search_normal_offsets(mesh, normals, all, views, level, visibility_tolerance, options, reporter);
+}
+
+std::vector<VertexTarget> search_normal_offsets(const TriangleMesh& mesh,
+                                                const std::vector<Eigen::Vector3f>& normals,
+                                                const std::vector<int>& vertices,
+                                                const std::vector<RefineView>& views,
+                                                int level,
+                                                double visibility_tolerance,
+                                                const RefineOptions& options,
+                                                Reporter& reporter) {
+  std::vector<VertexTarget> targets(mesh.vertices.size());
+  const int n = static_cast<int>(vertices.size());
+  // Large chunks: every chunk ends in a barrier, where a thread that finished
+  // early spins; cancellation is checked between chunks.
+  constexpr int kChunk = 32768;
   for (int begin = 0; begin < n; begin += kChunk) {
     reporter.throw_if_cancelled();
     const int end = std::min(n, begin + kChunk);
 #pragma omp parallel for schedule(dynamic, 64)
-    for (int v = begin; v < end; ++v) {
+    for (int i = begin; i < end; ++i) {
+      const int v = vertices[i];
       if (normals[v].squaredNorm() == 0.0f) continue;
       targets[v] = search_vertex(mesh.vertices[v].cast<double>(), normals[v].cast<double>(), views, level,
                                  visibility_tolerance, options);

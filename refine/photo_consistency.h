@@ -32,6 +32,16 @@ std::vector<VertexTarget> search_normal_offsets(const TriangleMesh& mesh,
                                                 const RefineOptions& options,
                                                 Reporter& reporter);
 
+// The same for the listed vertices only; the others get no target.
+std::vector<VertexTarget> search_normal_offsets(const TriangleMesh& mesh,
+                                                const std::vector<Eigen::Vector3f>& normals,
+                                                const std::vector<int>& vertices,
+                                                const std::vector<RefineView>& views,
+                                                int level,
+                                                double visibility_tolerance,
+                                                const RefineOptions& options,
+                                                Reporter& reporter);
+
 // Zero-mean normalised cross-correlation of two equally long sample vectors;
 // nothing when either is flat (standard deviation below min_std).
 std::optional<float> zncc(const std::vector<float>& a, const std::vector<float>& b, float min_std);

@@ -2,28 +2,34 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "core/error.h"
 #include "refine/edge_split.h"
 #include "refine/mesh_geometry.h"
 #include "refine/photo_consistency.h"
 #include "refine/regularizer.h"
+#include "refine/search_subset.h"
 
 namespace hos::refine {
 namespace {
 
 constexpr int kFoldHalvings = 6;  // a flipping face's vertices try 1/2, 1/4, ... of their step
 
-// Mean best score of the vertices with a target, and their fraction.
-std::pair<double, double> score_summary(const std::vector<VertexTarget>& targets) {
+// Mean best score of the searched vertices with a target, and the fraction
+// of all vertices with one (searched or filled in).
+std::pair<double, double> score_summary(const std::vector<VertexTarget>& targets, const std::vector<int>& searched) {
   double sum = 0.0;
-  std::size_t count = 0;
-  for (const VertexTarget& t : targets) {
-    if (t.weight > 0.0f) sum += t.score, ++count;
+  std::size_t scored = 0;
+  for (int v : searched) {
+    if (targets[v].weight > 0.0f) sum += targets[v].score, ++scored;
   }
-  return {count ? sum / count : 0.0, targets.empty() ? 0.0 : static_cast<double>(count) / targets.size()};
+  const auto targeted =
+      std::count_if(targets.begin(), targets.end(), [](const VertexTarget& t) { return t.weight > 0.0f; });
+  return {scored ? sum / scored : 0.0, targets.empty() ? 0.0 : static_cast<double>(targeted) / targets.size()};
 }
 
 double largest_offset(const std::vector<VertexTarget>& targets) {
@@ -68,6 +74,11 @@ void subdivide_to_footprint(TriangleMesh& mesh,
                             RefineStats& stats) {
   constexpr int kMaxPasses = 4;
   if (options.edge_pixels <= 0.0) return;
+  // A split adds faces: at the budget none can be made.
+  if (mesh.faces.size() >= static_cast<std::size_t>(options.max_faces)) {
+    stats.face_budget_reached = true;
+    return;
+  }
   for (int pass = 0; pass < kMaxPasses; ++pass) {
     std::vector<float> limit = pixel_footprints(mesh, vertex_normals(mesh), views, options.max_incidence_deg);
     const float pixels = static_cast<float>(options.edge_pixels * static_cast<double>(1 << level));
@@ -78,6 +89,29 @@ void subdivide_to_footprint(TriangleMesh& mesh,
     if (split.split_edges == 0) return;
     mesh = std::move(split.mesh);
   }
+}
+
+// What the rounds on one mesh connectivity share; rebuilt when splitting
+// changes the faces.
+struct Connectivity {
+  VertexRings rings;
+  DisplacementSolver solver;
+
+  Connectivity(const TriangleMesh& mesh, const RefineOptions& options)
+      : rings(vertex_rings(mesh)), solver(rings, options) {}
+};
+
+// The vertices a level's rounds search: about options.search_spacing pixels
+// of the level apart in the view that resolves them finest.
+std::vector<int> vertices_to_search(const TriangleMesh& mesh,
+                                    const VertexRings& rings,
+                                    const std::vector<RefineView>& views,
+                                    int level,
+                                    const RefineOptions& options) {
+  std::vector<float> radius = pixel_footprints(mesh, vertex_normals(mesh), views, options.max_incidence_deg);
+  const float pixels = static_cast<float>(options.search_spacing * static_cast<double>(1 << level));
+  for (float& r : radius) r = std::isfinite(r) ? r * pixels : 0.0f;
+  return spaced_vertices(mesh, rings, radius);
 }
 
 // The pyramid levels worth matching at: at most options.levels, and none
@@ -109,10 +143,16 @@ RefineResult refine_mesh(const TriangleMesh& input,
   const int levels = usable_levels(views, options);
   // Coarse to fine: the coarse level's wider steps catch larger errors, the
   // fine level's narrow ones place the surface to a fraction of a pixel.
+  std::optional<Connectivity> connectivity;
   for (int level = levels - 1; level >= 0 && !stats.out_of_time; --level) {
+    const int split_before = stats.split_edges;
     subdivide_to_footprint(mesh, views, level, options, stats);
-    const VertexRings rings = vertex_rings(mesh);
+    if (!connectivity || stats.split_edges != split_before) connectivity.emplace(mesh, options);
+    const VertexRings& rings = connectivity->rings;
     const double edge = mean_edge_length(mesh);
+    const std::vector<int> searched = vertices_to_search(mesh, rings, views, level, options);
+    std::vector<char> is_searched(mesh.vertices.size(), 0);
+    for (int v : searched) is_searched[v] = 1;
     double previous_score = -2.0;
     for (int round = 0; round < options.iterations; ++round) {
       if (elapsed() > options.max_seconds) {
@@ -123,20 +163,23 @@ RefineResult refine_mesh(const TriangleMesh& input,
       // Step 1: visibility and normals of the current surface.
       const std::vector<Eigen::Vector3f> normals = vertex_normals(mesh);
       render_depths(mesh, views, level);
-      // Step 2: photometric targets along the normals.
-      const std::vector<VertexTarget> targets =
-          search_normal_offsets(mesh, normals, views, level, 2.0 * edge, options, reporter);
-      const auto [score, fraction] = score_summary(targets);
+      // Step 2: photometric targets along the normals, searched at some
+      // vertices and filled in at the others.
+      std::vector<VertexTarget> targets =
+          search_normal_offsets(mesh, normals, searched, views, level, 2.0 * edge, options, reporter);
+      fill_targets(rings, is_searched, targets);
+      const auto [score, fraction] = score_summary(targets, searched);
       stats.round_scores.push_back(score);
       stats.round_levels.push_back(level);
+      stats.round_searched.push_back(static_cast<double>(searched.size()) / mesh.vertices.size());
       stats.targeted_fraction = fraction;
       // Step 3: the regularised displacements, applied without fold-overs.
       SolveStats solve;
-      const std::vector<float> s =
-          solve_displacements(mesh, rings, normals, targets, largest_offset(targets), options, &solve);
+      const std::vector<float> s = connectivity->solver.solve(mesh, normals, targets, largest_offset(targets), &solve);
       stats.folds_prevented += move_without_folds(mesh, normals, s);
       ++stats.rounds;
-      reporter.info(format_message("refine level ", level, " round ", round + 1, ": mean ZNCC ", score, " over ",
+      reporter.info(format_message("refine level ", level, " round ", round + 1, ": mean ZNCC ", score, " (",
+                                   searched.size(), " of ", mesh.vertices.size(), " vertices searched), targets on ",
                                    100.0 * fraction, "% of the vertices, ", solve.iterations, " CG iterations, ",
                                    elapsed(), " s"));
       // The energy stalls: the next level (or the end).

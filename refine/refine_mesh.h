@@ -17,15 +17,16 @@
 namespace hos::refine {
 
 struct RefineStats {
-  int rounds = 0;                    // rounds run over all levels
-  std::vector<double> round_scores;  // mean best ZNCC of the vertices with a target, per round
-  std::vector<int> round_levels;     // the pyramid level of each round (finer levels score lower)
-  double targeted_fraction = 0.0;    // vertices with a target in the last round
-  double mean_displacement = 0.0;    // mean |final - input| over the input's vertices, scene units
-  int folds_prevented = 0;           // vertices whose step was shortened to keep faces from flipping
-  int split_edges = 0;               // edges split to reach refine.edge_pixels
-  bool face_budget_reached = false;  // refine.max_faces stopped the splitting
-  bool out_of_time = false;          // stopped by max_seconds
+  int rounds = 0;                      // rounds run over all levels
+  std::vector<double> round_scores;    // mean best ZNCC of the vertices with a target, per round
+  std::vector<int> round_levels;       // the pyramid level of each round (finer levels score lower)
+  std::vector<double> round_searched;  // fraction of the vertices searched, per round (the rest filled in)
+  double targeted_fraction = 0.0;      // vertices with a target in the last round
+  double mean_displacement = 0.0;      // mean |final - input| over the input's vertices, scene units
+  int folds_prevented = 0;             // vertices whose step was shortened to keep faces from flipping
+  int split_edges = 0;                 // edges split to reach refine.edge_pixels
+  bool face_budget_reached = false;    // refine.max_faces stopped the splitting
+  bool out_of_time = false;            // stopped by max_seconds
   double seconds = 0.0;
 };
 

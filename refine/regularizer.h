@@ -13,6 +13,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 #include <vector>
 
 #include "core/types.h"
@@ -27,9 +28,31 @@ struct SolveStats {
   double relative_residual = 0.0;
 };
 
-// Minimises E(s) (conjugate gradients, Jacobi preconditioner); each s_v is
-// then clamped to [-max_offset, max_offset]. Throws NumericalError when the
-// solution is not finite.
+// The solve for one mesh connectivity: the regulariser's matrix is built
+// once (a level's rounds share it) and each round only fills the system's
+// values in its pattern.
+class DisplacementSolver {
+ public:
+  DisplacementSolver(const VertexRings& rings, const RefineOptions& options);
+
+  // Minimises E(s) (conjugate gradients, Jacobi preconditioner); each s_v is
+  // then clamped to [-max_offset, max_offset]. Throws NumericalError when the
+  // solution is not finite.
+  std::vector<float> solve(const TriangleMesh& mesh,
+                           const std::vector<Eigen::Vector3f>& normals,
+                           const std::vector<VertexTarget>& targets,
+                           double max_offset,
+                           SolveStats* stats = nullptr);
+
+ private:
+  using SparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+  double lambda_ = 0.0, anchor_weight_ = 0.0;
+  SparseMatrix regularizer_;   // with an entry on every diagonal position
+  std::vector<int> diagonal_;  // index of (v, v) in regularizer_'s values
+  SparseMatrix system_;        // regularizer_'s pattern, each solve's values
+};
+
+// One solve (DisplacementSolver for a single round).
 std::vector<float> solve_displacements(const TriangleMesh& mesh,
                                        const VertexRings& rings,
                                        const std::vector<Eigen::Vector3f>& normals,
