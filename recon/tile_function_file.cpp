@@ -1,9 +1,8 @@
 #include "recon/tile_function_file.h"
 
-#include <algorithm>
 #include <cstdio>
 
-#include "core/atomic_file.h"
+#include "core/binary_file.h"
 #include "core/binary_values.h"
 #include "core/error.h"
 #include "core/reporter.h"
@@ -11,7 +10,11 @@
 namespace hos::recon {
 namespace {
 
-constexpr char kTag[8] = {'H', 'O', 'S', 'T', 'I', 'L', 'E', 'F'};
+constexpr BinaryFileKind kTileFunctionKind{{'H', 'O', 'S', 'T', 'I', 'L', 'E', 'F'},
+                                           kTileFunctionVersion,
+                                           "hos-recon",
+                                           "tile function",
+                                           "solve the tile again"};
 
 std::string box_text(const NodeBox& b) {
   return format_message(b.lo.x(), ",", b.lo.y(), ",", b.lo.z(), " .. ", b.hi.x(), ",", b.hi.y(), ",", b.hi.z());
@@ -28,11 +31,7 @@ std::filesystem::path tile_function_file(const std::filesystem::path& folder, in
 void write_tile_function(const std::filesystem::path& file,
                          const TileFunctionHeader& header,
                          const std::vector<float>& values) {
-  if (!file.parent_path().empty()) std::filesystem::create_directories(file.parent_path());
-  write_atomically(file, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp, std::ios::binary);
-    out.write(kTag, sizeof(kTag));
-    write_value(out, kTileFunctionVersion);
+  write_binary_file(file, kTileFunctionKind, [&](std::ofstream& out) {
     write_value(out, static_cast<std::int32_t>(header.tile));
     write_value(out, static_cast<std::int32_t>(header.num_tiles));
     write_value(out, header.fingerprint);
@@ -43,7 +42,6 @@ void write_tile_function(const std::filesystem::path& file,
     write_value(out, static_cast<std::uint64_t>(values.size()));
     out.write(reinterpret_cast<const char*>(values.data()),
               static_cast<std::streamsize>(values.size() * sizeof(float)));
-    if (!out) throw OutputError(file.string(), "cannot write the tile's function");
   });
 }
 
@@ -54,19 +52,11 @@ TileFunctionReader::TileFunctionReader(const std::filesystem::path& file, const 
     throw InputError(name, format_message("missing tile function; solve it with hos-recon --tile ", expected.tile,
                                           " --tile-dir ", file.parent_path().string(), " first"));
   }
-  char tag[sizeof(kTag)] = {};
-  in_.read(tag, sizeof(tag));
-  if (!in_ || !std::equal(tag, tag + sizeof(tag), kTag)) throw InputError(name, "not a hos-recon tile function file");
-  std::uint32_t version = 0;
+  read_binary_file_start(in_, file, kTileFunctionKind);
   std::int32_t tile = 0, tiles = 0;
   std::int32_t box[6] = {};
   std::uint64_t count = 0;
-  bool ok = read_value(in_, version);
-  if (ok && version != kTileFunctionVersion) {
-    throw InputError(name, format_message("tile function of format version ", version, ", this hos reads version ",
-                                          kTileFunctionVersion, "; solve the tile again"));
-  }
-  ok = ok && read_value(in_, tile) && read_value(in_, tiles) && read_value(in_, header_.fingerprint);
+  bool ok = read_value(in_, tile) && read_value(in_, tiles) && read_value(in_, header_.fingerprint);
   for (std::int32_t& b : box) ok = ok && read_value(in_, b);
   ok = ok && read_value(in_, header_.isovalue) && read_value(in_, header_.gradient_scale) && read_value(in_, count);
   if (!ok) throw InputError(name, "truncated tile function (the header is incomplete)");

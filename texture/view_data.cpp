@@ -4,7 +4,7 @@
 #include <cstring>
 #include <fstream>
 
-#include "core/atomic_file.h"
+#include "core/binary_file.h"
 #include "core/binary_values.h"
 #include "core/error.h"
 #include "core/fnv1a.h"
@@ -12,7 +12,8 @@
 namespace hos::texture {
 namespace {
 
-constexpr char kViewDataTag[8] = {'H', 'O', 'S', 'T', 'V', 'I', 'E', 'W'};
+constexpr BinaryFileKind kViewDataKind{
+    {'H', 'O', 'S', 'T', 'V', 'I', 'E', 'W'}, kViewDataVersion, "hos-texture", "view data", "compute it again"};
 
 // One sample on disk: the face, then the seven floats of FaceViewSample
 // (its view is the file's).
@@ -41,11 +42,7 @@ std::uint64_t view_data_fingerprint(const TriangleMesh& mesh, const TextureView&
 }
 
 void write_view_data(const std::filesystem::path& file, const ViewDataKey& key, const ViewSamples& samples) {
-  std::filesystem::create_directories(file.parent_path());
-  write_atomically(file, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp, std::ios::binary);
-    out.write(kViewDataTag, sizeof(kViewDataTag));
-    write_value(out, kViewDataVersion);
+  write_binary_file(file, kViewDataKind, [&](std::ofstream& out) {
     write_value(out, static_cast<std::int32_t>(key.view_index));
     write_value(out, static_cast<std::int32_t>(key.num_faces));
     write_value(out, key.fingerprint);
@@ -56,7 +53,6 @@ void write_view_data(const std::filesystem::path& file, const ViewDataKey& key, 
                                            s.mean_rgb.x(),      s.mean_rgb.y(), s.mean_rgb.z()};
       out.write(reinterpret_cast<const char*>(values), sizeof(values));
     }
-    if (!out) throw OutputError(file.string(), "cannot write the view data");
   });
 }
 
@@ -65,21 +61,12 @@ ViewSamples read_view_data(const std::filesystem::path& file, const ViewDataKey&
   if (!in) {
     throw InputError(file.string(), "missing view data; compute it with hos-texture --views ... --view-data first");
   }
-  char tag[sizeof(kViewDataTag)] = {};
-  std::uint32_t version = 0;
+  read_binary_file_start(in, file, kViewDataKind);
   std::int32_t view_index = 0, num_faces = 0;
   std::uint64_t fingerprint = 0, count = 0;
-  in.read(tag, sizeof(tag));
-  if (!in || !std::equal(tag, tag + sizeof(tag), kViewDataTag)) {
-    throw InputError(file.string(), "not a hos-texture view data file");
-  }
-  if (!read_value(in, version) || !read_value(in, view_index) || !read_value(in, num_faces) ||
-      !read_value(in, fingerprint) || !read_value(in, count)) {
+  if (!read_value(in, view_index) || !read_value(in, num_faces) || !read_value(in, fingerprint) ||
+      !read_value(in, count)) {
     throw InputError(file.string(), "truncated view data (the header is incomplete)");
-  }
-  if (version != kViewDataVersion) {
-    throw InputError(file.string(), format_message("view data of format version ", version, ", this hos reads version ",
-                                                   kViewDataVersion, "; compute it again"));
   }
   if (view_index != key.view_index || num_faces != key.num_faces || fingerprint != key.fingerprint) {
     throw InputError(file.string(),
