@@ -195,6 +195,49 @@ ViewDataKey view_data_key(const PreparedMesh& prepared, const TextureView& view,
   return {index, static_cast<int>(prepared.mesh->faces.size()), view_data_fingerprint(*prepared.mesh, view, o)};
 }
 
+// The candidates of a split run: every view's data, as compute_view_data
+// wrote it into folder.
+FaceViewCandidates candidates_from_view_data(const PreparedMesh& prepared,
+                                             const std::vector<TextureView>& views,
+                                             const TextureOptions& options,
+                                             const std::filesystem::path& folder,
+                                             Reporter& reporter) {
+  std::vector<ViewSamples> per_view(views.size());
+  reporter.begin("reading view data", static_cast<std::int64_t>(views.size()));
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    reporter.throw_if_cancelled();
+    const int index = static_cast<int>(v);
+    per_view[v] =
+        read_view_data(view_data_file(folder, views[v].name), view_data_key(prepared, views[v], index, options));
+    reporter.advance();
+  }
+  reporter.end();
+  return gather_candidates(static_cast<int>(prepared.mesh->faces.size()), per_view);
+}
+
+// A whole texture run from views: the mesh prepared, the candidate views of
+// each face found (find_candidates, timed as the step candidates_step:
+// visibility, or the per-view data of a split run), then everything after.
+template <typename FindCandidates>
+TextureResult texture_run(const TriangleMesh& input_mesh,
+                          const std::vector<TextureView>& views,
+                          const TextureOptions& options,
+                          Reporter& reporter,
+                          const PlacementInput& placement,
+                          const char* candidates_step,
+                          FindCandidates find_candidates) {
+  TextureResult result;
+  StepTimer timer(result.stats);
+  result.stats.num_views = static_cast<int>(views.size());
+  if (views.empty()) throw StageError("texture", "no registered images to texture from");
+  PreparedMesh prepared;
+  prepare_mesh(input_mesh, options, reporter, prepared, result.stats, timer);
+  FaceViewCandidates candidates = find_candidates(prepared);
+  timer.lap(candidates_step);
+  texture_from_candidates(prepared, std::move(candidates), views, options, placement, reporter, result, timer);
+  return result;
+}
+
 }  // namespace
 
 TextureResult texture_mesh(const TriangleMesh& input_mesh,
@@ -203,16 +246,9 @@ TextureResult texture_mesh(const TriangleMesh& input_mesh,
                            Reporter& reporter,
                            const PlacementInput& placement) {
   options.validate();
-  TextureResult result;
-  StepTimer timer(result.stats);
-  result.stats.num_views = static_cast<int>(views.size());
-  if (views.empty()) throw StageError("texture", "no registered images to texture from");
-  PreparedMesh prepared;
-  prepare_mesh(input_mesh, options, reporter, prepared, result.stats, timer);
-  FaceViewCandidates candidates = compute_visibility(*prepared.mesh, prepared.topology, views, options, reporter);
-  timer.lap("visibility");
-  texture_from_candidates(prepared, std::move(candidates), views, options, placement, reporter, result, timer);
-  return result;
+  return texture_run(input_mesh, views, options, reporter, placement, "visibility", [&](const PreparedMesh& prepared) {
+    return compute_visibility(*prepared.mesh, prepared.topology, views, options, reporter);
+  });
 }
 
 TextureResult texture_mesh(const TriangleMesh& mesh,
@@ -271,26 +307,9 @@ TextureResult texture_mesh_from_view_data(const TriangleMesh& input_mesh,
                                           const PlacementInput& placement) {
   options.validate();
   const std::vector<TextureView> views = load_texture_views(workspace, reporter);
-  TextureResult result;
-  StepTimer timer(result.stats);
-  result.stats.num_views = static_cast<int>(views.size());
-  if (views.empty()) throw StageError("texture", "no registered images to texture from");
-  PreparedMesh prepared;
-  prepare_mesh(input_mesh, options, reporter, prepared, result.stats, timer);
-  std::vector<ViewSamples> per_view(views.size());
-  reporter.begin("reading view data", static_cast<std::int64_t>(views.size()));
-  for (std::size_t v = 0; v < views.size(); ++v) {
-    reporter.throw_if_cancelled();
-    const int index = static_cast<int>(v);
-    per_view[v] =
-        read_view_data(view_data_file(folder, views[v].name), view_data_key(prepared, views[v], index, options));
-    reporter.advance();
-  }
-  reporter.end();
-  FaceViewCandidates candidates = gather_candidates(static_cast<int>(prepared.mesh->faces.size()), per_view);
-  timer.lap("view data");
-  texture_from_candidates(prepared, std::move(candidates), views, options, placement, reporter, result, timer);
-  return result;
+  return texture_run(input_mesh, views, options, reporter, placement, "view data", [&](const PreparedMesh& prepared) {
+    return candidates_from_view_data(prepared, views, options, folder, reporter);
+  });
 }
 
 }  // namespace hos::texture
