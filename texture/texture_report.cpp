@@ -40,37 +40,35 @@ nlohmann::ordered_json placement_json(const Placement& p) {
 
 nlohmann::ordered_json texture_report_json(const TextureResult& result) {
   const TextureStats& s = result.stats;
-  nlohmann::ordered_json j;
-  j["input_faces"] = s.input_faces;
-  j["faces"] = s.faces;
-  j["views"] = s.num_views;
-  j["visible_face_view_pairs"] = s.num_candidates;
-  j["outlier_rejections"] = s.num_outlier_rejections;
-  j["unseen_faces"] = s.num_unseen_faces;
-  j["charts"] = s.num_charts;
-  j["merged_charts"] = s.num_merged_charts;
   nlohmann::ordered_json atlases = nlohmann::ordered_json::array();
   for (const auto& [w, h] : s.atlas_sizes) atlases.push_back({w, h});
-  j["atlases"] = atlases;
-  j["texel_scale"] = s.texel_scale;
-  j["atlas_coverage"] = s.atlas_coverage;
-  j["seam_vertices"] = s.num_seam_vertices;
-  j["mean_seam_jump_before"] = s.mean_seam_jump_before;
-  j["mean_seam_jump_after"] = s.mean_seam_jump_after;
-  j["seam_jumps_before"] = histogram_json(s.seam_jumps_before);
-  j["seam_jumps_after"] = histogram_json(s.seam_jumps_after);
-  j["views_per_face"] = histogram_json(s.views_per_face);
   nlohmann::ordered_json gains = nlohmann::ordered_json::array();
-  for (const auto& g : s.exposure_gains) gains.push_back({g.x(), g.y(), g.z()});
-  j["exposure_gains"] = gains;
-  j["estimated_up"] = {s.estimated_up.x(), s.estimated_up.y(), s.estimated_up.z()};
-  // Column-major, as in the glTF node.
-  j["root_matrix"] = std::vector<double>(result.mesh.root_matrix.data(), result.mesh.root_matrix.data() + 16);
-  j["placement"] = placement_json(result.placement);
+  for (const auto& g : s.exposure_gains) gains.push_back(vector_json(g.cast<double>()));
   nlohmann::ordered_json steps;
   for (const auto& [step, seconds] : s.step_seconds) steps[step] = seconds;
-  j["step_seconds"] = steps;
-  return j;
+  return {{"input_faces", s.input_faces},
+          {"faces", s.faces},
+          {"views", s.num_views},
+          {"visible_face_view_pairs", s.num_candidates},
+          {"outlier_rejections", s.num_outlier_rejections},
+          {"unseen_faces", s.num_unseen_faces},
+          {"charts", s.num_charts},
+          {"merged_charts", s.num_merged_charts},
+          {"atlases", atlases},
+          {"texel_scale", s.texel_scale},
+          {"atlas_coverage", s.atlas_coverage},
+          {"seam_vertices", s.num_seam_vertices},
+          {"mean_seam_jump_before", s.mean_seam_jump_before},
+          {"mean_seam_jump_after", s.mean_seam_jump_after},
+          {"seam_jumps_before", histogram_json(s.seam_jumps_before)},
+          {"seam_jumps_after", histogram_json(s.seam_jumps_after)},
+          {"views_per_face", histogram_json(s.views_per_face)},
+          {"exposure_gains", gains},
+          {"estimated_up", vector_json(s.estimated_up)},
+          // Column-major, as in the glTF node.
+          {"root_matrix", std::vector<double>(result.mesh.root_matrix.data(), result.mesh.root_matrix.data() + 16)},
+          {"placement", placement_json(result.placement)},
+          {"step_seconds", steps}};
 }
 
 void write_texture_report(const std::filesystem::path& path, const TextureResult& result) {
