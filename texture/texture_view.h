@@ -19,14 +19,20 @@ struct TextureView {
   Camera camera;
   ImageRecord pose;  // keypoints dropped
   cv::Mat image;     // CV_8UC3, BGR
+  // CV_8U at the image's size, kMaskedOut where the photo's mask excludes
+  // the pixel (core/image_mask.h), grown by one pixel so that no bilinear
+  // sample reaches a masked pixel; empty: every pixel usable. A face
+  // touching a masked pixel is not seen by the view (texture/visibility.h).
+  cv::Mat mask;
 
   // Continuous pixel coordinates (COLMAP: centre of the top-left pixel is
   // (0.5, 0.5)) and camera-frame depth of a world point.
   Eigen::Vector3d project(const Eigen::Vector3d& x_in_world) const;
 };
 
-// Loads every registered image of the workspace. Throws InputError for an
-// unreadable image or one whose size differs from its camera's.
+// Loads every registered image of the workspace, with its mask when the
+// workspace has one. Throws InputError for an unreadable image or mask, or
+// one whose size differs from its camera's.
 std::vector<TextureView> load_texture_views(const UndistortedWorkspace& workspace, Reporter& reporter);
 // The registered images of range only (numbered from 0 in image id order).
 std::vector<TextureView> load_texture_views(const UndistortedWorkspace& workspace,

@@ -1,8 +1,10 @@
 #include "texture/visibility.h"
 
+#include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "core/image_mask.h"
 #include "render/depth_buffer.h"
 
 namespace hos::texture {
@@ -16,6 +18,15 @@ std::vector<Eigen::Vector3f> project_vertices(const TriangleMesh& mesh, const Te
     p[i] = view.project(mesh.vertices[i].cast<double>()).cast<float>();
   }
   return p;
+}
+
+// A masked pixel of the view (texture/texture_view.h) under p; outside the
+// image is the depth test's business.
+bool on_masked_pixel(const TextureView& view, const Eigen::Vector3f& p) {
+  if (view.mask.empty()) return false;
+  const int x = std::clamp(static_cast<int>(std::floor(p.x())), 0, view.mask.cols - 1);
+  const int y = std::clamp(static_cast<int>(std::floor(p.y())), 0, view.mask.rows - 1);
+  return view.mask.at<unsigned char>(y, x) == kMaskedOut;
 }
 
 bool passes_depth_test(const render::DepthBuffer& buffer, const Eigen::Vector3f& p, int face, float tolerance) {
@@ -51,15 +62,21 @@ ViewSamples compute_view_visibility(const TriangleMesh& mesh,
     float gradient = 0.0f;
     float count = 0.0f;
     Eigen::Vector3f rgb = Eigen::Vector3f::Zero();
+    bool masked = false;  // some pixel of the face is masked out
   };
   std::vector<Accumulator> acc(num_faces);
   for (int y = 0; y < buffer.face_id.rows; ++y) {
     const int* ids = buffer.face_id.ptr<int>(y);
     const float* g = gradient.ptr<float>(y);
     const cv::Vec3b* px = view.image.ptr<cv::Vec3b>(y);
+    const unsigned char* mask = view.mask.empty() ? nullptr : view.mask.ptr<unsigned char>(y);
     for (int x = 0; x < buffer.face_id.cols; ++x) {
       if (ids[x] < 0) continue;
       Accumulator& a = acc[ids[x]];
+      if (mask != nullptr && mask[x] == kMaskedOut) {
+        a.masked = true;
+        continue;
+      }
       a.gradient += g[x];
       a.count += 1.0f;
       a.rgb += Eigen::Vector3f(px[x][2], px[x][1], px[x][0]);
@@ -91,7 +108,11 @@ ViewSamples compute_view_visibility(const TriangleMesh& mesh,
     for (const Eigen::Vector3f* p : {&a, &b, &c}) {
       visible = visible && passes_depth_test(buffer, 0.5f * (pc + *p), f, tolerance);
     }
-    if (!visible) continue;
+    // Masked pixels are treated as occluded: a face touching one (or too
+    // small to cover a pixel, lying on one) takes no colour from this view.
+    bool masked = acc[f].masked;
+    for (const Eigen::Vector3f* p : {&a, &b, &c, &pc}) masked = masked || on_masked_pixel(view, *p);
+    if (!visible || masked) continue;
     FaceViewSample s;
     s.view = view_index;
     s.cos_angle = cos_angle;

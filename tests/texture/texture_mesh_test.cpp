@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
+#include "core/image_mask.h"
 #include "synth/shapes.h"
 #include "tests/texture/scene_fixtures.h"
 
@@ -240,6 +241,34 @@ TEST(TextureMesh, OccluderInOnePhotoDoesNotReachTheTexture) {
   options.gradient_floor = 1000.0;  // prefer the closest, most frontal view: view 0
   const TextureResult unchecked = texture_mesh(mesh, views, options, null_reporter());
   EXPECT_GT(count_red_samples(unchecked.mesh), 0);
+}
+
+// The same red ball in view 0, now masked out there (a person the user
+// masked): with the checks that would catch it off and view 0 preferred, no
+// red reaches the texture; without the mask it does.
+TEST(TextureMesh, MaskedPixelsNeverColourTheTexture) {
+  const TriangleMesh mesh = synth::icosphere(4, kRadius);
+  auto views = ring_views(12);
+  const cv::Mat clean = views[0].image.clone();
+  testing::Occluder ball;
+  ball.center = 0.45 * views[0].pose.center();
+  ball.radius = 0.35;
+  render_sphere(views[0], kRadius, 1.0f, ball);
+  // The ball's pixels: where the photo changed (its rim included).
+  cv::Mat changed;
+  cv::absdiff(views[0].image, clean, changed);
+  cv::cvtColor(changed, changed, cv::COLOR_BGR2GRAY);
+  TextureOptions options;
+  options.outlier_rejection = false;
+  options.smoothness = 0.0;
+  options.gradient_floor = 1000.0;  // prefer the closest, most frontal view: view 0
+  ASSERT_GT(count_red_samples(texture_mesh(mesh, views, options, null_reporter()).mesh), 0);
+  views[0].mask = cv::Mat(changed.size(), CV_8U, cv::Scalar(kUsable));
+  views[0].mask.setTo(kMaskedOut, changed > 0);
+  ASSERT_GT(count_masked(views[0].mask), 1000u);
+  const TextureResult result = texture_mesh(mesh, views, options, null_reporter());
+  EXPECT_EQ(count_red_samples(result.mesh), 0);
+  EXPECT_EQ(result.stats.num_unseen_faces, 0);  // the other photos see behind the ball
 }
 
 TEST(TextureMesh, UnseenFacesTakeNeighbourColours) {
