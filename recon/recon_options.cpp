@@ -57,6 +57,10 @@ void register_options(OptionSet& set, ReconOptions& o) {
           "remove small pieces detached from the main surface (false: keep every piece)");
   set.add("debris.min_area_fraction", o.debris.min_area_fraction,
           "pieces whose area is below this fraction of the largest piece's are debris", 0.0, 1.0);
+  set.add("debris.keep_min_views", o.debris.keep_min_views,
+          "a smaller piece stays when its samples' mean confidence (views agreeing in fusion) is at least this (0 = "
+          "off)",
+          0.0, 1000.0);
   set.add("threads", o.threads, "OpenMP threads (0 = all cores)", 0, 1024);
   set.add("max_memory_mb", o.max_memory_mb,
           "memory budget (MB): a larger grid is cut into tiles, or with tiles 1 refused, before allocating (0 = 3/4 "

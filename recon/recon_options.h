@@ -77,6 +77,9 @@ struct DebrisOptions {
   // Pieces whose area is below this fraction of the largest piece's are
   // debris (docs/recon.md, "Debris": what the stray pieces measure).
   double min_area_fraction = 0.02;
+  // A smaller piece stays when its samples' mean confidence (views agreeing
+  // in fusion) is at least this (0 = off; debris.h).
+  double keep_min_views = 3.0;
 };
 
 struct ReconOptions {

@@ -540,8 +540,11 @@ ImplicitFunction solve_implicit_function(const OrientedSamples& samples,
   return fn;
 }
 
-void remove_debris_and_report(const DebrisOptions& options, ReconResult& result, Reporter& reporter) {
-  const DebrisReport& debris = result.stats.debris = remove_debris(result.mesh, options);
+void remove_debris_and_report(const DebrisOptions& options,
+                              ReconResult& result,
+                              Reporter& reporter,
+                              const DebrisSupport& support) {
+  const DebrisReport& debris = result.stats.debris = remove_debris(result.mesh, options, support);
   if (debris.components_removed > 0) {
     reporter.info(format_message("recon: removed ", debris.components_removed, " of ", debris.components,
                                  " pieces as debris: ", debris.faces_removed, " faces, area ", debris.area_removed,
@@ -571,7 +574,8 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
     throw NumericalError("recon", "the isosurface is empty (the orientations may be inconsistent)");
   }
   to_world(samples.frame, result.mesh);
-  remove_debris_and_report(options.debris, result, reporter);
+  remove_debris_and_report(options.debris, result, reporter,
+                           {&input.positions, &input.confidence, options.trim.distance_voxels * stats.voxel_size});
   ScalarGrid& f = result.function;
   f.geometry = grid;
   f.geometry.origin = samples.frame.to_world(f.geometry.origin);

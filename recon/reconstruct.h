@@ -71,7 +71,10 @@ ReconResult reconstruct_surface(const PointCloud& input, const ReconOptions& opt
 
 // The last step of every run (whole or tiled), on the world-frame mesh:
 // debris removed (remove_debris), result.stats.debris set, the removal reported.
-void remove_debris_and_report(const DebrisOptions& options, ReconResult& result, Reporter& reporter);
+void remove_debris_and_report(const DebrisOptions& options,
+                              ReconResult& result,
+                              Reporter& reporter,
+                              const DebrisSupport& support = {});
 
 // The samples reconstruct_surface works on (prepare_samples), the dropped
 // ones counted in stats and reported.

@@ -90,6 +90,43 @@ TEST(Debris, PiecesAtTheThresholdAreKept) {
   EXPECT_EQ(remove_debris(mesh, options).components_removed, 1u);
 }
 
+// Samples on the speck of sphere_and_speck, each confirmed by `views` views.
+void add_speck_samples(std::vector<Eigen::Vector3f>& points, std::vector<float>& views, int count, float confirmed) {
+  const TriangleMesh speck = synth::icosphere(2, 0.05f, Eigen::Vector3f(3.0f, 0.0f, 0.0f));
+  for (int i = 0; i < count; ++i) {
+    points.push_back(speck.vertices[static_cast<std::size_t>(i) % speck.vertices.size()]);
+    views.push_back(confirmed);
+  }
+}
+
+// A small piece that many samples confirmed by several views each support
+// (a hanging object whose wire left no surface) stays; the same piece made
+// of points only two views agreed on, or of too few points, goes.
+TEST(Debris, SmallPieceThatManyViewsConfirmedIsKept) {
+  DebrisOptions options;
+  options.keep_min_views = 3.5;
+  const std::size_t speck_faces = synth::icosphere(2).faces.size();
+  const auto run = [&](int count, float confirmed) {
+    TriangleMesh mesh = sphere_and_speck();
+    std::vector<Eigen::Vector3f> points;
+    std::vector<float> views;
+    // The sphere's own samples do not count for the speck.
+    for (const auto& v : synth::icosphere(3, 1.0f).vertices) {
+      points.push_back(v);
+      views.push_back(9.0f);
+    }
+    add_speck_samples(points, views, count, confirmed);
+    const std::size_t faces = mesh.faces.size();
+    const DebrisReport report = remove_debris(mesh, options, {&points, &views, 0.01});
+    return std::pair{faces - mesh.faces.size(), report.components_kept_by_support};
+  };
+  EXPECT_EQ(run(200, 5.0f), std::pair(std::size_t{0}, std::size_t{1}));
+  EXPECT_EQ(run(200, 2.0f), std::pair(speck_faces, std::size_t{0}));
+  EXPECT_EQ(run(20, 5.0f), std::pair(speck_faces, std::size_t{0}));
+  options.keep_min_views = 0.0;  // off
+  EXPECT_EQ(run(200, 5.0f), std::pair(speck_faces, std::size_t{0}));
+}
+
 // A sphere of points and a small, dense cluster of stray points beside it,
 // as MVS outliers are: the cluster's closed blob is removed by default and
 // kept with debris.remove off, and report.json counts it.
