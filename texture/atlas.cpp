@@ -13,7 +13,7 @@ namespace hos::texture {
 
 namespace {
 
-constexpr int kFlatCell = 2;        // texels per side of a flat face's patch (sampled at its centre)
+constexpr int kFlatCell = 1;        // texels per side of a flat face's patch (sampled at its centre)
 constexpr int kFlatColourStep = 4;  // flat colours this close (8-bit) share a patch
 
 // A chart's map from its view's photo pixels to page texels (texel = linear *
