@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/mesh_connectivity.h"
+#include "core/statistics.h"
 #include "eval/surface_distance.h"
 
 namespace hos::eval {
@@ -101,13 +102,8 @@ CurvatureStats compute_curvature_stats(const TriangleMesh& mesh,
   if (s.vertices_measured > 0) {
     s.mean_abs_h = sum_h / static_cast<double>(s.vertices_measured);
     s.mean_abs_k = sum_k / static_cast<double>(s.vertices_measured);
-    const auto p99 = [](std::vector<double>& v) {
-      const auto at = v.begin() + static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(v.size() - 1));
-      std::nth_element(v.begin(), at, v.end());
-      return *at;
-    };
-    s.p99_abs_h = p99(abs_h);
-    s.p99_abs_k = p99(abs_k);
+    s.p99_abs_h = quantile(std::move(abs_h), 0.99);
+    s.p99_abs_k = quantile(std::move(abs_k), 0.99);
   }
   if (points != nullptr && !points->empty()) {
     reporter.begin("point distances", static_cast<std::int64_t>(points->size()));

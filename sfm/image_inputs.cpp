@@ -7,6 +7,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "core/text.h"
 #include "sfm/exif.h"
 #include "sfm/heif_decoder.h"
 #include "sfm/photo_format.h"
@@ -17,11 +18,6 @@ namespace {
 
 constexpr int kMinUsableImages = 3;
 constexpr const char* kReadFormats = "JPEG, PNG, TIFF, BMP or HEIC/HEIF";
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
 
 std::string join_skipped(const std::vector<SkippedInput>& skipped) {
   std::string out;
@@ -256,7 +252,7 @@ std::optional<DecodedPhoto> decode_photo(const fs::path& file, const SfmOptions&
 // JPEG (COLMAP cannot read HEIC), so its name says so.
 std::string staged_name(const std::string& relative, PhotoFormat format) {
   if (format != PhotoFormat::kHeif) return relative;
-  const std::string ext = lower(fs::path(relative).extension().string());
+  const std::string ext = lower_case_extension(relative);
   return ext == ".jpg" || ext == ".jpeg" ? relative : relative + ".jpg";
 }
 

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/statistics.h"
 #include "sfm/image_inputs.h"
 
 namespace hos::sfm {
@@ -32,13 +33,6 @@ constexpr int kMaxTrackedFeatures = 300;
 constexpr double kMinTrackedShare = 0.5;
 constexpr int kMinTrackedFeatures = 8;
 constexpr int kJpegQuality = 95;
-
-double median_of(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
 
 // ISO base media brands of still images (HEIF, AVIF) rather than videos.
 bool is_still_image_brand(const std::string& brand) {
@@ -123,7 +117,7 @@ bool VideoFrameSelector::is_blurred(int index) const {
     if (k != index) neighbours.push_back(sharpness_[k]);
   }
   if (neighbours.empty()) return false;
-  return sharpness_[index] < options_.blur_ratio * median_of(std::move(neighbours));
+  return sharpness_[index] < options_.blur_ratio * upper_median(std::move(neighbours));
 }
 
 void VideoFrameSelector::start_tracking(const cv::Mat& gray) {
@@ -159,7 +153,7 @@ double VideoFrameSelector::tracked_motion(const cv::Mat& gray) {
   if (still_tracked < kMinTrackedFeatures || still_tracked < kMinTrackedShare * features_at_start_) {
     return std::numeric_limits<double>::infinity();
   }
-  return median_of(std::move(moved));
+  return upper_median(std::move(moved));
 }
 
 bool VideoFrameSelector::keep(const cv::Mat& frame) {

@@ -9,6 +9,7 @@
 #include "core/atomic_file.h"
 #include "core/colmap_io.h"
 #include "core/error.h"
+#include "core/text.h"
 #include "synth/synth_options.h"
 
 namespace hos::synth {
@@ -21,21 +22,16 @@ constexpr double kLowestElevationDeg = 15.0;
 constexpr double kHighestElevationDeg = 50.0;
 constexpr double kElevationSwingsPerTurn = 2.0;
 
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
-
 // H.264 (FFmpeg's libx264) as phones write; OpenCV's own MJPEG for AVI.
 int fourcc_for(const std::string& name) {
-  if (lower(fs::path(name).extension().string()) == ".avi") return cv::VideoWriter::fourcc('M', 'J', 'P', 'G');
+  if (lower_case_extension(name) == ".avi") return cv::VideoWriter::fourcc('M', 'J', 'P', 'G');
   return cv::VideoWriter::fourcc('a', 'v', 'c', '1');
 }
 
 }  // namespace
 
 void VideoOptions::validate() const {
-  const std::string ext = lower(fs::path(name).extension().string());
+  const std::string ext = lower_case_extension(name);
   if (name.empty() || fs::path(name).filename() != name) {
     throw ConfigError("video", "'" + name + "' must be a plain file name (the clip goes into the dataset's video/)");
   }
