@@ -46,6 +46,10 @@ int main(int argc, char** argv) {
                  "A.jpg B.jpg METRES: two photos' camera centres measured on site set the model's scale "
                  "(= --set texture.scale_distance='A.jpg B.jpg METRES')")
       ->expected(3);
+  std::filesystem::path masks;
+  app.add_option("--masks", masks,
+                 "folder of masks: PHOTO.png for each photo PHOTO (its path in PHOTOS), black = not used "
+                 "(= --set sfm.masks=DIR; without it, PHOTO.png beside PHOTO)");
   app.add_option("--from", options.from, "first stage to run: " + hos::pipeline::stage_names_text(" | "));
   app.add_option("--to", options.to, "last stage to run: " + hos::pipeline::stage_names_text(" | "));
   app.add_flag("--force", options.force, "run the stages even if they are up to date");
@@ -85,6 +89,7 @@ int main(int argc, char** argv) {
     options.assignments.push_back("texture.scale_distance=" + scale_distance[0] + " " + scale_distance[1] + " " +
                                   scale_distance[2]);
   }
+  if (!masks.empty()) options.assignments.push_back("sfm.masks=" + std::filesystem::absolute(masks).string());
   options.progress = flags.progress;
   options.verbose = flags.verbose;
   options.bin_dir = own_folder(argv[0]);

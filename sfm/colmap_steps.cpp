@@ -62,6 +62,7 @@ ColmapStep feature_extraction_step(const ColmapRunContext& context,
                                      std::to_string(plan.max_num_features),
                                      "--SiftExtraction.peak_threshold",
                                      format_message(options.sift_peak_threshold)});
+  if (!context.masks.empty()) step.args.insert(step.args.end(), {"--ImageReader.mask_path", context.masks.string()});
   return step;
 }
 

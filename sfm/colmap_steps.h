@@ -20,13 +20,14 @@ struct ColmapRunContext {
   std::filesystem::path images;      // the staged photos
   std::filesystem::path sparse;      // mapper output folder
   std::filesystem::path vocab_tree;  // the tree built from the photos (vocab_tree matcher)
+  std::filesystem::path masks;       // the staged masks (NAME.png); empty: no photo has one
   bool gpu = false;                  // SIFT on the GPU
   std::int64_t num_images = 0;
 };
 
 // The feature_extractor run over the photos listed in image_list (one
 // staged name a line, as image_list_file_text writes them), into the
-// shared database.
+// shared database; with context.masks, no feature is kept in a masked pixel.
 ColmapStep feature_extraction_step(const ColmapRunContext& context,
                                    const ExtractionRun& run,
                                    const std::filesystem::path& image_list,

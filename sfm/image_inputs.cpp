@@ -7,10 +7,12 @@
 #include <set>
 
 #include "core/error.h"
+#include "core/image_mask.h"
 #include "core/text.h"
 #include "sfm/exif.h"
 #include "sfm/heif_decoder.h"
 #include "sfm/photo_format.h"
+#include "sfm/photo_masks.h"
 
 namespace hos::sfm {
 namespace fs = std::filesystem;
@@ -75,6 +77,10 @@ bool is_excluded_folder(const fs::path& folder, const std::vector<fs::path>& exc
 }
 
 }  // namespace
+
+int ImageInputs::masked_photos() const {
+  return static_cast<int>(std::count_if(images.begin(), images.end(), [](const StagedImage& i) { return i.masked; }));
+}
 
 bool ImageInputs::same_camera() const {
   if (images.empty()) return true;
@@ -291,11 +297,13 @@ void write_encoded(const cv::Mat& image, PhotoFormat format, const fs::path& tar
 StagedImage stage_photo(const fs::path& file,
                         const std::string& name,
                         DecodedPhoto photo,
+                        const std::optional<fs::path>& mask,
                         const fs::path& staging_dir,
                         const fs::path& thumbnail_dir,
                         const SfmOptions& options,
                         Reporter& reporter) {
   StagedImage staged;
+  PhotoTransform transform{photo.image.cols, photo.image.rows, photo.orientation, 0, 0};
   staged.name = name;
   staged.source = file;
   staged.focal_length_mm = photo.info.focal_length_mm;
@@ -323,8 +331,13 @@ StagedImage stage_photo(const fs::path& file,
     image = small;
     staged.rewritten = true;
   }
-  staged.width = changes.width = image.cols;
-  staged.height = changes.height = image.rows;
+  staged.width = changes.width = transform.staged_width = image.cols;
+  staged.height = changes.height = transform.staged_height = image.rows;
+  if (mask) {
+    // Checked before anything is written: a bad mask fails the stage.
+    write_mask(stage_mask(*mask, file, transform), mask_file(staged_mask_folder(staging_dir), staged.name));
+    staged.masked = true;
+  }
   changes.write_zero_altitude = staged.gps_altitude_missing;
   if (!thumbnail_dir.empty()) {
     const fs::path thumbnail = thumbnail_dir / (staged.name + ".jpg");
@@ -368,6 +381,47 @@ void require_enough_photos(const fs::path& folder, const ImageInputs& inputs) {
   }
 }
 
+void require_mask_folder(const fs::path& mask_folder) {
+  std::error_code ec;
+  if (mask_folder.empty() || fs::is_directory(mask_folder, ec)) return;
+  throw InputError(mask_folder.string(), fs::exists(mask_folder, ec) ? "sfm.masks is not a folder"
+                                                                     : "mask folder (sfm.masks) does not exist");
+}
+
+// Says how many photos have masks, and names the masks of the folder that
+// belong to no photo (a misspelt name would leave its photo unmasked).
+void report_masks(const fs::path& mask_folder,
+                  int masks_beside,
+                  const std::set<std::string>& photo_names,
+                  Reporter& reporter,
+                  const ImageInputs& inputs) {
+  const int masked = inputs.masked_photos();
+  const int photos = static_cast<int>(std::count_if(inputs.images.begin(), inputs.images.end(),
+                                                    [](const StagedImage& i) { return i.video_clip.empty(); }));
+  if (!mask_folder.empty()) {
+    reporter.info(format_message("masks: ", masked, " of ", photos, " photos have a mask in ", mask_folder.string(),
+                                 masked < photos ? " (the others are used whole)" : ""));
+    if (masks_beside > 0) {
+      reporter.warn(format_message("masks: ", masks_beside,
+                                   " PHOTO.png file(s) beside the photos are ignored: "
+                                   "sfm.masks names the mask folder"));
+    }
+    std::vector<std::string> unmatched;
+    for (const fs::path& file : list_input_files(mask_folder)) {
+      const std::string relative = file.lexically_relative(mask_folder).generic_string();
+      const bool fits = relative.size() > 4 && relative.ends_with(".png") &&
+                        photo_names.count(relative.substr(0, relative.size() - 4)) > 0;
+      if (!fits) unmatched.push_back(relative);
+    }
+    if (!unmatched.empty()) {
+      reporter.warn(format_message("masks: ", unmatched.size(), " file(s) in ", mask_folder.string(),
+                                   " belong to no photo (a photo NAME's mask is NAME.png), e.g. ", unmatched.front()));
+    }
+  } else if (masked > 0) {
+    reporter.info(format_message("masks: ", masked, " of ", photos, " photos have a mask (PHOTO.png beside PHOTO)"));
+  }
+}
+
 void skip(const fs::path& file, const std::string& reason, Reporter& reporter, ImageInputs& inputs) {
   inputs.skipped.push_back({file, reason});
   reporter.warn("skipping " + file.string() + ": " + reason);
@@ -394,15 +448,22 @@ ImageInputs prepare_images(const fs::path& folder,
   // A single video clip stands for a folder holding only it.
   const bool single_clip = is_video_file(folder);
   if (!single_clip) require_photo_folder(folder);
+  const fs::path mask_folder = options.mask_folder();
+  require_mask_folder(mask_folder);
   std::vector<fs::path> excluded_here = excluded;
   excluded_here.push_back(staging_dir);
+  excluded_here.push_back(staged_mask_folder(staging_dir));
+  if (!mask_folder.empty()) excluded_here.push_back(mask_folder);
   if (!thumbnail_dir.empty()) excluded_here.push_back(thumbnail_dir);
   const std::vector<fs::path> files =
       single_clip ? std::vector<fs::path>{folder} : list_input_files(folder, excluded_here);
+  const std::set<fs::path> listed(files.begin(), files.end());
   ImageInputs inputs;
   fs::create_directories(staging_dir);
   if (!thumbnail_dir.empty()) fs::create_directories(thumbnail_dir);
   std::set<std::string> staged_names;
+  std::set<std::string> photo_names;  // relative paths, for the masks that fit no photo
+  int masks_beside = 0;
   reporter.begin("checking photos", static_cast<std::int64_t>(files.size()));
   for (const auto& file : files) {
     reporter.throw_if_cancelled();
@@ -411,6 +472,10 @@ ImageInputs prepare_images(const fs::path& folder,
         single_clip ? file.filename().string() : file.lexically_relative(folder).generic_string();
     if (is_video_file(file)) {
       stage_video(file, relative, staging_dir, thumbnail_dir, options, reporter, inputs);
+      continue;
+    }
+    if (!single_clip && is_mask_beside_photo(file, listed)) {
+      ++masks_beside;  // PHOTO.png beside PHOTO: its mask, not a photo
       continue;
     }
     std::string reason;
@@ -424,9 +489,14 @@ ImageInputs prepare_images(const fs::path& folder,
       skip(file, "its staged name " + name + " is taken by another photo", reporter, inputs);
       continue;
     }
-    inputs.images.push_back(stage_photo(file, name, std::move(*photo), staging_dir, thumbnail_dir, options, reporter));
+    photo_names.insert(relative);
+    const std::optional<fs::path> mask = find_mask(mask_folder, folder, relative);
+    inputs.images.push_back(
+        stage_photo(file, name, std::move(*photo), mask, staging_dir, thumbnail_dir, options, reporter));
   }
   reporter.end();
+  report_masks(mask_folder, masks_beside, photo_names, reporter, inputs);
+  if (inputs.masked_photos() > 0) inputs.mask_folder = staged_mask_folder(staging_dir);
   std::sort(inputs.images.begin(), inputs.images.end(),
             [](const StagedImage& a, const StagedImage& b) { return a.name < b.name; });
   require_enough_photos(folder, inputs);

@@ -42,12 +42,18 @@ struct StagedImage {
   // Staged name of the video clip this is a frame of (sfm/video_frames.h);
   // empty for a photo. The frames of one clip share one camera.
   std::string video_clip;
+  // A mask was staged for it (sfm/photo_masks.h) as
+  // staged_mask_folder(staging_dir)/NAME.png.
+  bool masked = false;
 };
 
 struct ImageInputs {
   std::vector<StagedImage> images;  // sorted by name
   std::vector<SkippedInput> skipped;
   std::vector<VideoClipSummary> videos;  // the clips whose frames are among images
+  // The staged masks (staged_mask_folder), empty when no photo has one.
+  std::filesystem::path mask_folder;
+  int masked_photos() const;
   // All photos share width, height and EXIF focal length: one camera fits.
   bool same_camera() const;
 };
@@ -88,7 +94,11 @@ std::vector<std::filesystem::path> list_photo_files(const std::filesystem::path&
 // content, warns about each skipped one with the reason (an entry that
 // cannot be read at all, such as a symlink loop, included), and stages the
 // usable photos into staging_dir (created), each under its relative name
-// (StagedImage::name). A staged copy carries the photo's EXIF. With a
+// (StagedImage::name). A staged copy carries the photo's EXIF. A photo's
+// mask (sfm/photo_masks.h: options.masks, or NAME.png beside it) is staged
+// with the photo's turn and size into staged_mask_folder(staging_dir); a
+// mask that cannot be read or does not fit its photo is an InputError
+// naming it. With a
 // thumbnail_dir, also writes each usable photo, upright and kThumbnailWidth
 // wide, as thumbnail_dir/NAME.jpg (the photo is decoded anyway, so this
 // costs next to nothing). Throws InputError when the folder is missing or

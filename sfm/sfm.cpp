@@ -13,6 +13,7 @@
 #include "core/atomic_file.h"
 #include "core/colmap_io.h"
 #include "core/error.h"
+#include "core/image_mask.h"
 #include "core/json_report.h"
 #include "core/sparse_model.h"
 #include "core/stopwatch.h"
@@ -20,6 +21,7 @@
 #include "sfm/colmap_database.h"
 #include "sfm/colmap_runner.h"
 #include "sfm/colmap_steps.h"
+#include "sfm/photo_masks.h"
 
 namespace hos::sfm {
 namespace fs = std::filesystem;
@@ -113,11 +115,23 @@ void undistort_with_colmap(const ColmapInfo& colmap,
 void clear_previous_run(const SfmPaths& paths) {
   std::error_code ec;
   for (const auto& p : {paths.report, paths.undistorted, paths.sparse, paths.database, paths.vocab_tree, paths.images,
-                        paths.thumbnails, paths.image_lists}) {
+                        paths.masks, paths.thumbnails, paths.image_lists}) {
     fs::remove_all(p, ec);
   }
   fs::remove(paths.database.string() + "-shm", ec);
   fs::remove(paths.database.string() + "-wal", ec);
+}
+
+// The masks warped as the photos were (mvs and texture read them there).
+void write_undistorted_masks(const SparseModel& distorted,
+                             const UndistortedWorkspace& undistorted,
+                             const fs::path& masks,
+                             Reporter& reporter,
+                             SfmResult& result) {
+  const auto started = Clock::now();
+  result.masks_undistorted = undistort_masks(distorted, undistorted.model, masks, workspace_mask_folder(undistorted));
+  add_step_time(result, "undistort_masks", seconds_since(started));
+  reporter.debug(format_message("sfm: ", result.masks_undistorted, " masks undistorted"));
 }
 
 // Existing-model input: check it, then undistort it (or copy it when it is
@@ -179,7 +193,15 @@ SfmResult import_existing_model(const SfmInput& input,
       undistort_with_colmap(colmap, input.images, model_dir, tmp, static_cast<std::int64_t>(model.images.size()),
                             reporter, result);
     }
-    load_undistorted_workspace(tmp);  // the consumers' own check
+    const UndistortedWorkspace undistorted = load_undistorted_workspace(tmp);  // the consumers' own check
+    // The masks of the model's images: in sfm.masks, else beside the images.
+    write_undistorted_masks(model, undistorted, options.mask_folder().empty() ? input.images : options.mask_folder(),
+                            reporter, result);
+    result.masked_photos = result.masks_undistorted;
+    if (result.masked_photos > 0) {
+      reporter.info(format_message("masks: ", result.masked_photos, " of ", model.images.size(),
+                                   " images of the model have a mask"));
+    }
   });
   result.undistorted = paths.undistorted;
   return result;
@@ -203,6 +225,7 @@ ImageInputs stage_photos(
   for (const StagedImage& image : inputs.images) result.photos.push_back({image.name, image.gps});
   result.videos = inputs.videos;
   result.images_given = static_cast<int>(inputs.images.size());
+  result.masked_photos = inputs.masked_photos();
   return inputs;
 }
 
@@ -215,6 +238,7 @@ ColmapRunContext run_context(const ImageInputs& inputs,
   context.images = paths.images;
   context.sparse = paths.sparse;
   context.vocab_tree = paths.vocab_tree;
+  context.masks = inputs.mask_folder;
   context.gpu = options.use_gpu == "yes" || (options.use_gpu == "auto" && colmap.cuda);
   context.num_images = static_cast<std::int64_t>(inputs.images.size());
   return context;
@@ -578,6 +602,7 @@ SfmPaths sfm_paths(const fs::path& workspace) {
   SfmPaths p;
   p.root = workspace / "sfm";
   p.images = p.root / "images";
+  p.masks = staged_mask_folder(p.images);
   p.thumbnails = p.root / "thumbnails";
   p.database = p.root / "database.db";
   p.vocab_tree = p.root / "vocab_tree.bin";
@@ -621,7 +646,10 @@ SfmResult run_sfm(const SfmInput& input, const SfmOptions& options, Reporter& re
   // Undistortion into the workspace the later stages read.
   write_folder_atomically(paths.undistorted, [&](const fs::path& tmp) {
     undistort_with_colmap(colmap, paths.images, model_dir, tmp, result.images_registered, reporter, result);
-    load_undistorted_workspace(tmp);  // the consumers' own check
+    const UndistortedWorkspace undistorted = load_undistorted_workspace(tmp);  // the consumers' own check
+    if (!inputs.mask_folder.empty()) {
+      write_undistorted_masks(read_colmap_model(model_dir), undistorted, inputs.mask_folder, reporter, result);
+    }
   });
   result.undistorted = paths.undistorted;
   result.total_seconds = seconds_since(started);
@@ -674,6 +702,8 @@ void write_sfm_report(const SfmResult& r, const fs::path& file) {
     j["photos"].push_back({{"name", p.name}, {"gps", gps}});
   }
   if (!r.videos.empty()) j["videos"] = videos_json(r.videos);
+  j["masked_photos"] = r.masked_photos;
+  j["masks_undistorted"] = r.masks_undistorted;
   j["points"] = r.points;
   j["mean_reprojection_error_px"] = r.mean_reprojection_error_px;
   j["mean_track_length"] = r.mean_track_length;
@@ -764,6 +794,10 @@ std::vector<std::string> sfm_summary_lines(const SfmResult& r) {
       format_message("registered ", r.images_registered, " of ", r.images_given, " photos (",
                      static_cast<int>(std::lround(100.0 * r.registered_fraction)), "%)",
                      r.skipped.empty() ? std::string() : format_message(", ", r.skipped.size(), " files skipped")));
+  if (r.masked_photos > 0) {
+    lines.push_back(format_message(r.masked_photos, " photos masked; ", r.masks_undistorted,
+                                   " masks undistorted for mvs and texture"));
+  }
   if (!r.coverage_warning.empty()) lines.push_back("WARNING: " + r.coverage_warning);
   if (!r.unregistered.empty()) lines.push_back("not registered: " + list_names(r.unregistered));
   std::ostringstream figures;

@@ -3,11 +3,13 @@
 //
 // Workspace layout (under the stage's workspace root WS):
 //   WS/sfm/images/           the usable photos (links, or upright/downscaled copies)
+//   WS/sfm/masks/            their masks as staged (sfm/photo_masks.h), if any
 //   WS/sfm/database.db       COLMAP's feature and match database
 //   WS/sfm/vocab_tree.bin    vocabulary tree learnt from the photos (vocab_tree matcher)
 //   WS/sfm/sparse/<k>/       COLMAP's models (several if the photos split)
 //   WS/sfm/undistorted/      the result: images/ + sparse/ (PINHOLE), see
-//                            core/undistorted_workspace.h; written atomically
+//                            core/undistorted_workspace.h; written atomically;
+//                            with masks/ when photos have masks (core/image_mask.h)
 //   WS/sfm/report.json       figures of the run (written last)
 #pragma once
 
@@ -29,6 +31,7 @@ namespace hos::sfm {
 struct SfmPaths {
   std::filesystem::path root;  // WS/sfm
   std::filesystem::path images;
+  std::filesystem::path masks;       // the staged masks (staged_mask_folder(images))
   std::filesystem::path thumbnails;  // NAME.jpg per usable photo, for the run report
   std::filesystem::path database;
   std::filesystem::path vocab_tree;
@@ -92,6 +95,8 @@ struct SfmResult {
   };
   std::vector<PhotoGps> photos;
   std::vector<VideoClipSummary> videos;  // video clips among the photos: frames kept and why
+  int masked_photos = 0;                 // photos given with a mask (sfm.masks or PHOTO.png)
+  int masks_undistorted = 0;             // masks written into the undistorted workspace
   std::int64_t points = 0;
   double mean_reprojection_error_px = 0.0;
   double mean_track_length = 0.0;

@@ -24,6 +24,10 @@ void SfmOptions::validate() const {
   }
 }
 
+std::filesystem::path SfmOptions::mask_folder() const {
+  return masks == "none" ? std::filesystem::path() : std::filesystem::path(masks);
+}
+
 void register_options(OptionSet& set, SfmOptions& o) {
   set.add("colmap", o.colmap, "COLMAP executable (name on PATH or path); $HOS_COLMAP replaces the default");
   set.add_choice("camera_model", o.camera_model, {"SIMPLE_PINHOLE", "PINHOLE", "SIMPLE_RADIAL", "RADIAL", "OPENCV"},
@@ -85,6 +89,10 @@ void register_options(OptionSet& set, SfmOptions& o) {
           "warn when fewer than this fraction of the usable photos registered", 0.0, 1.0);
   set.add("min_registered_images", o.min_registered_images, "fewer registered photos fail the stage", 3, 1000000);
   set.add("random_seed", o.random_seed, "COLMAP random seed (repeatable runs)", 0, 2147483647);
+  set.add("masks", o.masks,
+          "folder of masks: PHOTO.png for photo PHOTO (its path under the photo folder), black = not used; "
+          "none: PHOTO.png beside PHOTO");
+  set.add_flag("--masks", "masks");
 }
 
 }  // namespace hos::sfm

@@ -1,6 +1,7 @@
 // Options of the sfm stage (YAML section "sfm").
 #pragma once
 
+#include <filesystem>
 #include <string>
 
 #include "core/option_set.h"
@@ -93,6 +94,12 @@ struct SfmOptions {
   double registered_warning_fraction = 0.9;
   int min_registered_images = 3;  // fewer registered photos is a failure
   int random_seed = 0;            // COLMAP's random seed, for repeatable runs
+  // Folder of masks (sfm/photo_masks.h): the mask of photo NAME (its path
+  // relative to the photo folder) is NAME.png there, black = masked out.
+  // "none": a PNG named NAME.png beside photo NAME is its mask.
+  std::string masks = "none";
+  // The folder of masks; empty for "none".
+  std::filesystem::path mask_folder() const;
 
   // Throws ConfigError naming the key and the allowed values.
   void validate() const;
