@@ -5,7 +5,8 @@
 // and the training photos). Coverage is counted on a grid of cells of
 // --cell x --cell photo pixels, fine enough for a surface of photo
 // resolution to fill every cell it covers:
-//   depth maps   every depth pixel of every training view (hos-mvs --depth-maps)
+//   depth maps   every depth pixel of every training view (hos-mvs --depth-maps),
+//                and the cells that the depths of two views or more reach
 //   points       a point cloud (--points LABEL=FILE)
 //   meshes       a mesh, rasterised (--mesh LABEL=FILE)
 // A cell counts as covered when anything lands in it, in front or behind (no
@@ -13,8 +14,12 @@
 // Rows: every cell, and the photo's lower third (where the ground of photos
 // taken standing is).
 //
+// --map writes a PPM of the cells: white where the last stage covers the
+// cell, else the colour of the first stage that does not (black, red,
+// magenta, blue, green, yellow, cyan in stage order).
+//
 //   hos-mvs-holdout-loss --view-model DIR --view NAME --model DIR [--depth-maps DIR]
-//                        [--points LABEL=FILE]... [--mesh LABEL=FILE]... [--cell 8]
+//                        [--stage LABEL=FILE]... [--cell 8] [--map FILE.ppm]
 #include <CLI/CLI.hpp>
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -101,9 +106,15 @@ CoverageGrid make_grid(const hos::SparseModel& model, const std::string& name, i
   return g;
 }
 
-// Every depth pixel of every view of the model with a .dmap in folder.
-void mark_depth_maps(CoverageGrid& grid, const hos::SparseModel& model, const std::string& folder) {
+// Every depth pixel of every view of the model with a .dmap in folder, into
+// grid; into two_views only the cells the depths of two views or more reach.
+void mark_depth_maps(CoverageGrid& grid,
+                     CoverageGrid& two_views,
+                     const hos::SparseModel& model,
+                     const std::string& folder) {
+  std::vector<int> views(grid.covered.size(), 0);
   for (const auto& [id, image] : model.images) {
+    std::fill(grid.covered.begin(), grid.covered.end(), std::uint8_t{0});
     const std::string file = folder + "/" + image.name + ".dmap";
     std::ifstream in(file, std::ios::binary);
     if (!in) continue;
@@ -127,6 +138,11 @@ void mark_depth_maps(CoverageGrid& grid, const hos::SparseModel& model, const st
         grid.mark(Rt * (c - image.cam_from_world_translation));
       }
     }
+    for (std::size_t i = 0; i < views.size(); ++i) views[i] += grid.covered[i];
+  }
+  for (std::size_t i = 0; i < views.size(); ++i) {
+    grid.covered[i] = views[i] >= 1;
+    two_views.covered[i] = views[i] >= 2;
   }
 }
 
@@ -136,6 +152,25 @@ std::pair<std::string, std::string> split_label(const std::string& s) {
   return {s.substr(0, eq), s.substr(eq + 1)};
 }
 
+// The map --map writes (see the top of the file).
+void write_loss_map(const std::string& file, const std::vector<std::pair<std::string, CoverageGrid>>& rows) {
+  static const unsigned char colours[][3] = {{0, 0, 0},   {255, 0, 0},   {255, 0, 255}, {0, 0, 255},
+                                             {0, 160, 0}, {255, 255, 0}, {0, 255, 255}};
+  const CoverageGrid& g = rows.front().second;
+  std::ofstream out(file, std::ios::binary);
+  out << "P6\n" << g.cols << " " << g.rows << "\n255\n";
+  for (std::size_t i = 0; i < g.covered.size(); ++i) {
+    unsigned char rgb[3] = {255, 255, 255};
+    if (!rows.back().second.covered[i]) {
+      std::size_t k = 0;
+      while (k + 1 < rows.size() && rows[k].second.covered[i]) ++k;
+      std::copy_n(colours[std::min<std::size_t>(k, 6)], 3, rgb);
+    }
+    out.write(reinterpret_cast<const char*>(rgb), 3);
+  }
+  if (!out) throw hos::OutputError(file, "cannot write the map");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -143,21 +178,24 @@ int main(int argc, char** argv) {
   std::string view_model, view, model_dir, depth_maps;
   std::vector<std::string> stages;
   int cell = 8;
+  std::string map_file;
   app.add_option("--view-model", view_model, "sparse model holding the held-out view (training frame)")->required();
   app.add_option("--view", view, "the held-out image's name")->required();
   app.add_option("--model", model_dir, "the training views' sparse model (depth maps' cameras)")->required();
   app.add_option("--depth-maps", depth_maps, "folder of the training views' .dmap files");
   app.add_option("--stage", stages, "LABEL=FILE: a points or mesh PLY (faces: rasterised), in order");
   app.add_option("--cell", cell, "grid cell size in photo pixels")->check(CLI::Range(1, 64));
+  app.add_option("--map", map_file, "write a PPM of where each cell is lost");
   CLI11_PARSE(app, argc, argv);
   try {
     const hos::SparseModel held = hos::read_colmap_model(view_model);
     const hos::SparseModel training = hos::read_colmap_model(model_dir);
     std::vector<std::pair<std::string, CoverageGrid>> rows;
     if (!depth_maps.empty()) {
-      CoverageGrid g = make_grid(held, view, cell);
-      mark_depth_maps(g, training, depth_maps);
+      CoverageGrid g = make_grid(held, view, cell), two = make_grid(held, view, cell);
+      mark_depth_maps(g, two, training, depth_maps);
       rows.emplace_back("depth maps, every pixel", std::move(g));
+      rows.emplace_back("depth maps of two views or more", std::move(two));
     }
     for (const std::string& s : stages) {
       const auto [label, file] = split_label(s);
@@ -181,6 +219,7 @@ int main(int argc, char** argv) {
       previous_all = all;
       previous_low = low;
     }
+    if (!map_file.empty()) write_loss_map(map_file, rows);
   } catch (const std::exception& e) {
     std::cerr << "hos-mvs-holdout-loss: " << e.what() << "\n";
     return 3;

@@ -2,10 +2,11 @@
 # Where a real set's held-out photo loses its surface, stage by stage: the
 # share of the held-out photo's pixels (cells of 8x8) each stage's output
 # covers through the held-out camera (hos-mvs-holdout-loss):
-#   depth maps     every depth pixel of every training view, unfused
+#   depth maps     every depth pixel of every training view, unfused (and of
+#                  two views or more: what fusion can confirm)
 #   fused points   hos-mvs's points (geometric consistency)
 #   recon, untrimmed   hos-recon --no-trim --keep-debris
-#   recon, trimmed     hos-recon --keep-debris (sparse-support trimming)
+#   recon, trimmed     hos-recon --keep-debris (trimming only)
 #   recon mesh         hos-recon's default (trimming and debris removal)
 #   refined mesh       hos-refine's mesh of the recon mesh
 # WORK is a bench/realdata/holdout.sh folder made with --shared-sfm (the
@@ -14,7 +15,7 @@
 #   bench/mvs/holdout_loss.sh WORK BIN [--label L] [--keep] [--set stage.key=value]...
 # The run goes to WORK/loss/L (default label: loss).
 set -euo pipefail
-usage() { sed -n '13,14p' "$0" | sed 's/^# *//' >&2; exit 2; }
+usage() { sed -n '15,16p' "$0" | sed 's/^# *//' >&2; exit 2; }
 [ $# -ge 2 ] || usage
 work="$(cd "$1" && pwd)" bin="$(cd "$2" && pwd)"
 shift 2
