@@ -45,6 +45,12 @@ void register_options(OptionSet& set, MvsOptions& o) {
           "smallest triangulation angle of a source view, and between views counted as agreeing in "
           "fusion",
           0.0, 60.0);
+  set.add("planar_prior", o.planar_prior,
+          "before the coarse level's last sweep, unconfident pixels also try the plane of the triangle of "
+          "confident pixels they lie in");
+  set.add("planar_prior_confident_cost", o.planar_prior_confident_cost,
+          "planar prior: pixels whose cost (1 - NCC) is at most this span the triangles; the others try them", 0.0,
+          2.0);
   set.add("max_cost", o.max_cost, "largest accepted matching cost (1 - NCC)", 0.0, 2.0);
   set.add("min_texture_std", o.min_texture_std, "window intensity std below which a pixel is textureless", 0.0, 1.0);
   set.add("sigma_color", o.sigma_color, "bilateral weight intensity scale", 1e-3, 10.0);

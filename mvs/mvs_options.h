@@ -49,6 +49,11 @@ struct MvsOptions {
   // Source views below this angle are not chosen; in fusion, agreeing views
   // closer than this to one already counted are no further evidence.
   double min_triangulation_angle_deg = 3.0;
+  // Planar prior (mvs/planar_prior.h): before the coarse level's last sweep,
+  // pixels whose cost is above planar_prior_confident_cost also try the
+  // plane of the triangle of confident pixels (cost at most that) they lie in.
+  bool planar_prior = false;
+  double planar_prior_confident_cost = 0.15;
   double max_cost = 0.6;           // 1 - NCC above this: pixel rejected
   double min_texture_std = 0.006;  // window intensity std (0..1) below this: textureless, no depth
   double sigma_color = 0.2;        // bilateral weight: intensity scale

@@ -10,6 +10,7 @@
 
 #include "core/cpu_clones.h"
 #include "core/error.h"
+#include "mvs/planar_prior.h"
 
 namespace hos::mvs {
 namespace {
@@ -206,6 +207,24 @@ class PatchMatcher {
           chosen |= 1u << best;
         }
         views_[i] = chosen;
+      }
+    }
+  }
+
+  // Planar prior (mvs/planar_prior.h): a pixel not matched confidently
+  // scores the plane its confident surroundings span as one more candidate.
+  void try_prior_planes(const PriorPlanes& prior, int iteration) {
+    const int w = ref_.width(), h = ref_.height();
+#pragma omp parallel for schedule(dynamic, 4)
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const std::size_t i = std::size_t(y) * w + x;
+        const cv::Vec3f n = prior.normal.at<cv::Vec3f>(y, x);
+        if (!(prior.depth.at<float>(y, x) > 0) || photo_[i] <= options_.planar_prior_confident_cost) continue;
+        Tried tried;
+        tried.add(planes_[i]);
+        if (try_plane(x, y, i, {prior.depth.at<float>(y, x), {n[0], n[1], n[2]}}, tried))
+          changed_[i] = static_cast<std::int8_t>(iteration);
       }
     }
   }
@@ -763,6 +782,9 @@ PlaneMap match_planes(const MvsView& ref,
   for (int it = 0; it < options.iterations; ++it) {
     // The first sweep's random planes say nothing about which views see the pixel.
     if (it > 0) matcher.select_views();
+    if (options.planar_prior && it > 0 && it + 1 == options.iterations) {
+      matcher.try_prior_planes(planar_prior(matcher.planes(), options.planar_prior_confident_cost), it);
+    }
     matcher.iterate(it, 1.0 / (1 << it), reporter);
   }
   return matcher.planes();
