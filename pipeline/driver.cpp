@@ -167,7 +167,7 @@ void run_stage_process(const StageSpec& spec,
                        RunRecord& record,
                        StageRecord& stage_record,
                        Reporter& reporter) {
-  warn_if_low_space(paths.root, estimated_stage_bytes(spec.name, options.photos, paths), spec.name, reporter);
+  warn_if_low_space(paths.root, spec.disk_bytes(options.photos, paths), spec.name, reporter);
   const fs::path log = paths.log(spec.name);
   std::error_code ec;
   fs::remove(log, ec);

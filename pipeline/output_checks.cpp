@@ -12,19 +12,6 @@ namespace hos::pipeline {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr std::uintmax_t kScratchBytes = 64ull << 20;  // logs, reports, small files
-
-std::uintmax_t size_of(const fs::path& path) {
-  std::error_code ec;
-  if (fs::is_regular_file(path, ec)) return fs::file_size(path, ec);
-  std::uintmax_t total = 0;
-  for (auto it = fs::recursive_directory_iterator(path, fs::directory_options::skip_permission_denied, ec);
-       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
-    if (it->is_regular_file(ec)) total += it->file_size(ec);
-  }
-  return total;
-}
-
 std::string megabytes(std::uintmax_t bytes) {
   return std::to_string(std::llround(static_cast<double>(bytes) / (1024.0 * 1024.0))) + " MB";
 }
@@ -42,17 +29,6 @@ bool is_inside(const fs::path& path, const fs::path& folder) {
 }
 
 }  // namespace
-
-std::uintmax_t estimated_stage_bytes(const std::string& stage, const fs::path& photos, const StagePaths& paths) {
-  // sfm: the feature database and the undistorted copies (about the photos'
-  // size each); mvs: dense points, at most about the images' size; recon: a
-  // mesh about the size of the points; texture: atlas images and mesh.
-  if (stage == "sfm") return 2 * size_of(photos) + kScratchBytes;
-  if (stage == "mvs") return size_of(paths.undistorted) + kScratchBytes;
-  if (stage == "recon") return size_of(paths.points) + kScratchBytes;
-  if (stage == "texture") return size_of(paths.mesh) + size_of(paths.undistorted / "images") / 2 + kScratchBytes;
-  return kScratchBytes;
-}
 
 void warn_if_low_space(const fs::path& folder, std::uintmax_t needed, const std::string& stage, Reporter& reporter) {
   const DiskSpace disk = disk_space(folder);

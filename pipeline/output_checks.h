@@ -1,7 +1,8 @@
 // Checks the driver makes so that a run does not fail late for a reason it
 // could see early: an output that cannot be written, a disk too small for
-// the next stage, a damaged intermediate, and the photo fingerprint that
-// must not see the pipeline's own files.
+// the next stage (by its estimate in pipeline/stages.h), a damaged
+// intermediate, and the photo fingerprint that must not see the pipeline's
+// own files.
 #pragma once
 
 #include <cstdint>
@@ -13,12 +14,6 @@
 #include "pipeline/stage_paths.h"
 
 namespace hos::pipeline {
-
-// Rough bytes the stage adds to the workspace (its outputs and scratch
-// files), from the sizes of its inputs: only for an early warning.
-std::uintmax_t estimated_stage_bytes(const std::string& stage,
-                                     const std::filesystem::path& photos,
-                                     const StagePaths& paths);
 
 // Warns when the disk holding folder has less room than needed bytes,
 // naming the disk and the stage.

@@ -2,12 +2,12 @@
 
 #include <cstring>
 #include <fstream>
-#include <iomanip>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
 #include "core/error.h"
 #include "pipeline/stage_paths.h"
+#include "pipeline/stages.h"
 
 namespace hos::pipeline {
 namespace fs = std::filesystem;
@@ -88,57 +88,22 @@ GlbFigures read_glb_figures(const fs::path& file) {
   return out;
 }
 
-namespace {
-
-// The keys a stage's report.json has, copied into f (none if it cannot be read).
-void copy_report_figures(const fs::path& report, std::initializer_list<const char*> keys, nlohmann::ordered_json& f) {
-  std::ifstream in(report);
-  if (!in) return;
-  const nlohmann::json r = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
-  if (!r.is_object()) return;
-  for (const char* key : keys) {
-    if (r.contains(key)) f[key] = r[key];
+nlohmann::json read_json_or_empty(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) return nlohmann::json::object();
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception&) {
+    return nlohmann::json::object();
   }
 }
 
-}  // namespace
-
 nlohmann::ordered_json stage_figures(const std::string& stage, const fs::path& workspace) {
-  const StagePaths paths(workspace);
   nlohmann::ordered_json f = nlohmann::ordered_json::object();
+  const StageSpec* spec = find_stage(stage);
+  if (!spec) return f;
   try {
-    if (stage == "sfm") {
-      std::ifstream in(paths.sfm_report);
-      // Ordered, so the steps keep the order they ran in.
-      const nlohmann::ordered_json r = nlohmann::ordered_json::parse(in);
-      for (const char* key : {"images_registered", "images_given", "points", "mean_reprojection_error_px",
-                              "mean_track_length", "matcher", "step_seconds"}) {
-        if (r.contains(key)) f[key] = r[key];
-      }
-    } else if (stage == "mvs") {
-      f["points"] = ply_element_counts(paths.points)["vertex"];
-    } else if (stage == "recon" || stage == "refine") {
-      auto counts = ply_element_counts(stage == "recon" ? paths.mesh : paths.refined_mesh);
-      f["vertices"] = counts["vertex"];
-      f["faces"] = counts["face"];
-      if (stage == "recon")
-        copy_report_figures(paths.recon_report, {"debris_pieces_removed", "debris_area_removed", "surface_area"}, f);
-    } else if (stage == "texture") {
-      copy_report_figures(paths.texture_report, {"unseen_faces"}, f);
-      const GlbFigures g = read_glb_figures(paths.textured_model);
-      f["bytes"] = g.bytes;
-      f["vertices"] = g.vertices;
-      f["triangles"] = g.triangles;
-      nlohmann::ordered_json sizes = nlohmann::ordered_json::array();
-      for (const auto& [w, h] : g.texture_sizes) sizes.push_back(std::to_string(w) + "x" + std::to_string(h));
-      f["textures"] = sizes;
-      // How the model is placed: "units: metres from GPS (...)" or why the units are arbitrary.
-      std::ifstream in(paths.texture_report);
-      const nlohmann::json report = nlohmann::json::parse(in, nullptr, false);
-      if (report.is_object() && report.contains("placement") && report["placement"].contains("units_text")) {
-        f["units"] = report["placement"]["units_text"];
-      }
-    }
+    spec->read_figures(StagePaths(workspace), f);
   } catch (const std::exception&) {
     // Figures are informative only; a stage's own checks decide success.
   }
@@ -147,42 +112,8 @@ nlohmann::ordered_json stage_figures(const std::string& stage, const fs::path& w
 
 std::string figures_text(const std::string& stage, const nlohmann::ordered_json& f) {
   if (f.empty()) return "";
-  auto num = [&](const char* key) { return f.contains(key) ? f[key].dump() : std::string("?"); };
-  std::ostringstream text;
-  if (stage == "sfm") {
-    text << num("images_registered") << "/" << num("images_given") << " images registered, " << num("points")
-         << " points";
-    if (f.contains("matcher")) text << ", " << f["matcher"].get<std::string>() << " matching";
-    if (f.contains("step_seconds")) {
-      // The COLMAP steps' times, so a slow step shows in the summary.
-      text << std::fixed << std::setprecision(1);
-      for (const auto& [step, seconds] : f["step_seconds"].items())
-        text << "; " << step << " " << seconds.get<double>() << " s";
-    }
-  } else if (stage == "mvs") {
-    text << num("points") << " dense points";
-  } else if (stage == "recon" || stage == "refine") {
-    text << num("vertices") << " vertices, " << num("faces") << " faces";
-    if (f.contains("debris_pieces_removed") && f["debris_pieces_removed"].get<std::int64_t>() > 0) {
-      text << "; " << num("debris_pieces_removed") << " debris pieces removed";
-      const double removed = f.value("debris_area_removed", 0.0), kept = f.value("surface_area", 0.0);
-      if (removed + kept > 0.0)
-        text << " (" << std::setprecision(2) << 100.0 * removed / (removed + kept) << "% of the area)";
-    }
-  } else if (stage == "texture") {
-    text << num("triangles") << " triangles";
-    if (f.contains("unseen_faces") && f["unseen_faces"].get<std::int64_t>() > 0) {
-      text << ", " << num("unseen_faces") << " faces seen by no photo";
-    }
-    if (f.contains("textures") && !f["textures"].empty()) {
-      text << ", texture";
-      for (const auto& s : f["textures"]) text << " " << s.get<std::string>();
-    }
-    if (f.contains("units")) text << "; " << f["units"].get<std::string>();
-  } else {
-    text << f.dump();
-  }
-  return text.str();
+  const StageSpec* spec = find_stage(stage);
+  return spec ? spec->figures_text(f) : f.dump();
 }
 
 }  // namespace hos::pipeline

@@ -1,5 +1,6 @@
 // Key figures of each stage's output, read cheaply from the files (headers,
-// not the whole data) for run.json and the summary table.
+// not the whole data) for run.json and the summary table; each stage's own
+// are in its entry of the stage table (pipeline/stages.h).
 #pragma once
 
 #include <array>
@@ -26,6 +27,10 @@ struct GlbFigures {
 };
 // Throws InputError if the file is not a binary glTF.
 GlbFigures read_glb_figures(const std::filesystem::path& file);
+
+// The JSON in file, or an empty object if it is missing or not JSON (a stage
+// that did not finish has written no report).
+nlohmann::json read_json_or_empty(const std::filesystem::path& file);
 
 // Figures of one stage from its outputs in the workspace (an empty object if
 // the outputs cannot be read).

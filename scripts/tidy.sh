@@ -21,8 +21,9 @@ if [ ! -f "$build/compile_commands.json" ]; then
   echo "tidy: $build/compile_commands.json is missing; run scripts/build.sh first" >&2
   exit 2
 fi
-# Our folders only: not the build tree's generated files nor system headers.
-folders="core|render|synth|eval|recon|mvs|texture|sfm|pipeline|refine|apps|tests|bench|examples"
+# Our folders only (those holding tracked C++ sources): not the build tree's
+# generated files nor system headers.
+folders="$(cd "$root" && git ls-files '*.cpp' '*.h' | sed -n 's#/.*##p' | sort -u | paste -sd '|')"
 files="^$root/($folders)/"
 if [ "${1:-}" = "--recent" ]; then
   commits="$2"

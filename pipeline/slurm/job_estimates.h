@@ -1,38 +1,28 @@
-// What a cluster job asks for (sbatch --mem and --time), from the stages'
-// own bounds and the measured speeds of docs/benchmarks*.md. Jobs are
-// submitted before the stages before them have run, so the estimates start
-// from what is known then: the photo folder and the options.
+// What a cluster job asks for (sbatch --mem and --time), from its stage's
+// own estimates in the stage table (pipeline/stages.h: the stages' bounds
+// and the measured speeds of docs/benchmarks*.md). Jobs are submitted before
+// the stages before them have run, so the estimates start from what is known
+// then: the photo folder and the options (pipeline/run_bounds.h).
 #pragma once
 
 #include <filesystem>
 #include <string>
 
 #include "pipeline/pipeline_config.h"
+#include "pipeline/run_bounds.h"
 
 namespace hos::pipeline {
 
-// What is known of a run's input before any stage has run.
-struct RunBounds {
-  int views = 1;                  // files in the photo folder: sfm registers at most these
-  double photo_megapixels = 0.0;  // of the largest photo, as the stages after sfm see it (0: unknown)
-};
-
-// The bounds of the photos in folder: the number of files (hidden ones
-// skipped), and the size of the largest file decoded at 1/8 scale (cheap
-// for JPEG), capped by sfm.max_image_size when that is set.
-RunBounds run_bounds(const std::filesystem::path& photos, const PipelineConfig& config);
-
-// The memory a job asks for, in MB (0: not given): mvs depth chunks and
-// fusion from the image size the options allow, recon (also each tile task
-// and the join of a tiled recon) from its own memory budget
-// (recon.max_memory_mb) when one is set, the others default_mb.
+// The memory a job ("sfm", "mvs-depth", "recon-join", ...) asks for, in MB:
+// its stage's estimate, else default_mb (0: not given).
 int job_memory_mb(const std::string& job, const PipelineConfig& config, int views, int default_mb);
 
 // The CPU seconds a job (sfm, mvs-depth, mvs-fuse, recon, recon-tiles,
-// recon-join, refine, texture-views, texture-atlas) needs by its stage's own estimate, i.e. its
-// wall time on one core; chunk_views is an array task's share of the views.
-// 0 when the stage cannot estimate it from what is known before the run.
-// docs/scale.md gives the model and the measured figure of each.
+// recon-join, refine, texture-views, texture-atlas) needs by its stage's own
+// estimate, i.e. its wall time on one core; chunk_views is an array task's
+// share of the views. 0 when the stage cannot estimate it from what is known
+// before the run, or no stage has such a job. docs/scale.md gives the model
+// and the measured figure of each.
 double job_cpu_seconds(const std::string& job, const PipelineConfig& config, const RunBounds& bounds, int chunk_views);
 
 // The job's sbatch --time: time_option when given, else the estimate times

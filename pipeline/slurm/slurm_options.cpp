@@ -2,12 +2,15 @@
 
 #include "core/error.h"
 #include "core/option_set.h"
+#include "pipeline/stages.h"
 
 namespace hos::pipeline {
 
 int SlurmOptions::tasks_of(const std::string& stage) const {
-  if (stage == "mvs") return mvs_tasks;
-  if (stage == "texture") return texture_tasks;
+  const auto it = tasks.find(stage);
+  if (it != tasks.end()) return it->second;
+  const StageSpec* spec = find_stage(stage);
+  if (spec && spec->split && !spec->split->tasks_option.empty()) return kDefaultArrayTasks;
   throw ConfigError("--executor-option " + stage + "_tasks", "the stage " + stage + " does not split");
 }
 
@@ -19,8 +22,13 @@ void register_options(OptionSet& set, SlurmOptions& o) {
   set.add("time", o.time, "sbatch --time of every job (empty: each job's own estimate)");
   set.add("mem_mb", o.mem_mb, "sbatch --mem of jobs without an estimate of their own (0: not given)", 0, 1 << 30);
   set.add("cpus", o.cpus, "sbatch --cpus-per-task (0: not given)", 0, 65536);
-  set.add("mvs_tasks", o.mvs_tasks, "array tasks of the mvs depth maps", 1, 100000);
-  set.add("texture_tasks", o.texture_tasks, "array tasks of the texture view data", 1, 100000);
+  // A key per stage that splits into chunks of the views (the stage table's tasks_option).
+  for (const StageSpec& spec : pipeline_stages()) {
+    if (!spec.split || spec.split->tasks_option.empty()) continue;
+    int& tasks = o.tasks.try_emplace(spec.name, kDefaultArrayTasks).first->second;
+    set.add(spec.split->tasks_option, tasks, "array tasks of the " + spec.name + " " + spec.split->parts_text, 1,
+            100000);
+  }
   set.add("poll_seconds", o.poll_seconds, "seconds between squeue queries while waiting", 0.0, 3600.0);
   set.add("status_grace_seconds", o.status_grace_seconds,
           "seconds a job that left the queue may lack its status file before it counts as failed", 0.0, 86400.0);

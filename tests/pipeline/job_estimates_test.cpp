@@ -1,4 +1,4 @@
-// pipeline/job_estimates.*: the memory and time a cluster job asks for.
+// pipeline/slurm/job_estimates.*: the memory and time a cluster job asks for.
 // The time estimates must grow with what they depend on, never fall below
 // the floor, give way to the time option, and be text sbatch accepts.
 #include "pipeline/slurm/job_estimates.h"

@@ -542,7 +542,7 @@ exit 1
 }
 
 TEST(SlurmOptions, UnknownKeyAndBadValuesAreConfigErrors) {
-  EXPECT_EQ(parse_slurm_options({"partition=long", "mvs_tasks=8"}).mvs_tasks, 8);
+  EXPECT_EQ(parse_slurm_options({"partition=long", "mvs_tasks=8"}).tasks_of("mvs"), 8);
   EXPECT_EQ(parse_slurm_options({"texture_tasks=6"}).tasks_of("texture"), 6);
   EXPECT_EQ(parse_slurm_options({}).tasks_of("texture"), 4);
   EXPECT_THROW(parse_slurm_options({"texture_tasks=0"}), ConfigError);

@@ -1,0 +1,60 @@
+#include "pipeline/stage_entries.h"
+
+#include <fstream>
+
+#include "core/json_report.h"
+#include "pipeline/stage_figures.h"
+
+namespace hos::pipeline {
+namespace fs = std::filesystem;
+
+void add_undistorted_workspace(Fingerprint& f, const StagePaths& p) {
+  f.add_folder_contents(p.undistorted / "sparse");
+  f.add_folder_listing(p.undistorted / "images");
+}
+
+std::uintmax_t size_of(const fs::path& path) {
+  std::error_code ec;
+  if (fs::is_regular_file(path, ec)) return fs::file_size(path, ec);
+  std::uintmax_t total = 0;
+  for (auto it = fs::recursive_directory_iterator(path, fs::directory_options::skip_permission_denied, ec);
+       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    if (it->is_regular_file(ec)) total += it->file_size(ec);
+  }
+  return total;
+}
+
+std::optional<Histogram> histogram_at(const nlohmann::json& report, const char* key) {
+  if (!report.contains(key)) return std::nullopt;
+  Histogram h = histogram_from_json(report[key]);
+  if (h.counts.empty()) return std::nullopt;
+  return h;
+}
+
+void copy_report_figures(const fs::path& report,
+                         std::initializer_list<const char*> keys,
+                         nlohmann::ordered_json& figures) {
+  std::ifstream in(report);
+  if (!in) return;
+  const nlohmann::json r = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (!r.is_object()) return;
+  for (const char* key : keys) {
+    if (r.contains(key)) figures[key] = r[key];
+  }
+}
+
+std::string figure_text(const nlohmann::ordered_json& figures, const char* key) {
+  return figures.contains(key) ? figures[key].dump() : std::string("?");
+}
+
+void add_mesh_figures(const fs::path& mesh, nlohmann::ordered_json& figures) {
+  auto counts = ply_element_counts(mesh);
+  figures["vertices"] = counts["vertex"];
+  figures["faces"] = counts["face"];
+}
+
+std::string mesh_figures_text(const nlohmann::ordered_json& figures) {
+  return figure_text(figures, "vertices") + " vertices, " + figure_text(figures, "faces") + " faces";
+}
+
+}  // namespace hos::pipeline
