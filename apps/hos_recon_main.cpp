@@ -30,6 +30,21 @@ Eigen::Vector3f parse_vector(const std::string& flag, const std::string& text) {
   return v;
 }
 
+// The oriented points of a PLY; skipped and weightless points are warned of.
+hos::PointCloud read_oriented_points(const std::string& path, hos::Reporter& reporter) {
+  hos::PlyReadReport read_report;
+  hos::PointCloud points = hos::read_point_cloud_ply(path, &read_report);
+  if (read_report.num_skipped_nonfinite > 0) {
+    reporter.warn(hos::format_message(path, ": skipped ", read_report.num_skipped_nonfinite,
+                                      " points with non-finite coordinates"));
+  }
+  if (read_report.num_invalid_confidence > 0) {
+    reporter.warn(hos::format_message(path, ": property 'confidence' is NaN, infinite or negative at ",
+                                      read_report.num_invalid_confidence, " points; they weigh nothing"));
+  }
+  return points;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -77,23 +92,9 @@ int main(int argc, char** argv) {
     hos::apps::apply_config_and_overrides(option_set, flags);
     options.validate();
     if (!solve_one_tile) hos::check_writable_target(output_path);  // before the solve, not after
-    hos::PointCloud points;
-    std::string source = input_path;
-    if (!scans_path.empty()) {
-      source = scans_path;
-      points = hos::recon::load_stanford_scans(scans_path, reporter);
-    } else {
-      hos::PlyReadReport read_report;
-      points = hos::read_point_cloud_ply(input_path, &read_report);
-      if (read_report.num_skipped_nonfinite > 0) {
-        reporter.warn(hos::format_message(input_path, ": skipped ", read_report.num_skipped_nonfinite,
-                                          " points with non-finite coordinates"));
-      }
-      if (read_report.num_invalid_confidence > 0) {
-        reporter.warn(hos::format_message(input_path, ": property 'confidence' is NaN, infinite or negative at ",
-                                          read_report.num_invalid_confidence, " points; they weigh nothing"));
-      }
-    }
+    const std::string source = scans_path.empty() ? input_path : scans_path;
+    hos::PointCloud points = scans_path.empty() ? read_oriented_points(input_path, reporter)
+                                                : hos::recon::load_stanford_scans(scans_path, reporter);
     if (!view_dir.empty()) hos::recon::orient_by_view_direction(points, parse_vector("--view-dir", view_dir));
     if (!scanner_pos.empty()) {
       hos::recon::orient_by_scanner_position(points, parse_vector("--scanner-pos", scanner_pos));
