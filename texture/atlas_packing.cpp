@@ -92,9 +92,9 @@ class PageGrid {
   // top-left texel where its mask lies inside the page, its bottom edge at
   // most max_bottom, and its dilated runs (clipped to the page) meet no
   // taken texel.
-  bool first_fit(const Turn& t, int gap, int max_bottom, int* out_x, int* out_y) const {
+  bool first_fit(const Turn& t, int gap, int first_row, int max_bottom, int* out_x, int* out_y) const {
     const std::vector<Run>& s = t.test;
-    for (int y = 0; y + t.mask.rows <= std::min(height_, max_bottom); ++y) {
+    for (int y = first_row; y + t.mask.rows <= std::min(height_, max_bottom); ++y) {
       if (!rows_may_fit(s, gap, y)) continue;
       for (int x = 0; x + t.mask.cols <= width_;) {
         const int next = blocked_until(s, gap, x, y);
@@ -185,6 +185,12 @@ std::vector<FootprintPlacement> pack_footprints(
   const cv::Mat ring = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * gap + 1, 2 * gap + 1));
   std::vector<FootprintPlacement> placements(masks.size());
   std::vector<PageGrid> pages;
+  // Per page: where footprints of these sides found their place (row), or
+  // page_height if none.
+  struct Found {
+    int short_side, long_side, row;
+  };
+  std::vector<std::vector<Found>> found;
   for (int i : order) {
     cv::Mat dilated;
     cv::copyMakeBorder(masks[i], dilated, gap, gap, gap, gap, cv::BORDER_CONSTANT, cv::Scalar(0));
@@ -196,14 +202,22 @@ std::vector<FootprintPlacement> pack_footprints(
       turns.push_back(Turn{turn_mask(masks[i], q), runs_of(turn_mask(dilated, q))});
     }
     // The first page that takes it; there the turn whose bottom edge is
-    // lowest (keeps the filled part compact), then the leftmost.
+    // lowest (keeps the filled part compact), then the leftmost. The search
+    // starts at the row where an earlier footprint no larger either way
+    // found its place (or none): the rows above had no room for that one
+    // and have less now, so dense pages are not scanned again and again.
+    const int short_side = std::min(dilated.rows, dilated.cols), long_side = std::max(dilated.rows, dilated.cols);
     FootprintPlacement chosen;
     auto try_page = [&](int page) {
+      int first_row = 0;
+      for (const Found& f : found[page]) {
+        if (f.short_side <= short_side && f.long_side <= long_side) first_row = std::max(first_row, f.row);
+      }
       long long best = std::numeric_limits<long long>::max();
       int best_bottom = page_height;  // a turn reaching lower cannot win
-      for (int q = 0; q < static_cast<int>(turns.size()); ++q) {
+      for (int q = 0; q < static_cast<int>(turns.size()) && first_row < page_height; ++q) {
         int x = 0, y = 0;
-        if (!pages[page].first_fit(turns[q], gap, best_bottom, &x, &y)) continue;
+        if (!pages[page].first_fit(turns[q], gap, first_row, best_bottom, &x, &y)) continue;
         const long long key = static_cast<long long>(y + turns[q].mask.rows) * page_width + x;
         if (key < best) {
           best = key;
@@ -211,12 +225,14 @@ std::vector<FootprintPlacement> pack_footprints(
           chosen = FootprintPlacement{page, x, y, q};
         }
       }
+      found[page].push_back(Found{short_side, long_side, chosen.page >= 0 ? chosen.y : page_height});
       return chosen.page >= 0;
     };
     bool placed = false;
     for (int page = 0; page < static_cast<int>(pages.size()) && !placed; ++page) placed = try_page(page);
     if (!placed) {
       pages.emplace_back(page_width, page_height);
+      found.emplace_back();
       if (!try_page(static_cast<int>(pages.size()) - 1)) {
         throw std::invalid_argument("a chart is larger than the atlas page");
       }
