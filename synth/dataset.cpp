@@ -214,6 +214,7 @@ void DatasetOptions::validate() const {
   if (!exposure_gains.empty() && static_cast<int>(exposure_gains.size()) != num_views)
     throw ConfigError("exposure_gains", "needs one gain per view");
   if (gps_origin && !jpeg) throw ConfigError("gps", "GPS EXIF needs JPEG views (--jpeg)");
+  if (masked_views > num_views) throw ConfigError("masked_views", "is more than the views");
   for (const float g : exposure_gains)
     if (!(g > 0) || !std::isfinite(g)) throw ConfigError("exposure_gains", "gains must be positive");
 }
@@ -374,6 +375,31 @@ nlohmann::json scene_description(const Scene& scene,
 
 }  // namespace
 
+namespace {
+
+// The box a masked view's passer-by covers: a fifth of the width, half the
+// height, left of the centre, where the objects are.
+cv::Rect passer_by_box(cv::Size size) {
+  return {size.width * 3 / 10, size.height / 4, size.width / 5, size.height / 2};
+}
+
+cv::Mat with_passer_by(const cv::Mat& photo) {
+  cv::Mat out = photo.clone();
+  out(passer_by_box(photo.size())).setTo(cv::Scalar(255, 0, 255));
+  return out;
+}
+
+// Black (masked) over the box and a 2-pixel margin, white elsewhere.
+cv::Mat passer_by_mask(cv::Size size) {
+  cv::Mat mask(size, CV_8U, cv::Scalar(255));
+  const cv::Rect box = passer_by_box(size);
+  const cv::Rect grown(box.x - 2, box.y - 2, box.width + 4, box.height + 4);
+  mask(grown & cv::Rect(0, 0, size.width, size.height)).setTo(0);
+  return mask;
+}
+
+}  // namespace
+
 void write_dataset(const fs::path& folder,
                    const Scene& scene,
                    const SceneOptions& scene_options,
@@ -385,9 +411,13 @@ void write_dataset(const fs::path& folder,
   const RenderedDataset data = render_dataset(scene, o, reporter);
   write_folder_atomically(folder, [&](const fs::path& tmp) {
     fs::create_directories(tmp / "images");
+    if (o.masked_views > 0) fs::create_directories(tmp / "masks");
     std::size_t i = 0;
     for (const auto& [id, image] : data.model.images) {
-      write_image(tmp / "images" / image.name, data.views[i++].color);
+      const bool masked = static_cast<int>(i) < o.masked_views;
+      write_image(tmp / "images" / image.name, masked ? with_passer_by(data.views[i].color) : data.views[i].color);
+      if (masked) write_image(tmp / "masks" / (image.name + ".png"), passer_by_mask(data.views[i].color.size()));
+      ++i;
       if (o.gps_origin) {
         write_gps_exif(tmp / "images" / image.name,
                        scene_gps_position(image.center(), *o.gps_origin, o.metres_per_unit));

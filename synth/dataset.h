@@ -18,6 +18,8 @@
 //                                   empty (write_normals; decode_normal_map)
 //   DIR/holdout/images, DIR/holdout/sparse
 //                                   held-out views, not in DIR/images (holdout > 0)
+//   DIR/masks/view_000.png.png      with masked_views: the painted box of the
+//                                   first masked_views photos masked out (black)
 //   DIR/scene.json                  seed, objects, bounding box, diagonal, up
 //                                   axis, light direction, camera tilt, GPS
 //                                   origin and metres per unit
@@ -63,6 +65,11 @@ struct DatasetOptions {
   // position on Earth and the metres of a scene unit.
   std::optional<GeoPosition> gps_origin;
   double metres_per_unit = 1.0;
+  // The first masked_views photos get a magenta box painted over part of
+  // the scene (a passer-by the geometry does not hold) and a mask that
+  // covers it, masks/<image name>.png (core/image_mask.h; the folder to give
+  // hos-sfm --masks with images/ as the photos).
+  int masked_views = 0;
   void validate() const;  // throws ConfigError
 };
 

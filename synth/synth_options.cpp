@@ -30,6 +30,8 @@ void register_options(OptionSet& set, DatasetOptions& o) {
   set.add("points", o.num_points, "ground-truth sparse points to write", 0, 100000000);
   set.add("tilt_deg", o.tilt_deg, "turn every camera up (positive) or down by this many degrees", -60.0, 60.0);
   set.add("metres_per_unit", o.metres_per_unit, "metres of a scene unit for --gps", 1e-9, 1e9);
+  set.add("masked_views", o.masked_views,
+          "the first N photos get a magenta box painted in and masks/NAME.png masking it out", 0, 100000);
   set.add_flag("--views", "views");
   set.add_flag("--width", "width");
   set.add_flag("--height", "height");
@@ -43,6 +45,7 @@ void register_options(OptionSet& set, DatasetOptions& o) {
   set.add_flag("--points", "points");
   set.add_flag("--tilt", "tilt_deg");
   set.add_flag("--metres-per-unit", "metres_per_unit");
+  set.add_flag("--masked-views", "masked_views");
 }
 
 void register_options(OptionSet& set, VideoOptions& o) {

@@ -221,5 +221,40 @@ TEST(DatasetRenderTest, HangingLanternIsRenderedInFrontOfTheObjectsAndInTheGroun
   EXPECT_GE(views_with_thin_parts, 3);
 }
 
+// --masked-views: the first views carry a magenta box and a mask that
+// covers exactly it (and 2 pixels around); the other views neither.
+TEST(DatasetMasks, MaskedViewsHaveAPaintedBoxAndAMaskOverIt) {
+  hos::testing::TempDir dir;
+  const SceneOptions scene_options{5, "default", true};
+  DatasetOptions o;
+  o.num_views = 4;
+  o.width = 160;
+  o.height = 120;
+  o.num_points = 100;
+  o.masked_views = 2;
+  write_dataset(dir / "scene", make_scene(scene_options), scene_options, o);
+  for (int v = 0; v < o.num_views; ++v) {
+    SCOPED_TRACE(v);
+    const std::string name = view_name(v, false);
+    const cv::Mat photo = cv::imread((dir / "scene" / "images" / name).string(), cv::IMREAD_COLOR);
+    ASSERT_FALSE(photo.empty());
+    cv::Mat magenta;
+    cv::inRange(photo, cv::Scalar(250, 0, 250), cv::Scalar(255, 5, 255), magenta);
+    const fs::path mask_path = dir / "scene" / "masks" / (name + ".png");
+    if (v >= o.masked_views) {
+      EXPECT_EQ(cv::countNonZero(magenta), 0);
+      EXPECT_FALSE(fs::exists(mask_path));
+      continue;
+    }
+    const cv::Mat mask = cv::imread(mask_path.string(), cv::IMREAD_GRAYSCALE);
+    ASSERT_EQ(mask.size(), photo.size());
+    EXPECT_EQ(cv::countNonZero(magenta), 32 * 60);  // a fifth of the width, half the height
+    cv::Mat magenta_unmasked;
+    cv::bitwise_and(magenta, mask, magenta_unmasked);
+    EXPECT_EQ(cv::countNonZero(magenta_unmasked), 0) << "every painted pixel is masked";
+    EXPECT_EQ(static_cast<int>(mask.total()) - cv::countNonZero(mask), 36 * 64);
+  }
+}
+
 }  // namespace
 }  // namespace hos::synth
