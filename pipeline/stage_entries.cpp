@@ -11,6 +11,10 @@ namespace fs = std::filesystem;
 void add_undistorted_workspace(Fingerprint& f, const StagePaths& p) {
   f.add_folder_contents(p.undistorted / "sparse");
   f.add_folder_listing(p.undistorted / "images");
+  // The photos' masks, undistorted as the images (absent without masks, so
+  // such workspaces keep their fingerprint).
+  std::error_code ec;
+  if (fs::exists(p.undistorted / "masks", ec)) f.add_folder_contents(p.undistorted / "masks");
 }
 
 std::uintmax_t size_of(const fs::path& path) {
