@@ -8,7 +8,7 @@
 // The charts' texels are dilated into the gaps between them, each chart's
 // own colour meeting its neighbour's halfway, so bilinear lookups (one ring)
 // and the first mipmap levels do not mix neighbouring charts. Faces no view
-// sees share one 2x2 patch per distinct colour.
+// sees share one texel per distinct colour.
 #pragma once
 
 #include <Eigen/Core>
