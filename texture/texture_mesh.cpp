@@ -100,6 +100,39 @@ void prepare_mesh(const TriangleMesh& input_mesh,
   timer.lap("topology");
 }
 
+// The output's vertices and faces: one vertex per chart vertex, three per
+// flat face, each face in its atlas page's index list.
+void add_output_vertices(const TriangleMesh& mesh,
+                         const MeshTopology& topology,
+                         const std::vector<Chart>& charts,
+                         const std::vector<FlatFace>& flat,
+                         const Atlas& atlas,
+                         TexturedMesh& out) {
+  out.indices.resize(atlas.pages.size());
+  for (std::size_t c = 0; c < charts.size(); ++c) {
+    const auto base = static_cast<std::uint32_t>(out.positions.size());
+    for (std::size_t i = 0; i < charts[c].vertices.size(); ++i) {
+      out.positions.push_back(mesh.vertices[charts[c].vertices[i]]);
+      out.normals.push_back(topology.vertex_normals[charts[c].vertices[i]]);
+      out.uvs.push_back(atlas.chart_uvs[c][i]);
+    }
+    auto& indices = out.indices[atlas.chart_page[c]];
+    for (const auto& face : charts[c].local_faces) {
+      for (int k = 0; k < 3; ++k) indices.push_back(base + static_cast<std::uint32_t>(face[k]));
+    }
+  }
+  for (std::size_t k = 0; k < flat.size(); ++k) {
+    auto& indices = out.indices[atlas.flat_page[k]];
+    for (int c = 0; c < 3; ++c) {
+      const int v = mesh.faces[flat[k].face][c];
+      indices.push_back(static_cast<std::uint32_t>(out.positions.size()));
+      out.positions.push_back(mesh.vertices[v]);
+      out.normals.push_back(topology.vertex_normals[v]);
+      out.uvs.push_back(atlas.flat_uvs[k]);
+    }
+  }
+}
+
 // Everything after visibility: exposure, consistency, view selection,
 // charts, leveling, atlas and the output mesh.
 void texture_from_candidates(const PreparedMesh& prepared,
@@ -154,31 +187,8 @@ void texture_from_candidates(const PreparedMesh& prepared,
   stats.texel_scale = atlas.texel_scale;
   timer.lap("atlas");
 
-  // Output vertices: one per chart vertex, three per flat face.
   TexturedMesh& out = result.mesh;
-  out.indices.resize(atlas.pages.size());
-  for (std::size_t c = 0; c < charts.size(); ++c) {
-    const auto base = static_cast<std::uint32_t>(out.positions.size());
-    for (std::size_t i = 0; i < charts[c].vertices.size(); ++i) {
-      out.positions.push_back(mesh.vertices[charts[c].vertices[i]]);
-      out.normals.push_back(topology.vertex_normals[charts[c].vertices[i]]);
-      out.uvs.push_back(atlas.chart_uvs[c][i]);
-    }
-    auto& indices = out.indices[atlas.chart_page[c]];
-    for (const auto& face : charts[c].local_faces) {
-      for (int k = 0; k < 3; ++k) indices.push_back(base + static_cast<std::uint32_t>(face[k]));
-    }
-  }
-  for (std::size_t k = 0; k < flat.size(); ++k) {
-    auto& indices = out.indices[atlas.flat_page[k]];
-    for (int c = 0; c < 3; ++c) {
-      const int v = mesh.faces[flat[k].face][c];
-      indices.push_back(static_cast<std::uint32_t>(out.positions.size()));
-      out.positions.push_back(mesh.vertices[v]);
-      out.normals.push_back(topology.vertex_normals[v]);
-      out.uvs.push_back(atlas.flat_uvs[k]);
-    }
-  }
+  add_output_vertices(mesh, topology, charts, flat, atlas, out);
   out.atlases = std::move(atlas.pages);
   stats.num_atlases = static_cast<int>(out.atlases.size());
   stats.atlas_coverage = atlas_coverage(out);

@@ -106,16 +106,10 @@ float label_cost(const FaceViewCandidates& c, const std::vector<float>& cost, in
 
 void throw_flow_error(const char* message) { throw std::runtime_error(message); }
 
-}  // namespace
-
-ViewSelection select_views(const MeshTopology& topology,
-                           const FaceViewCandidates& candidates,
-                           const TextureOptions& options,
-                           Reporter& reporter) {
+// Each face's cheapest view alone (-1 for unseen faces, counted); returns
+// the number of views.
+int cheapest_views(const FaceViewCandidates& candidates, const std::vector<float>& cost, ViewSelection& result) {
   const int num_faces = candidates.num_faces();
-  const std::vector<float> cost = data_costs(candidates, options);
-  const double w = options.smoothness;
-  ViewSelection result;
   result.labels.assign(num_faces, -1);
   int num_views = 0;
   for (int f = 0; f < num_faces; ++f) {
@@ -129,15 +123,95 @@ ViewSelection select_views(const MeshTopology& topology,
     }
     if (result.labels[f] < 0) ++result.num_unseen;
   }
+  return num_views;
+}
 
-  // Faces where each view is feasible, so an expansion visits only them.
+// Faces where each view is feasible, so an expansion visits only them.
+std::vector<std::vector<int>> faces_of_each_view(const FaceViewCandidates& candidates, int num_views) {
   std::vector<std::vector<int>> faces_of_view(num_views);
-  for (int f = 0; f < num_faces; ++f) {
+  for (int f = 0; f < candidates.num_faces(); ++f) {
     for (int i = candidates.begin(f); i < candidates.end(f); ++i) {
       faces_of_view[candidates.samples[i].view].push_back(f);
     }
   }
+  return faces_of_view;
+}
 
+// One alpha-expansion move: the faces in `nodes` (node_of maps a face to its
+// index there, -1 elsewhere) may switch to view alpha. Returns how many did.
+int expand_view(int alpha,
+                const std::vector<int>& nodes,
+                std::vector<int>& node_of,
+                const MeshTopology& topology,
+                const FaceViewCandidates& candidates,
+                const std::vector<float>& cost,
+                double w,
+                std::vector<int>& labels) {
+  FlowGraph graph(static_cast<int>(nodes.size()), static_cast<int>(3 * nodes.size()), throw_flow_error);
+  graph.add_node(static_cast<int>(nodes.size()));
+  // Boykov, Veksler, Zabih 2001 expansion move; x = 1 (sink) means the
+  // face switches to alpha. Pairwise terms with the Kolmogorov-Zabih
+  // construction E(xp, xq) = A + (C-A) xp + (D-C) xq + (B+C-A-D)(1-xp) xq.
+  for (int p = 0; p < static_cast<int>(nodes.size()); ++p) {
+    const int f = nodes[p];
+    double keep = label_cost(candidates, cost, f, labels[f]);
+    double take = label_cost(candidates, cost, f, alpha);
+    for (int g : topology.face_neighbors[f]) {
+      if (g < 0 || labels[g] < 0) continue;
+      const int q = node_of[g];
+      if (q < 0) {
+        keep += labels[f] != labels[g] ? w : 0.0;
+        take += alpha != labels[g] ? w : 0.0;
+      } else if (p < q) {
+        const double a = labels[f] != labels[g] ? w : 0.0;
+        const double b_cost = w, c_cost = w, d = 0.0;
+        take += c_cost - a;
+        graph.add_tweights(q, d - c_cost, 0.0);
+        graph.add_edge(p, q, b_cost + c_cost - a - d, 0.0);
+      }
+    }
+    graph.add_tweights(p, take, keep);
+  }
+  graph.maxflow();
+  int changed = 0;
+  for (int p = 0; p < static_cast<int>(nodes.size()); ++p) {
+    if (graph.what_segment(p) == FlowGraph::SINK) {
+      labels[nodes[p]] = alpha;
+      ++changed;
+    }
+    node_of[nodes[p]] = -1;
+  }
+  return changed;
+}
+
+// The data and smoothness energies of the final labels.
+void add_energies(const MeshTopology& topology,
+                  const FaceViewCandidates& candidates,
+                  const std::vector<float>& cost,
+                  double w,
+                  ViewSelection& result) {
+  const std::vector<int>& labels = result.labels;
+  for (int f = 0; f < candidates.num_faces(); ++f) {
+    if (labels[f] < 0) continue;
+    result.data_energy += label_cost(candidates, cost, f, labels[f]);
+    for (int g : topology.face_neighbors[f]) {
+      if (g > f && labels[g] >= 0 && labels[g] != labels[f]) result.smoothness_energy += w;
+    }
+  }
+}
+
+}  // namespace
+
+ViewSelection select_views(const MeshTopology& topology,
+                           const FaceViewCandidates& candidates,
+                           const TextureOptions& options,
+                           Reporter& reporter) {
+  const int num_faces = candidates.num_faces();
+  const std::vector<float> cost = data_costs(candidates, options);
+  const double w = options.smoothness;
+  ViewSelection result;
+  const int num_views = cheapest_views(candidates, cost, result);
+  const std::vector<std::vector<int>> faces_of_view = faces_of_each_view(candidates, num_views);
   std::vector<int> node_of(num_faces, -1);
   auto& labels = result.labels;
   reporter.begin("view selection", static_cast<std::int64_t>(options.expansion_sweeps) * num_views);
@@ -153,43 +227,7 @@ ViewSelection select_views(const MeshTopology& topology,
           nodes.push_back(f);
         }
       }
-      if (nodes.empty()) {
-        reporter.advance();
-        continue;
-      }
-      FlowGraph graph(static_cast<int>(nodes.size()), static_cast<int>(3 * nodes.size()), throw_flow_error);
-      graph.add_node(static_cast<int>(nodes.size()));
-      // Boykov, Veksler, Zabih 2001 expansion move; x = 1 (sink) means the
-      // face switches to alpha. Pairwise terms with the Kolmogorov-Zabih
-      // construction E(xp, xq) = A + (C-A) xp + (D-C) xq + (B+C-A-D)(1-xp) xq.
-      for (int p = 0; p < static_cast<int>(nodes.size()); ++p) {
-        const int f = nodes[p];
-        double keep = label_cost(candidates, cost, f, labels[f]);
-        double take = label_cost(candidates, cost, f, alpha);
-        for (int g : topology.face_neighbors[f]) {
-          if (g < 0 || labels[g] < 0) continue;
-          const int q = node_of[g];
-          if (q < 0) {
-            keep += labels[f] != labels[g] ? w : 0.0;
-            take += alpha != labels[g] ? w : 0.0;
-          } else if (p < q) {
-            const double a = labels[f] != labels[g] ? w : 0.0;
-            const double b_cost = w, c_cost = w, d = 0.0;
-            take += c_cost - a;
-            graph.add_tweights(q, d - c_cost, 0.0);
-            graph.add_edge(p, q, b_cost + c_cost - a - d, 0.0);
-          }
-        }
-        graph.add_tweights(p, take, keep);
-      }
-      graph.maxflow();
-      for (int p = 0; p < static_cast<int>(nodes.size()); ++p) {
-        if (graph.what_segment(p) == FlowGraph::SINK) {
-          labels[nodes[p]] = alpha;
-          ++changed;
-        }
-        node_of[nodes[p]] = -1;
-      }
+      if (!nodes.empty()) changed += expand_view(alpha, nodes, node_of, topology, candidates, cost, w, labels);
       reporter.advance();
     }
     reporter.debug(format_message("view selection sweep ", sweep + 1, ": ", changed, " faces changed view"));
@@ -199,14 +237,7 @@ ViewSelection select_views(const MeshTopology& topology,
     if (changed <= num_faces / 100) break;
   }
   reporter.end();
-
-  for (int f = 0; f < num_faces; ++f) {
-    if (labels[f] < 0) continue;
-    result.data_energy += label_cost(candidates, cost, f, labels[f]);
-    for (int g : topology.face_neighbors[f]) {
-      if (g > f && labels[g] >= 0 && labels[g] != labels[f]) result.smoothness_energy += w;
-    }
-  }
+  add_energies(topology, candidates, cost, w, result);
   return result;
 }
 

@@ -38,6 +38,49 @@ bool passes_depth_test(const render::DepthBuffer& buffer, const Eigen::Vector3f&
   return p.z() <= d * (1.0f + tolerance);
 }
 
+// |grad I| of the photo's grey levels (Sobel, per pixel).
+cv::Mat gradient_magnitude(const cv::Mat& image) {
+  cv::Mat grey, gx, gy, gradient;
+  cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+  cv::Sobel(grey, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
+  cv::Sobel(grey, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
+  cv::magnitude(gx, gy, gradient);
+  return gradient;
+}
+
+// Per-face sums over the pixels of this view where the face is in front.
+struct PixelSums {
+  float gradient = 0.0f;
+  float count = 0.0f;
+  Eigen::Vector3f rgb = Eigen::Vector3f::Zero();
+  bool masked = false;  // some pixel of the face is masked out
+};
+
+std::vector<PixelSums> sums_over_visible_pixels(const render::DepthBuffer& buffer,
+                                                const cv::Mat& gradient,
+                                                const TextureView& view,
+                                                int num_faces) {
+  std::vector<PixelSums> acc(num_faces);
+  for (int y = 0; y < buffer.face_id.rows; ++y) {
+    const int* ids = buffer.face_id.ptr<int>(y);
+    const float* g = gradient.ptr<float>(y);
+    const cv::Vec3b* px = view.image.ptr<cv::Vec3b>(y);
+    const unsigned char* mask = view.mask.empty() ? nullptr : view.mask.ptr<unsigned char>(y);
+    for (int x = 0; x < buffer.face_id.cols; ++x) {
+      if (ids[x] < 0) continue;
+      PixelSums& a = acc[ids[x]];
+      if (mask != nullptr && mask[x] == kMaskedOut) {
+        a.masked = true;
+        continue;
+      }
+      a.gradient += g[x];
+      a.count += 1.0f;
+      a.rgb += Eigen::Vector3f(px[x][2], px[x][1], px[x][0]);
+    }
+  }
+  return acc;
+}
+
 }  // namespace
 
 ViewSamples compute_view_visibility(const TriangleMesh& mesh,
@@ -51,37 +94,8 @@ ViewSamples compute_view_visibility(const TriangleMesh& mesh,
   const std::vector<Eigen::Vector3f> projected = project_vertices(mesh, view);
   const render::DepthBuffer buffer = render::rasterize_depth(mesh, projected, view.camera.width, view.camera.height);
 
-  cv::Mat grey, gx, gy, gradient;
-  cv::cvtColor(view.image, grey, cv::COLOR_BGR2GRAY);
-  cv::Sobel(grey, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
-  cv::Sobel(grey, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
-  cv::magnitude(gx, gy, gradient);
-
-  // Per-face pixel sums over the visible pixels of this view.
-  struct Accumulator {
-    float gradient = 0.0f;
-    float count = 0.0f;
-    Eigen::Vector3f rgb = Eigen::Vector3f::Zero();
-    bool masked = false;  // some pixel of the face is masked out
-  };
-  std::vector<Accumulator> acc(num_faces);
-  for (int y = 0; y < buffer.face_id.rows; ++y) {
-    const int* ids = buffer.face_id.ptr<int>(y);
-    const float* g = gradient.ptr<float>(y);
-    const cv::Vec3b* px = view.image.ptr<cv::Vec3b>(y);
-    const unsigned char* mask = view.mask.empty() ? nullptr : view.mask.ptr<unsigned char>(y);
-    for (int x = 0; x < buffer.face_id.cols; ++x) {
-      if (ids[x] < 0) continue;
-      Accumulator& a = acc[ids[x]];
-      if (mask != nullptr && mask[x] == kMaskedOut) {
-        a.masked = true;
-        continue;
-      }
-      a.gradient += g[x];
-      a.count += 1.0f;
-      a.rgb += Eigen::Vector3f(px[x][2], px[x][1], px[x][0]);
-    }
-  }
+  const cv::Mat gradient = gradient_magnitude(view.image);
+  const std::vector<PixelSums> acc = sums_over_visible_pixels(buffer, gradient, view, num_faces);
 
   const Eigen::Vector3f center = view.pose.center().cast<float>();
   ViewSamples out;
@@ -117,7 +131,7 @@ ViewSamples compute_view_visibility(const TriangleMesh& mesh,
     s.view = view_index;
     s.cos_angle = cos_angle;
     s.projected_area_px = 0.5f * std::abs((b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x()));
-    const Accumulator& sum = acc[f];
+    const PixelSums& sum = acc[f];
     if (sum.count > 0.0f) {
       s.visible_px = sum.count;
       s.gradient_integral = sum.gradient;
