@@ -25,6 +25,11 @@ struct MvsView {
   std::string name;
   cv::Mat gray;   // CV_32F in [0, 1]
   cv::Mat color;  // CV_8UC3, BGR
+  // CV_8U at the view's size, kMaskedOut where the photo's mask excludes
+  // the pixel (core/image_mask.h); empty: every pixel usable. A masked
+  // pixel gets no depth, adds nothing to its neighbours' windows, and a
+  // source whose masked pixel a window centre lands on does not count.
+  cv::Mat mask;
   Eigen::Matrix3d K = Eigen::Matrix3d::Identity(), K_inv = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // cam_from_world
   Eigen::Vector3d t = Eigen::Vector3d::Zero();
@@ -33,8 +38,9 @@ struct MvsView {
   int height() const { return gray.rows; }
 };
 
-// Loads and downscales an image of the workspace. Throws InputError naming
-// the file if it cannot be read or its size disagrees with its camera.
+// Loads and downscales an image of the workspace, and its mask when the
+// workspace has one. Throws InputError naming the file if it cannot be read
+// or its size disagrees with its camera.
 MvsView load_view(const UndistortedWorkspace& workspace, const ImageRecord& image, int max_image_size);
 
 // Every pixel's plane at one level, reliable or not (a finer level starts

@@ -21,6 +21,7 @@ namespace hos::mvs {
 namespace {
 
 using mvs_testing::edited_copy;
+using mvs_testing::surface_point;
 using mvs_testing::synthetic_workspace;
 using mvs_testing::truth_at;
 using mvs_testing::TruthAtPoint;
@@ -182,16 +183,8 @@ TEST(RunMvs, MissingImageIsAClearError) {
 // of the ball is counted.
 void expect_no_points_in_painted_disc(double noise_std) {
   const auto& s = synthetic_workspace();
-  std::vector<const ImageRecord*> images;
-  for (const auto& [id, image] : s.truth.model.images) images.push_back(&image);
-  const auto surface_point = [&](std::size_t v, int x, int y) -> std::optional<Eigen::Vector3d> {
-    const float d = s.truth.views[v].depth.at<float>(y, x);
-    if (!(d > 0)) return std::nullopt;
-    const Camera& camera = s.truth.model.camera_of(*images[v]);
-    return images[v]->world_from_cam(camera.unproject({x + 0.5, y + 0.5}) * d);
-  };
   const cv::Mat& depth0 = s.truth.views[0].depth;
-  const auto centre = surface_point(0, depth0.cols / 2, depth0.rows / 2);
+  const auto centre = surface_point(s, 0, depth0.cols / 2, depth0.rows / 2);
   ASSERT_TRUE(centre.has_value()) << "view 0 must see a surface at its centre";
   const double radius = 0.08 * s.diagonal;
   std::size_t painted = 0;
@@ -200,7 +193,7 @@ void expect_no_points_in_painted_disc(double noise_std) {
     cv::RNG rng(static_cast<std::uint64_t>(v) + 1);
     for (int y = 0; y < image.rows; ++y) {
       for (int x = 0; x < image.cols; ++x) {
-        const auto p = surface_point(v, x, y);
+        const auto p = surface_point(s, v, x, y);
         if (p && (*p - *centre).norm() < radius) {
           const auto grey = cv::saturate_cast<std::uint8_t>(128.0 + rng.gaussian(noise_std));
           image.at<cv::Vec3b>(y, x) = cv::Vec3b(grey, grey, grey);

@@ -1,6 +1,7 @@
 #include "tests/mvs/synthetic_workspace.h"
 
 #include <filesystem>
+#include <iterator>
 #include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
 
@@ -67,6 +68,15 @@ TruthAtPoint truth_at(const SyntheticWorkspace& s, const Eigen::Vector3d& x) {
     }
   }
   return best;
+}
+
+std::optional<Eigen::Vector3d> surface_point(const SyntheticWorkspace& s, std::size_t v, int x, int y) {
+  const float d = s.truth.views[v].depth.at<float>(y, x);
+  if (!(d > 0)) return std::nullopt;
+  auto image = s.truth.model.images.begin();
+  std::advance(image, static_cast<std::ptrdiff_t>(v));
+  const Camera& camera = s.truth.model.camera_of(image->second);
+  return image->second.world_from_cam(camera.unproject({x + 0.5, y + 0.5}) * d);
 }
 
 }  // namespace hos::mvs_testing

@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <optional>
 
 #include "core/undistorted_workspace.h"
 #include "synth/dataset.h"
@@ -43,5 +44,9 @@ struct TruthAtPoint {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
 };
 TruthAtPoint truth_at(const SyntheticWorkspace& s, const Eigen::Vector3d& x);
+
+// The true surface point pixel (x, y) of view v (in image id order) sees;
+// nothing where the view sees no surface.
+std::optional<Eigen::Vector3d> surface_point(const SyntheticWorkspace& s, std::size_t v, int x, int y);
 
 }  // namespace hos::mvs_testing
