@@ -68,8 +68,9 @@ double job_cpu_seconds(StageJob job, const PipelineConfig& config, const RunBoun
 std::vector<StagePlot> plots(const StagePaths& paths) {
   const nlohmann::json report = read_json_or_empty(paths.mvs_report);
   std::vector<StagePlot> plots;
-  StagePlot coverage{"plot-depth-coverage", "mvs: depth-map coverage per view",
-                     "view (fraction of pixels with a depth)", StagePlot::Kind::kBars};
+  StagePlot coverage{"plot-depth-coverage", "mvs: depth-map coverage per view", "view (hover a bar for its name)",
+                     StagePlot::Kind::kBars};
+  coverage.y_label = "fraction of pixels with a depth";
   for (const auto& view : report.value("per_view", nlohmann::json::array())) {
     if (view.value("skipped", false)) continue;
     coverage.bars.emplace_back(view.value("name", ""), view.value("coverage", 0.0));

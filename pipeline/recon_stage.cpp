@@ -79,8 +79,10 @@ std::string figures_line(const nlohmann::ordered_json& f) {
 std::vector<StagePlot> plots(const StagePaths& paths) {
   const nlohmann::json report = read_json_or_empty(paths.recon_report);
   StagePlot plot{"plot-solver-residual", "recon: solver residual per iteration",
-                 "CG iteration (all solves in turn); relative residual", StagePlot::Kind::kLogLine};
+                 "CG iteration (all solves in turn, dashed: a solve starts)", StagePlot::Kind::kLogLine};
+  plot.y_label = "relative residual |r| / |b|";
   plot.values = report.value("residual_history", std::vector<double>{});
+  plot.segment_lengths = report.value("solve_iterations", std::vector<int>{});
   if (plot.values.empty()) return {};
   return {plot};
 }

@@ -22,11 +22,13 @@ struct StagePlot {
 
   std::string id;  // the <div>'s id: "plot-depth-coverage"
   std::string title, x_label;
+  std::string y_label;  // with its unit; "" for histograms: "count"
   Kind kind = Kind::kHistograms;
   std::vector<std::pair<std::string, Histogram>> histograms;
   std::vector<std::pair<std::string, double>> bars;
   double y_max = 1.0;
   std::vector<double> values;
+  std::vector<int> segment_lengths;  // kLogLine: values split into consecutive runs (a solver's solves), each marked
 };
 
 }  // namespace hos::pipeline

@@ -274,15 +274,18 @@ void write_config_and_logs(std::ostream& html, const StagePaths& paths) {
 }
 
 constexpr const char* kStyle = R"(<style>
-body { font-family: sans-serif; margin: 2em; max-width: 75em; }
+body { font-family: sans-serif; margin: 1em clamp(0.5em, 2vw, 2em); max-width: none; }
 table { border-collapse: collapse; } td, th { border: 1px solid #ccc; padding: 0.3em 0.6em; text-align: left; }
+#stages { display: block; overflow-x: auto; max-width: 100%; }
+pre { overflow-x: auto; }
 .ok { color: #1a7f37; } .failed { color: #b42318; font-weight: bold; }
 tr.stage-failed, tr.stage-interrupted { background: #fde8e8; }
 #photos figure { display: inline-block; margin: 0.3em; font-size: 0.8em; }
 figure.skipped { color: #b42318; }
 #photos img { display: block; }
 div.eval { display: inline-block; margin: 0 1em 1em 0; vertical-align: top; } div.eval h3 { margin: 0.3em 0; }
-div[id^=plot-] { display: inline-block; margin: 0.5em; }
+#plots { display: grid; grid-template-columns: repeat(auto-fill, minmax(min(100%, 26em), 1fr)); gap: 1em; }
+svg.plot { display: block; width: 100%; height: auto; } #stage-time { max-width: 40em; margin-top: 1em; }
 </style>)";
 
 }  // namespace
@@ -298,14 +301,18 @@ std::string run_report_html(const fs::path& workspace, const ReportOptions& opti
   const RunRecord record = load_run_record(paths.run_record);
   const nlohmann::json sfm_report = read_json_or_empty(paths.sfm_report);
   std::ostringstream html;
-  html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head><meta charset=\"utf-8\"><title>hos run "
-          "report</title>\n"
+  html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head><meta charset=\"utf-8\">\n"
+          "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>hos run report</title>\n"
        << kStyle << "\n</head>\n<body>\n";
   write_summary(html, record, paths);
   html << model_viewer_html(paths, options.viewer_script);  // 2. the model
   write_stage_table(html, record, paths);
-  html << "<h2>Plots</h2>\n";
+  if (const std::string time = stage_time_svg(record); !time.empty()) {
+    html << "<div id=\"stage-time\">" << time << "</div>\n";  // where the time went, beside the table
+  }
+  html << "<h2>Plots</h2>\n<div id=\"plots\">\n";
   write_stage_plots(html, paths);  // 4. plots (pipeline/report/report_plots.h)
+  html << "</div>\n";
   write_eval_results(html, paths);
   write_photos(html, record, paths, sfm_report);
   write_config_and_logs(html, paths);

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/json_report.h"
 #include "core/ply_io.h"
+#include "pipeline/report/svg_plot.h"
 #include "pipeline/stage_figures.h"
 
 namespace hos::pipeline {
@@ -17,6 +18,27 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// The largest model the page embeds (base64 adds a third): with
+// model-viewer's script (about 1 MB), the thumbnails and the rest, the page
+// stays under 8 MB.
+constexpr std::uintmax_t kMaxEmbeddedModelBytes = 4'500'000;
+
+std::string megabytes(std::uintmax_t bytes) {
+  std::ostringstream out;
+  out.precision(3);
+  out << double(bytes) / 1e6 << " MB";
+  return out.str();
+}
+
+// The model the viewer shows: hos-texture's preview beside the model,
+// else the model itself; neither when larger than the page can hold.
+std::optional<fs::path> model_to_embed(const StagePaths& paths) {
+  for (const fs::path& model : {report_preview_model(paths), paths.textured_model}) {
+    std::error_code ec;
+    if (fs::is_regular_file(model, ec) && fs::file_size(model, ec) <= kMaxEmbeddedModelBytes && !ec) return model;
+  }
+  return std::nullopt;
+}
 
 // The bundle without its source-map comment (the map is not shipped).
 std::string viewer_script_text(const fs::path& script) {
@@ -80,7 +102,7 @@ std::string viewer_data_json(const std::vector<PhotoView>& views, const RobustBo
 }
 
 constexpr const char* kViewerStyle = R"(<style>
-#viewer-frame { position: relative; width: 100%; max-width: 1000px; }
+#viewer-frame { position: relative; width: 100%; max-width: min(100%, 140vh); }
 #viewer { width: 100%; height: auto; background: #ffffff; display: block; }
 #viewer-frusta { position: absolute; left: 0; top: 0; width: 100%; height: 100%; pointer-events: none; }
 #viewer-frusta path { fill: rgba(224, 50, 47, 0.12); stroke: #e0322f; stroke-width: 1.5; pointer-events: all;
@@ -242,21 +264,36 @@ std::vector<PhotoView> photo_views(const SparseModel& model, const Eigen::Matrix
   return views;
 }
 
+fs::path report_preview_model(const StagePaths& paths) {
+  const fs::path& model = paths.textured_model;
+  return model.parent_path() / (model.stem().string() + ".preview.glb");
+}
+
 std::string model_viewer_html(const StagePaths& paths, const fs::path& viewer_script) {
   std::error_code ec;
   if (!fs::is_regular_file(paths.textured_model, ec)) return "";
+  const std::uintmax_t model_bytes = fs::file_size(paths.textured_model, ec);
+  const std::string model_link =
+      "<a id=\"model-link\" href=\"texture/model.glb\">texture/model.glb</a> (" + megabytes(model_bytes) + ")";
   std::ostringstream html;
   html << "<h2>Model</h2>\n";
   if (viewer_script.empty() || !fs::is_regular_file(viewer_script, ec)) {
-    html << "<p id=\"model\"><a href=\"texture/model.glb\">texture/model.glb</a> (this build has "
-            "no 3D viewer)</p>\n";
+    html << "<p id=\"model\">" << model_link << " (this build has no 3D viewer)</p>\n";
     return html.str();
   }
+  const std::optional<fs::path> shown = model_to_embed(paths);
+  if (!shown) {
+    html << "<p id=\"model\">The model is too large to embed in this page and has no preview beside it: " << model_link
+         << "</p>\n";
+    return html.str();
+  }
+  const bool preview = *shown != paths.textured_model;
+  const std::string shown_name = "texture/" + shown->filename().string();
   GlbFigures glb;
   try {
-    glb = read_glb_figures(paths.textured_model);
+    glb = read_glb_figures(*shown);
   } catch (const Error&) {
-    html << "<p id=\"model\">texture/model.glb is not a valid binary glTF.</p>\n";
+    html << "<p id=\"model\">" << html_escape(shown_name) << " is not a valid binary glTF: " << model_link << "</p>\n";
     return html.str();
   }
   const Eigen::Matrix4d root = Eigen::Map<const Eigen::Matrix4d>(glb.root_matrix.data());
@@ -283,14 +320,15 @@ std::string model_viewer_html(const StagePaths& paths, const fs::path& viewer_sc
   } else {
     html << "style=\"aspect-ratio: 16 / 9\" ";
   }
-  html << "src=\"data:model/gltf-binary;base64," << base64(read_bytes(paths.textured_model)) << "\">\n"
+  html << "src=\"data:model/gltf-binary;base64," << base64(read_bytes(*shown)) << "\">\n"
        << "</model-viewer>\n<svg id=\"viewer-frusta\"></svg>\n</div>\n";
   html << "<p>";
   if (!views.empty()) {
     html << "<label><input type=\"checkbox\" id=\"show-cameras\" checked> show the " << views.size()
          << " photos' cameras</label> (click one to see the model from it) · ";
   }
-  html << "<a href=\"texture/model.glb\">texture/model.glb</a></p>\n";
+  if (preview) html << "shown: the preview " << html_escape(shown_name) << "; the full model: ";
+  html << model_link << "</p>\n";
   html << "<script>\n" << viewer_script_text(viewer_script) << "\n</script>\n";
   if (!views.empty()) {
     html << "<script type=\"application/json\" id=\"viewer-data\">" << viewer_data_json(views, *bounds)

@@ -56,8 +56,16 @@ std::optional<RobustBounds> robust_bounds(const std::vector<Eigen::Vector3f>& ve
 // twentieth of the model's size deep.
 std::vector<PhotoView> photo_views(const SparseModel& model, const Eigen::Matrix4d& root, const RobustBounds& bounds);
 
-// The viewer section; "" when the workspace has no textured model. Without
-// the script (not built) the section is a link to the model.
+// The preview hos-texture writes beside the textured model (a decimated
+// copy with a small atlas, as texture/model_writer.h's preview_model_path):
+// texture/model.preview.glb.
+std::filesystem::path report_preview_model(const StagePaths& paths);
+
+// The viewer section; "" when the workspace has no textured model. It
+// shows the preview when there is one, else the model itself, and links the
+// model; a model too large for the page and without a preview is only
+// linked, so that the page stays under 8 MB. Without the script (not built)
+// the section is a link to the model.
 std::string model_viewer_html(const StagePaths& paths, const std::filesystem::path& viewer_script);
 
 // The whole file ("" if it cannot be read), for data: URIs and the page.

@@ -295,22 +295,22 @@ TEST(SvgPlot, EscapesText) { EXPECT_EQ(html_escape("a<b & \"c\">"), "a&lt;b &amp
 TEST(SvgPlot, GroupedHistogramsDrawEveryBinOfEverySeriesWithALegend) {
   const Histogram a = make_histogram({0.1, 0.6, 0.7}, 2, 0.0, 1.0);
   const Histogram b = make_histogram({0.1}, 2, 0.0, 1.0);
-  const std::string svg = svg_histograms({{"first", a}, {"second", b}}, {"title", "x"});
+  const std::string svg = svg_histograms({{"first", a}, {"second", b}}, {"title", "x", ""});
   EXPECT_EQ(count(svg, "<rect x="), 4 + 2);  // bars and legend swatches
   EXPECT_TRUE(contains(svg, "<title>2</title>"));
   EXPECT_TRUE(contains(svg, ">second</text>"));
-  EXPECT_FALSE(contains(svg_histogram(a, {"title", "x"}), ">first</text>"));
+  EXPECT_FALSE(contains(svg_histogram(a, {"title", "x", ""}), ">first</text>"));
 }
 
 TEST(SvgPlot, CountHistogramsAreLabelledByTheirFirstAndLastCount) {
-  const std::string svg = svg_histogram(make_count_histogram({0, 1, 3}, 10), {"views", "photos"});
+  const std::string svg = svg_histogram(make_count_histogram({0, 1, 3}, 10), {"views", "photos", ""});
   EXPECT_TRUE(contains(svg, ">0</text>"));
   EXPECT_TRUE(contains(svg, ">3</text>"));
   EXPECT_FALSE(contains(svg, ">-0.5</text>"));
 }
 
 TEST(SvgPlot, LogLinePlotLeavesOutValuesItCannotPlace) {
-  const std::string svg = svg_log_line_plot({1.0, 0.0, 0.05, std::nan(""), 0.002}, {"residual", "iteration"});
+  const std::string svg = svg_log_line_plot({1.0, 0.0, 0.05, std::nan(""), 0.002}, {"residual", "iteration", ""});
   const auto points = svg.substr(svg.find("points=\""));
   EXPECT_EQ(count(points.substr(0, points.find("/>")), ","), 3);
   EXPECT_TRUE(contains(svg, ">1e0</text>"));
