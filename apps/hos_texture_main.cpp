@@ -13,10 +13,9 @@
 #include "core/ply_io.h"
 #include "core/undistorted_workspace.h"
 #include "core/view_range.h"
-#include "texture/decimate.h"
-#include "texture/gltf_writer.h"
 #include "texture/model_writer.h"
 #include "texture/texture_mesh.h"
+#include "texture/texture_output.h"
 #include "texture/texture_report.h"
 
 int main(int argc, char** argv) {
@@ -86,40 +85,9 @@ int main(int argc, char** argv) {
         from_view_data.empty()
             ? hos::texture::texture_mesh(mesh, workspace, options, reporter, placement)
             : hos::texture::texture_mesh_from_view_data(mesh, workspace, options, reporter, from_view_data, placement);
-    hos::texture::GltfWriteOptions write_options;
-    write_options.image_format = options.image_format;
-    write_options.jpeg_quality = options.jpeg_quality;
-    write_options.mesh_compression = options.mesh_compression;
-    hos::texture::write_model(output_path, result.mesh, write_options);
-    if (options.preview_max_faces > 0) {
-      // The level of detail a web page embeds (the run report).
-      hos::texture::DecimationStats preview_stats;
-      const hos::texture::TexturedMesh preview = hos::texture::preview_model(
-          result.mesh, static_cast<std::size_t>(options.preview_max_faces), options.preview_atlas_size, &preview_stats);
-      const std::filesystem::path preview_path = hos::texture::preview_model_path(output_path);
-      hos::texture::GltfWriteOptions preview_options;
-      preview_options.image_format = "jpeg";
-      preview_options.jpeg_quality = options.jpeg_quality;
-      preview_options.mesh_compression = options.mesh_compression;
-      hos::texture::write_glb(preview_path, preview, preview_options);
-      reporter.info(hos::format_message("wrote the preview ", preview_path.string(), " (", preview_stats.faces_after,
-                                        " faces, atlas ", preview.atlases[0].cols, "x", preview.atlases[0].rows, ")"));
-    }
+    hos::texture::write_texture_outputs(output_path, result, options, reporter);
     if (!report_path.empty()) hos::texture::write_texture_report(report_path, result);
-    const auto& s = result.stats;
-    reporter.info(hos::format_message("textured ", s.faces, " faces from ", s.num_views, " photos: ", s.num_charts,
-                                      " charts in ", s.num_atlases, " atlas(es) (", s.atlas_coverage,
-                                      " of the texels in triangles), ", s.num_unseen_faces, " unseen faces, ",
-                                      s.num_outlier_rejections, " outlier views rejected"));
-    const auto& placed = result.placement;
-    reporter.info(hos::format_message("up from ", hos::texture::up_method_name(placed.up.method),
-                                      placed.up.fallback_reason.empty() ? "" : " (" + placed.up.fallback_reason + ")",
-                                      "; ", placed.units_text()));
-    reporter.info(hos::format_message("seam colour jump ", s.mean_seam_jump_before, " -> ", s.mean_seam_jump_after,
-                                      " (8-bit RGB)"));
-    for (const auto& [step, seconds] : s.step_seconds) {
-      reporter.debug(hos::format_message("step ", step, ": ", seconds, " s"));
-    }
+    hos::texture::log_texture_summary(result, reporter);
     reporter.info("wrote " + output_path);
   });
 }
