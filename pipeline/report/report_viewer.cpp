@@ -283,8 +283,12 @@ std::string model_viewer_html(const StagePaths& paths, const fs::path& viewer_sc
   }
   const std::optional<fs::path> shown = model_to_embed(paths);
   if (!shown) {
-    html << "<p id=\"model\">The model is too large to embed in this page and has no preview beside it: " << model_link
-         << "</p>\n";
+    const fs::path preview = report_preview_model(paths);
+    html << "<p id=\"model\">The model is too large to embed in this page ("
+         << (fs::is_regular_file(preview, ec) ? "and so is its preview texture/" + preview.filename().string() + ", " +
+                                                    megabytes(fs::file_size(preview, ec))
+                                              : std::string("and it has no preview beside it"))
+         << "; at most " << megabytes(kMaxEmbeddedModelBytes) << "): " << model_link << "</p>\n";
     return html.str();
   }
   const bool preview = *shown != paths.textured_model;

@@ -188,6 +188,16 @@ TEST(ReportPageSize, PreviewIsShownAndTheFullModelLinked) {
   EXPECT_TRUE(contains(html, "href=\"texture/model.glb\""));
 }
 
+TEST(ReportPageSize, PreviewTooLargeForThePageIsLinkedNotEmbedded) {
+  ModelWorkspace ws(30'000'000);
+  write_glb(report_preview_model(ws.paths), "preview", 9'000'000);
+  const std::string html = run_report_html(ws.dir.path(), {ws.script});
+  EXPECT_LT(html.size(), kMaxPageBytes);
+  EXPECT_FALSE(contains(html, "data:model/gltf-binary"));
+  EXPECT_TRUE(contains(html, "href=\"texture/model.glb\""));
+  EXPECT_TRUE(contains(html, "texture/model.preview.glb, 9 MB"));
+}
+
 TEST(ReportPageSize, SmallModelWithoutPreviewIsShownItself) {
   ModelWorkspace ws(200'000);
   const std::string html = run_report_html(ws.dir.path(), {ws.script});
