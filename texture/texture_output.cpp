@@ -1,11 +1,18 @@
 #include "texture/texture_output.h"
 
+#include <algorithm>
+
 #include "texture/decimate.h"
 #include "texture/gltf_writer.h"
 #include "texture/model_writer.h"
 #include "texture/up_direction.h"
 
 namespace hos::texture {
+namespace {
+
+constexpr int kPreviewJpegQuality = 85;
+
+}  // namespace
 
 void write_texture_outputs(const std::filesystem::path& output,
                            const TextureResult& result,
@@ -21,8 +28,11 @@ void write_texture_outputs(const std::filesystem::path& output,
   const TexturedMesh preview = preview_model(result.mesh, static_cast<std::size_t>(options.preview_max_faces),
                                              options.preview_atlas_size, &preview_stats);
   const std::filesystem::path preview_path = preview_model_path(output);
+  // A web page's budget, whatever the model's options: a JPEG atlas of
+  // quality at most kPreviewJpegQuality.
   GltfWriteOptions preview_options = write_options;
-  preview_options.image_format = "jpeg";  // a web page's budget, whatever the model's format
+  preview_options.image_format = "jpeg";
+  preview_options.jpeg_quality = std::min(write_options.jpeg_quality, kPreviewJpegQuality);
   write_glb(preview_path, preview, preview_options);
   reporter.info(format_message("wrote the preview ", preview_path.string(), " (", preview_stats.faces_after,
                                " faces, atlas ", preview.atlases[0].cols, "x", preview.atlases[0].rows, ")"));
