@@ -10,7 +10,9 @@
 
 #include "core/cpu_clones.h"
 #include "core/error.h"
+#include "core/image_mask.h"
 #include "mvs/planar_prior.h"
+#include "mvs/window_ncc.h"
 
 namespace hos::mvs {
 namespace {
@@ -34,9 +36,6 @@ struct Plane {
 // 2 is the worst cost of a scored one).
 constexpr float kTextureless = 3.0f;
 
-// Largest window: radius 15 (the option's bound), every pixel.
-constexpr int kMaxWindow = 31 * 31;
-
 // A plane's cost: the photometric part (mean 1 - NCC of the best K views)
 // and the one planes compete on, which adds the neighbours' geometric vote
 // capped at the detail restoration margin (so a plane whose photometric
@@ -56,6 +55,11 @@ struct PriorFrame {
   Eigen::Vector3f t_back;
 };
 
+// A masked-out pixel of the view's mask (core/image_mask.h); none without one.
+bool masked(const MvsView& view, int x, int y) {
+  return !view.mask.empty() && view.mask.at<unsigned char>(y, x) == kMaskedOut;
+}
+
 class PatchMatcher {
  public:
   PatchMatcher(const MvsView& ref,
@@ -72,7 +76,18 @@ class PatchMatcher {
         offset_y_.push_back(float(dy));
       }
     }
+    // Padded for the kernel's eight lanes (mvs/window_ncc.h).
+    while (offset_x_.size() % kNccLanes != 0) {
+      offset_x_.push_back(0.0f);
+      offset_y_.push_back(0.0f);
+    }
+    window_.offset_x = offset_x_.data();
+    window_.offset_y = offset_y_.data();
+    window_.count = static_cast<int>(offsets_.size());
+    window_.low = float(-options.window_radius);
+    window_.high = float(2 * options.window_radius / options.window_step * options.window_step - options.window_radius);
     for (const MvsView* s : sources) {
+      source_quads_.push_back(make_quad_image(s->gray));
       const Eigen::Matrix3d r_rel = s->R * ref.R.transpose();
       const Eigen::Vector3d t_rel = s->t - r_rel * ref.t;
       relative_.push_back({(s->K * r_rel * ref.K_inv).cast<float>(), (s->K * t_rel).cast<float>()});
@@ -430,11 +445,14 @@ class PatchMatcher {
       std::vector<double> wt(k);
       for (int x = r; x < w - r; ++x) {
         const std::size_t i = std::size_t(y) * w + x;
+        // A masked pixel is not matched, and no window counts masked samples.
+        if (masked(ref_, x, y)) continue;
         const float centre = ref_.gray.at<float>(y, x);
         double sw = 0, s1 = 0;
         for (std::size_t j = 0; j < k; ++j) {
           const float v = ref_.gray.at<float>(y + offsets_[j].y(), x + offsets_[j].x());
-          wt[j] = std::exp(spatial[j] - std::abs(v - centre) * inv_sigma);
+          const bool usable = !masked(ref_, x + offsets_[j].x(), y + offsets_[j].y());
+          wt[j] = usable ? std::exp(spatial[j] - std::abs(v - centre) * inv_sigma) : 0.0;
           sw += wt[j];
           s1 += wt[j] * v;
         }
@@ -452,75 +470,32 @@ class PatchMatcher {
     }
   }
 
-  // 1 - NCC of the reference window at (x, y) (weights wts, centred values
-  // centred, variance var_r) against source s through homography H (pixel
-  // centre coordinates in and out); 2 if any part of the warped window leaves
-  // the image or lies behind the camera. Three passes over the window so the
-  // compiler vectorises the projection and the sums; only the bilinear
-  // lookups stay scalar (as AVX2 gathers they were no faster: one fountain-P11
-  // view, three runs each, alternating).
-  HOS_INLINED_INTO_CLONES float view_cost(int x,
-                                          int y,
-                                          const Eigen::Matrix3f& H,
-                                          const MvsView& src,
-                                          const float* wts,
-                                          const float* centred,
-                                          float var_r) const {
-    const int r = options_.window_radius, step = options_.window_step;
-    const float W = static_cast<float>(src.width() - 1), Hh = static_cast<float>(src.height() - 1);
-    const Eigen::Vector3f centre = H * Eigen::Vector3f(x + 0.5f, y + 0.5f, 1.0f);
-    // The homography's z is linear over the window: positive at the corners
-    // means positive everywhere, and the image of the window is then the
-    // convex hull of its corners' images, so checking the corners suffices.
-    const int last_sample = 2 * r / step * step - r;  // whole steps from -r
-    const float reach = float(last_sample);
-    for (const float cy : {float(-r), reach}) {
-      for (const float cx : {float(-r), reach}) {
-        const Eigen::Vector3f m = centre + cx * H.col(0) + cy * H.col(1);
-        if (!(m.z() > 1e-6f)) return 2.0f;
-        const float u = m.x() / m.z() - 0.5f, v = m.y() / m.z() - 0.5f;
-        if (!(u >= 0 && v >= 0 && u < W && v < Hh)) return 2.0f;
-      }
-    }
-    const int k = static_cast<int>(offsets_.size());
-    const float* ox = offset_x_.data();
-    const float* oy = offset_y_.data();
-    const int max_x = src.width() - 2, max_y = src.height() - 2;
-    const int stride = static_cast<int>(src.gray.step1());
-    alignas(64) int index[kMaxWindow];
-    alignas(64) float fx[kMaxWindow], fy[kMaxWindow], value[kMaxWindow];
-    const float h00 = H(0, 0), h01 = H(0, 1), h10 = H(1, 0), h11 = H(1, 1), h20 = H(2, 0), h21 = H(2, 1);
-#pragma omp simd
-    for (int j = 0; j < k; ++j) {
-      const float mx = centre.x() + ox[j] * h00 + oy[j] * h01;
-      const float my = centre.y() + ox[j] * h10 + oy[j] * h11;
-      const float iz = 1.0f / (centre.z() + ox[j] * h20 + oy[j] * h21);
-      const float u = mx * iz - 0.5f, v = my * iz - 0.5f;
-      const int x0 = std::min(static_cast<int>(u), max_x), y0 = std::min(static_cast<int>(v), max_y);
-      fx[j] = u - static_cast<float>(x0);
-      fy[j] = v - static_cast<float>(y0);
-      index[j] = y0 * stride + x0;
-    }
-    const float* data = src.gray.ptr<float>(0);
-    // Source values relative to the reference centre keep the float sums
-    // of squares small (no cancellation when the windows match).
-    const float shift = ref_.gray.at<float>(y, x);
-    for (int j = 0; j < k; ++j) {
-      const float* p = data + index[j];
-      const float top = p[0] + fx[j] * (p[1] - p[0]);
-      const float bottom = p[stride] + fx[j] * (p[stride + 1] - p[stride]);
-      value[j] = top + fy[j] * (bottom - top) - shift;
-    }
-    float ss = 0, sss = 0, cov = 0;
-#pragma omp simd reduction(+ : ss, sss, cov)
-    for (int j = 0; j < k; ++j) {
-      ss += wts[j] * value[j];
-      sss += wts[j] * value[j] * value[j];
-      cov += centred[j] * value[j];
-    }
-    const float var_s = sss - ss * ss;
-    if (!(var_s > 1e-10f) || !(var_r > 1e-10f)) return 2.0f;
-    return 1.0f - cov / std::sqrt(var_r * var_s);
+  // True where the window's centre (x, y) warped by H lands on a masked
+  // pixel of src: src does not see the point usably, as if occluded.
+  static bool masked_in_source(int x, int y, const MvsView& src, const Eigen::Matrix3f& H) {
+    if (src.mask.empty()) return false;
+    const Eigen::Vector3f c = H * Eigen::Vector3f(x + 0.5f, y + 0.5f, 1.0f);
+    if (!(c.z() > 1e-6f)) return false;  // the window check rejects it
+    const float u = std::floor(c.x() / c.z()), v = std::floor(c.y() / c.z());
+    return u >= 0 && v >= 0 && u < float(src.mask.cols) && v < float(src.mask.rows) &&
+           masked(src, static_cast<int>(u), static_cast<int>(v));
+  }
+
+  // 1 - NCC of the reference window at pixel i = (x, y) against source s
+  // through homography H (mvs/window_ncc.h); 2 if any part of the warped
+  // window leaves the image or lies behind the camera.
+  HOS_INLINED_INTO_CLONES float view_cost(int x, int y, std::size_t i, int s, const Eigen::Matrix3f& H) const {
+    if (masked_in_source(x, y, *sources_[s], H)) return 2.0f;
+    const std::size_t k = offsets_.size();
+    NccReference reference;
+    reference.x = x + 0.5f;
+    reference.y = y + 0.5f;
+    reference.centre_value = ref_.gray.at<float>(y, x);
+    reference.weights = &weights_[i * k];
+    reference.centred = &centred_[i * k];
+    reference.variance = ref_var_[i];
+    const float h[9] = {H(0, 0), H(0, 1), H(0, 2), H(1, 0), H(1, 1), H(1, 2), H(2, 0), H(2, 1), H(2, 2)};
+    return window_ncc_(window_, reference, h, source_quads_[s]);
   }
 
   // Each source view's cost (1 - NCC plus the geometric vote) of plane at
@@ -528,7 +503,6 @@ class PatchMatcher {
   HOS_CPU_CLONES bool score_views(int x, int y, const Plane& plane, float* out) const {
     const std::size_t i = std::size_t(y) * ref_.width() + x;
     if (!(plane.depth > 0)) return false;
-    const std::size_t k = offsets_.size();
     const Eigen::Vector3d n = plane.normal.cast<double>();
     const Eigen::Vector3d x_ref = ray(x, y) * plane.depth;
     const double nd = n.dot(x_ref);
@@ -537,8 +511,7 @@ class PatchMatcher {
     const int nsrc = static_cast<int>(std::min<std::size_t>(sources_.size(), 32));
     for (int s = 0; s < nsrc; ++s) {
       const Eigen::Matrix3f H = relative_[s].A + relative_[s].b * m.transpose();
-      out[s] = view_cost(x, y, H, *sources_[s], &weights_[i * k], &centred_[i * k], ref_var_[i]) +
-               (has_priors_ ? geometric_cost(s, x_ref.cast<float>(), x, y) : 0.0f);
+      out[s] = view_cost(x, y, i, s, H) + (has_priors_ ? geometric_cost(s, x_ref.cast<float>(), x, y) : 0.0f);
     }
     return true;
   }
@@ -550,7 +523,6 @@ class PatchMatcher {
   HOS_CPU_CLONES Cost cost(int x, int y, const Plane& plane, float to_beat = 3.0f) const {
     const std::size_t i = std::size_t(y) * ref_.width() + x;
     if (!textured_[i] || !(plane.depth > 0)) return {};
-    const std::size_t k = offsets_.size();
     const Eigen::Vector3d n = plane.normal.cast<double>();
     const Eigen::Vector3d x_ref = ray(x, y) * plane.depth;
     const double nd = n.dot(x_ref);
@@ -570,7 +542,7 @@ class PatchMatcher {
       const int v = std::countr_zero(views);
       views &= views - 1;
       const Eigen::Matrix3f H = relative_[v].A + relative_[v].b * m.transpose();
-      const float photo = view_cost(x, y, H, *sources_[v], &weights_[i * k], &centred_[i * k], ref_var_[i]);
+      const float photo = view_cost(x, y, i, v, H);
       const float c = photo + (has_priors_ ? geometric_cost(v, x_ref.cast<float>(), x, y) : 0.0f);
       int j = s;
       for (; j > 0 && sorted[j - 1] > c; --j) {
@@ -690,7 +662,10 @@ class PatchMatcher {
   const MvsOptions& options_;
   double inv_min_, inv_max_;
   std::vector<Eigen::Vector2i> offsets_;
-  std::vector<float> offset_x_, offset_y_;
+  std::vector<float> offset_x_, offset_y_;  // offsets_, padded to kNccLanes
+  NccWindow window_;
+  WindowNccFunction window_ncc_ = best_window_ncc();
+  std::vector<QuadImage> source_quads_;  // per source view
   std::vector<Relative> relative_;
   std::vector<std::vector<Eigen::Vector2i>> propagation_areas_;
   std::vector<Plane> planes_;
@@ -712,6 +687,18 @@ class PatchMatcher {
   bool has_priors_ = false;
   float geometric_pixel_ = 1.0f;  // coarse pixels per reference pixel
 };
+
+}  // namespace
+
+namespace {
+
+// Masks shrink with their images, pixel for pixel (nearest, no blending).
+cv::Mat resized_mask(const cv::Mat& mask, cv::Size size) {
+  if (mask.empty() || mask.size() == size) return mask;
+  cv::Mat out;
+  cv::resize(mask, out, size, 0, 0, cv::INTER_NEAREST);
+  return out;
+}
 
 }  // namespace
 
@@ -744,6 +731,7 @@ MvsView load_view(const UndistortedWorkspace& workspace, const ImageRecord& imag
   K.row(1) *= sy;
   view.K = K;
   view.K_inv = K.inverse();
+  view.mask = resized_mask(load_workspace_mask(workspace, image), view.color.size());
   view.R = image.rotation();
   view.t = image.cam_from_world_translation;
   return view;
@@ -755,6 +743,7 @@ MvsView downscale_view(const MvsView& view, int max_image_size) {
   MvsView small = view;
   cv::resize(view.color, small.color, cv::Size(), scale, scale, cv::INTER_AREA);
   cv::resize(view.gray, small.gray, small.color.size(), 0, 0, cv::INTER_AREA);
+  small.mask = resized_mask(view.mask, small.color.size());
   // Exact scale per axis after rounding, so pixel edges keep matching.
   small.K.row(0) *= double(small.color.cols) / view.color.cols;
   small.K.row(1) *= double(small.color.rows) / view.color.rows;
@@ -766,8 +755,10 @@ double matcher_bytes_per_pixel(const MvsOptions& options) {
   const int side = 2 * options.window_radius / options.window_step + 1;
   // Two floats per window sample (weights, centred values), the Plane, four
   // floats (costs, photometric costs, inherited costs, variance), the view
-  // mask and four bytes (changed, settled, textured, reselect).
-  return 2.0 * sizeof(float) * side * side + sizeof(Plane) + 4.0 * sizeof(float) + sizeof(std::uint32_t) + 4.0;
+  // mask, four bytes (changed, settled, textured, reselect) and each
+  // source's 8-bit copy for the window kernel (mvs/window_ncc.h).
+  return 2.0 * sizeof(float) * side * side + sizeof(Plane) + 4.0 * sizeof(float) + sizeof(std::uint32_t) + 4.0 +
+         sizeof(std::uint16_t) * options.num_source_views;
 }
 
 PlaneMap match_planes(const MvsView& ref,
@@ -821,6 +812,7 @@ DepthMap to_depth_map(const PlaneMap& planes, const MvsView& ref, const MvsOptio
   PatchMatchStats s;
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
+      if (masked(ref, x, y)) continue;  // no depth from a masked pixel
       const float c = planes.cost.at<float>(y, x);
       if (c == kTextureless) {
         ++s.textureless_pixels;
