@@ -85,7 +85,10 @@ class PatchMatcher {
     window_.offset_y = offset_y_.data();
     window_.count = static_cast<int>(offsets_.size());
     window_.low = float(-options.window_radius);
-    window_.high = float(2 * options.window_radius / options.window_step * options.window_step - options.window_radius);
+    // The last sample's offset: the window's width floored to whole steps.
+    const int last_offset =
+        2 * options.window_radius / options.window_step * options.window_step - options.window_radius;
+    window_.high = float(last_offset);
     for (const MvsView* s : sources) {
       source_quads_.push_back(make_quad_image(s->gray));
       const Eigen::Matrix3d r_rel = s->R * ref.R.transpose();
