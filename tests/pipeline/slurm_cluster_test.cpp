@@ -136,7 +136,8 @@ class SlurmClusterTest : public ::testing::Test {
     if (geteuid() != 0) GTEST_SKIP() << "a one-node Slurm needs root (slurmd starts jobs as their user)";
     slurm_ = std::make_unique<OneNodeSlurm>(dir_ / "slurm");
     ASSERT_TRUE(slurm_->error().empty()) << slurm_->error();
-    ASSERT_EQ(hos::testing::make_synth_scene(scene_, 12, 0, dir_ / "synth.log"), 0) << read_text(dir_ / "synth.log");
+    ASSERT_EQ(hos::testing::make_synth_scene(scene_, 12, 0, dir_ / "synth.log", {320, 240}), 0)
+        << read_text(dir_ / "synth.log");
   }
   void TearDown() override { slurm_.reset(); }
 
