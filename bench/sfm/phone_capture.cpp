@@ -23,6 +23,7 @@ namespace hos {
 namespace {
 namespace fs = std::filesystem;
 using sfm::testing::PhoneExif;
+using sfm::testing::write_bytes;
 
 struct BenchOptions {
   fs::path output;
@@ -44,13 +45,6 @@ void run_hos(const BenchOptions& o, const std::string& program, std::vector<std:
   if (result.exit_code != 0) {
     throw StageError(program, "exit " + std::to_string(result.exit_code) + "; see " + log.string());
   }
-}
-
-void write_bytes(const fs::path& path, const std::vector<std::uint8_t>& bytes) {
-  fs::create_directories(path.parent_path());
-  std::ofstream out(path, std::ios::binary);
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  if (!out) throw OutputError(path.string(), "could not write");
 }
 
 // The EXIF a phone writes for a view: the true focal length (as COLMAP reads

@@ -19,10 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-void write_bytes(const fs::path& path, const std::vector<std::uint8_t>& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-}
+using testing::write_bytes;
 
 void write_good_jpegs(const fs::path& folder, int count, int width = 120, int height = 90) {
   for (int i = 0; i < count; ++i) {

@@ -191,6 +191,13 @@ void write_phone_exif(const std::filesystem::path& file, const PhoneExif& fields
   image->writeMetadata();
 }
 
+void write_bytes(const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes) {
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+  std::ofstream out(path, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  if (!out) throw std::runtime_error(path.string() + ": could not write");
+}
+
 std::vector<std::uint8_t> jpeg_with_phone_exif(const cv::Mat& image, const PhoneExif& fields) {
   std::vector<std::uint8_t> jpeg;
   cv::imencode(".jpg", image, jpeg, {cv::IMWRITE_JPEG_QUALITY, 98});

@@ -39,6 +39,10 @@ struct PhoneExif {
 
 Exiv2::ExifData exif_data(const PhoneExif& fields);
 
+// Writes a fixture's bytes to path (its folder made first); throws
+// std::runtime_error naming the file when it cannot.
+void write_bytes(const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes);
+
 // JPEG bytes of image carrying fields as EXIF.
 std::vector<std::uint8_t> jpeg_with_phone_exif(const cv::Mat& image, const PhoneExif& fields);
 

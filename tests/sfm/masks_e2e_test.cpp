@@ -48,10 +48,7 @@ std::map<std::string, std::vector<float>> keypoint_xs(const fs::path& file) {
   return out;
 }
 
-void write_bytes(const fs::path& path, const std::vector<std::uint8_t>& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-}
+using testing::write_bytes;
 
 TEST(MasksE2e, ColmapExtractsNoFeatureInAMaskedPixel) {
   if (!hos::testing::missing_executables({"hos-sfm", "hos-synth"}).empty()) GTEST_SKIP() << "not built";

@@ -24,10 +24,7 @@ namespace fs = std::filesystem;
 using hos::testing::read_text;
 using hos::testing::shell_quote;
 
-void write_bytes(const fs::path& path, const std::vector<std::uint8_t>& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-}
+using testing::write_bytes;
 
 struct DatabaseCamera {
   double focal_px = 0.0;
