@@ -248,7 +248,7 @@ std::vector<std::uint8_t> heic_with_exif(const cv::Mat& image, int orientation, 
   std::uint8_t* plane = heif_image_get_plane(rgb.get(), heif_channel_interleaved, &stride);
   for (int y = 0; y < image.rows; ++y) {
     for (int x = 0; x < image.cols; ++x) {
-      const cv::Vec3b bgr = image.at<cv::Vec3b>(y, x);
+      const cv::Vec3b& bgr = image.at<cv::Vec3b>(y, x);
       std::uint8_t* p = plane + y * stride + 3 * x;
       p[0] = bgr[2];
       p[1] = bgr[1];
