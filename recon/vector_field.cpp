@@ -365,6 +365,16 @@ void for_each_plane_in_blocks(int planes, int blocks, Fill&& fill, Divergence&& 
   }
 }
 
+// How many blocks of planes the threads share in for_each_plane_in_blocks
+// (one without threads, never more than the planes).
+int plane_blocks(std::int64_t nodes, int num_planes) {
+  int blocks = 1;
+#ifdef _OPENMP
+  if (worth_threads(nodes)) blocks = 4 * omp_get_max_threads();
+#endif
+  return std::max(1, std::min(blocks, num_planes));
+}
+
 }  // namespace
 
 ScalarGrid divergence(const VectorGrid& field) {
@@ -551,16 +561,3 @@ StoredField density_scaled_rhs_near_samples(const GridGeometry& geometry,
 }
 
 }  // namespace hos::recon
-namespace {
-
-// How many blocks of planes the threads share in for_each_plane_in_blocks
-// (one without threads, never more than the planes).
-int plane_blocks(std::int64_t nodes, int num_planes) {
-  int blocks = 1;
-#ifdef _OPENMP
-  if (worth_threads(nodes)) blocks = 4 * omp_get_max_threads();
-#endif
-  return std::max(1, std::min(blocks, num_planes));
-}
-
-}  // namespace
