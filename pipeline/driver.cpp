@@ -224,7 +224,7 @@ StageOutcome run_or_skip_stage(const StageSpec& spec,
   StageOutcome outcome;
   outcome.stage = spec.name;
   Fingerprint inputs;
-  spec.inputs(inputs, options, paths);
+  spec.inputs(inputs, options, config, paths);
   const std::string input_hash = inputs.hex();
   const std::string config_hash = config_fingerprint(config, spec.name);
   StageRecord& stage_record = record.stages[spec.name];

@@ -94,7 +94,9 @@ StageSpec mvs_stage() {
     return std::vector<std::string>{"--workspace", p.undistorted.string(), "--output", p.points.string(),
                                     "--report",    p.mvs_report.string()};
   };
-  s.inputs = [](Fingerprint& f, const DriverOptions&, const StagePaths& p) { add_undistorted_workspace(f, p); };
+  s.inputs = [](Fingerprint& f, const DriverOptions&, const PipelineConfig&, const StagePaths& p) {
+    add_undistorted_workspace(f, p);
+  };
   s.output_exists = [](const StagePaths& p) { return fs::exists(p.points); };
   s.make_config = typed_config<mvs::MvsOptions>("mvs");
   s.split = split();

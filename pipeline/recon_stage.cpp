@@ -97,7 +97,9 @@ StageSpec recon_stage() {
     return std::vector<std::string>{"--input",       p.points.string(), "--output",
                                     p.mesh.string(), "--report",        p.recon_report.string()};
   };
-  s.inputs = [](Fingerprint& f, const DriverOptions&, const StagePaths& p) { f.add_file_contents(p.points); };
+  s.inputs = [](Fingerprint& f, const DriverOptions&, const PipelineConfig&, const StagePaths& p) {
+    f.add_file_contents(p.points);
+  };
   s.output_exists = [](const StagePaths& p) { return fs::exists(p.mesh); };
   s.make_config = typed_config<recon::ReconOptions>("recon");
   s.split = split();

@@ -33,7 +33,7 @@ StageSpec refine_stage() {
     return std::vector<std::string>{"--workspace", p.undistorted.string(), "--mesh", p.mesh.string(),
                                     "--output",    p.refined_mesh.string()};
   };
-  s.inputs = [](Fingerprint& f, const DriverOptions&, const StagePaths& p) {
+  s.inputs = [](Fingerprint& f, const DriverOptions&, const PipelineConfig&, const StagePaths& p) {
     f.add_file_contents(p.mesh);
     add_undistorted_workspace(f, p);
   };

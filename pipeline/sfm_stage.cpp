@@ -28,9 +28,13 @@ std::vector<std::string> arguments(const DriverOptions& o, const StagePaths& p) 
   return args;
 }
 
-// What hos-sfm reads: the photos (by content), not sidecars or notes.
-void inputs(Fingerprint& f, const DriverOptions& o, const StagePaths& p) {
+// What hos-sfm reads: the photos (masks beside them among them), not
+// sidecars or notes, and the folder of masks given apart.
+void inputs(Fingerprint& f, const DriverOptions& o, const PipelineConfig& config, const StagePaths& p) {
   f.add_file_listing(o.photos, sfm::list_photo_files(o.photos, pipeline_files_in_photos(o.photos, o.output, p.root)));
+  const auto* sfm = stage_options<sfm::SfmOptions>(config, "sfm");
+  std::error_code ec;
+  if (sfm && fs::is_directory(sfm->mask_folder(), ec)) f.add_folder_listing(sfm->mask_folder());
   if (!o.existing_model.empty()) f.add_folder_contents(o.existing_model);
 }
 

@@ -56,7 +56,7 @@ struct StageSpec {
   // Arguments naming the stage's inputs and outputs.
   std::function<std::vector<std::string>(const DriverOptions&, const StagePaths&)> arguments;
   // Adds the stage's input files to the fingerprint.
-  std::function<void(Fingerprint&, const DriverOptions&, const StagePaths&)> inputs;
+  std::function<void(Fingerprint&, const DriverOptions&, const PipelineConfig&, const StagePaths&)> inputs;
   // The stage's result exists (a stage writes it last, atomically).
   std::function<bool(const StagePaths&)> output_exists;
   // A fresh config with the stage's defaults; nullptr when the stage's

@@ -127,7 +127,7 @@ StageSpec texture_stage() {
                                     "--output",    p.textured_model.string(), "--report", p.texture_report.string(),
                                     "--geo",       p.sfm_report.string()};
   };
-  s.inputs = [](Fingerprint& f, const DriverOptions&, const StagePaths& p) {
+  s.inputs = [](Fingerprint& f, const DriverOptions&, const PipelineConfig&, const StagePaths& p) {
     f.add_file_contents(p.refined_mesh);
     add_undistorted_workspace(f, p);
     f.add_file_contents(p.sfm_report);  // the photos' GPS (--geo)

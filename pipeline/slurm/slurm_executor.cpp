@@ -99,7 +99,7 @@ class SlurmRun {
   }
   std::string input_hash(std::size_t stage) const {
     Fingerprint f;
-    spec_of(stage).inputs(f, driver_, paths_);
+    spec_of(stage).inputs(f, driver_, config_, paths_);
     return f.hex();
   }
 

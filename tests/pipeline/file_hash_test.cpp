@@ -70,9 +70,10 @@ TEST(FileHash, SfmFingerprintCoversOnlyThePhotos) {
   options.photos = dir / "photos";
   options.output = dir / "out.glb";
   const StagePaths paths(dir / "ws");
+  const PipelineConfig config;
   const auto fingerprint = [&] {
     Fingerprint f;
-    pipeline_stages().at(stage_index("sfm", "--from")).inputs(f, options, paths);
+    pipeline_stages().at(stage_index("sfm", "--from")).inputs(f, options, config, paths);
     return f.hex();
   };
   const std::string before = fingerprint();
@@ -86,6 +87,34 @@ TEST(FileHash, SfmFingerprintCoversOnlyThePhotos) {
   EXPECT_NE(edited, before);
   jpeg(dir / "photos" / "c.heic.jpg", "three");
   EXPECT_NE(fingerprint(), edited);
+}
+
+// The masks in the folder sfm.masks names are inputs of sfm too (those
+// beside the photos are among the photo files): a mask edited in place
+// re-runs the stage.
+TEST(FileHash, SfmFingerprintCoversTheMasks) {
+  hos::testing::TempDir dir;
+  fs::create_directories(dir / "photos");
+  fs::create_directories(dir / "masks");
+  std::ofstream(dir / "photos" / "a.jpg", std::ios::binary) << std::string("\xFF\xD8\xFF\xE0", 4) << "photo";
+  const auto png = [](const fs::path& file, const std::string& payload) {
+    std::ofstream(file, std::ios::binary) << std::string("\x89PNG\r\n\x1A\n", 8) << payload;
+  };
+  png(dir / "masks" / "a.jpg.png", "mask");
+  DriverOptions options;
+  options.photos = dir / "photos";
+  options.output = dir / "out.glb";
+  const StagePaths paths(dir / "ws");
+  PipelineConfig config;
+  config.apply_assignment("sfm.masks=" + (dir / "masks").string());
+  const auto fingerprint = [&] {
+    Fingerprint f;
+    pipeline_stages().at(stage_index("sfm", "--from")).inputs(f, options, config, paths);
+    return f.hex();
+  };
+  const std::string before = fingerprint();
+  png(dir / "masks" / "a.jpg.png", "mask, painted over");
+  EXPECT_NE(fingerprint(), before);
 }
 
 }  // namespace
