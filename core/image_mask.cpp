@@ -1,6 +1,7 @@
 #include "core/image_mask.h"
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
 #include "core/reporter.h"
@@ -54,6 +55,13 @@ cv::Mat load_workspace_mask(const UndistortedWorkspace& workspace, const ImageRe
   if (!fs::exists(file, ec)) return {};
   const Camera& camera = workspace.model.camera_of(image);
   return read_mask(file, camera.width, camera.height, workspace.image_path(image).string());
+}
+
+cv::Mat grow_masked_region(const cv::Mat& mask) {
+  if (mask.empty()) return mask;
+  cv::Mat grown;
+  cv::erode(mask, grown, cv::Mat::ones(3, 3, CV_8U), cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+  return grown;
 }
 
 std::size_t count_masked(const cv::Mat& mask) {

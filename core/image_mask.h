@@ -43,6 +43,10 @@ std::filesystem::path workspace_mask_folder(const UndistortedWorkspace& workspac
 // pixel usable). Throws InputError as read_mask.
 cv::Mat load_workspace_mask(const UndistortedWorkspace& workspace, const ImageRecord& image);
 
+// The masked region grown by one pixel, so that no bilinear sample taken
+// at a usable pixel reaches a masked one (an empty mask stays empty).
+cv::Mat grow_masked_region(const cv::Mat& mask);
+
 // Masked-out pixels of a mask (0 for an empty one).
 std::size_t count_masked(const cv::Mat& mask);
 

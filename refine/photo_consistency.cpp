@@ -136,7 +136,7 @@ std::optional<float> zncc_centred(const CentredPatch& a, const float* b, float m
 // The grey levels of the patch moved by k * step along the normal
 // (k = -steps .. steps) in another view: out[(k + steps) * n + i] for the
 // patch's n points; valid[k + steps] is false when a point leaves the image
-// at that offset. Each point and its ray move are taken into the view's
+// at that offset (or lands on a masked pixel). Each point and its ray move are taken into the view's
 // camera frame once, so an offset costs a division and a lookup per point.
 void sample_moved_patch(const RefineView& view,
                         int level,
@@ -173,6 +173,10 @@ void sample_moved_patch(const RefineView& view,
       }
       const int x_0 = std::min(static_cast<int>(u), image.cols - 2),
                 y_0 = std::min(static_cast<int>(v), image.rows - 2);
+      if (!usable_sample(view, level, x_0, y_0)) {
+        valid[k] = 0;
+        continue;
+      }
       const float wx = u - static_cast<float>(x_0), wy = v - static_cast<float>(y_0);
       const std::uint16_t* p = data + static_cast<std::size_t>(y_0) * stride + x_0;
       const float top = p[0] + wx * (static_cast<float>(p[1]) - p[0]);

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
+#include "core/image_mask.h"
 #include "render/depth_buffer.h"
 
 namespace hos::refine {
@@ -20,8 +21,32 @@ std::optional<Eigen::Vector3d> RefineView::project(const Eigen::Vector3d& x_in_w
   return Eigen::Vector3d(u, v, x.z());
 }
 
-RefineView make_view(
-    const Camera& camera, const ImageRecord& pose, const cv::Mat& photo, int levels, const std::string& source) {
+namespace {
+
+// The view's masks per pyramid level: a level's pixel is masked when any of
+// the photo's pixels it averages is (a 2x2 box average is kUsable only when
+// all four are), then grown for bilinear sampling.
+std::vector<cv::Mat> mask_pyramid(const cv::Mat& mask, const std::vector<cv::Mat>& pyramid) {
+  if (mask.empty()) return {};
+  std::vector<cv::Mat> unmasked{mask};
+  for (std::size_t l = 1; l < pyramid.size(); ++l) {
+    cv::Mat averaged;
+    cv::resize(unmasked.back(), averaged, pyramid[l].size(), 0, 0, cv::INTER_AREA);
+    unmasked.push_back(averaged == kUsable);
+  }
+  std::vector<cv::Mat> masks;
+  for (const cv::Mat& m : unmasked) masks.push_back(grow_masked_region(m));
+  return masks;
+}
+
+}  // namespace
+
+RefineView make_view(const Camera& camera,
+                     const ImageRecord& pose,
+                     const cv::Mat& photo,
+                     int levels,
+                     const std::string& source,
+                     const cv::Mat& mask) {
   if (photo.cols != camera.width || photo.rows != camera.height) {
     throw InputError(source, "image is " + std::to_string(photo.cols) + "x" + std::to_string(photo.rows) +
                                  " but its camera is " + std::to_string(camera.width) + "x" +
@@ -53,6 +78,7 @@ RefineView make_view(
                cv::INTER_AREA);
     view.pyramid.push_back(next);
   }
+  view.masks = mask_pyramid(mask, view.pyramid);
   return view;
 }
 
@@ -63,7 +89,8 @@ std::vector<RefineView> load_views(const UndistortedWorkspace& workspace, int le
     const std::string path = workspace.image_path(image).string();
     const cv::Mat photo = cv::imread(path, cv::IMREAD_COLOR);
     if (photo.empty()) throw InputError(path, "cannot be read as an image");
-    views.push_back(make_view(workspace.model.camera_of(image), image, photo, levels, path));
+    views.push_back(
+        make_view(workspace.model.camera_of(image), image, photo, levels, path, load_workspace_mask(workspace, image)));
   }
   return views;
 }
@@ -141,6 +168,7 @@ std::optional<float> sample(const RefineView& view, int level, const Eigen::Vect
   const double x = pixel.x() - 0.5, y = pixel.y() - 0.5;
   if (!(x >= 0.0 && y >= 0.0 && x <= image.cols - 1.0 && y <= image.rows - 1.0)) return std::nullopt;
   const int x0 = std::min(static_cast<int>(x), image.cols - 2), y0 = std::min(static_cast<int>(y), image.rows - 2);
+  if (!usable_sample(view, level, x0, y0)) return std::nullopt;
   const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
   const std::uint16_t* row0 = image.ptr<std::uint16_t>(y0);
   const std::uint16_t* row1 = image.ptr<std::uint16_t>(y0 + 1);

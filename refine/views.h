@@ -24,6 +24,11 @@ struct RefineView {
   // Grey levels, CV_16U (65535 = white); pyramid[l] is 1/2^l of the photo
   // (box filtered, so pixel centres map as x_l = x_0 / 2^l).
   std::vector<cv::Mat> pyramid;
+  // masks[l]: CV_8U at pyramid[l]'s size, kMaskedOut where the photo's mask
+  // (core/image_mask.h) excludes a pixel the level's pixel averages, grown
+  // by one pixel so that no bilinear sample reaches one; empty: every pixel
+  // usable. A masked sample counts as outside the image.
+  std::vector<cv::Mat> masks;
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  // camera centre in world coordinates
   // The current mesh's camera z at the size of pyramid level depth_level,
   // CV_32F, +inf where empty.
@@ -35,13 +40,18 @@ struct RefineView {
   std::optional<Eigen::Vector3d> project(const Eigen::Vector3d& x_in_world, int level) const;
 };
 
-// A view from a photo (CV_8UC3 BGR or CV_8U). Throws InputError (naming
-// `source`) when the photo's size differs from the camera's.
-RefineView make_view(
-    const Camera& camera, const ImageRecord& pose, const cv::Mat& photo, int levels, const std::string& source);
+// A view from a photo (CV_8UC3 BGR or CV_8U) and its mask (CV_8U at the
+// photo's size, or empty: no mask). Throws InputError (naming `source`)
+// when the photo's size differs from the camera's.
+RefineView make_view(const Camera& camera,
+                     const ImageRecord& pose,
+                     const cv::Mat& photo,
+                     int levels,
+                     const std::string& source,
+                     const cv::Mat& mask = cv::Mat());
 
-// Every registered image of the workspace. Throws InputError naming an
-// unreadable photo.
+// Every registered image of the workspace, with its mask when the workspace
+// has one. Throws InputError naming an unreadable photo or mask.
 std::vector<RefineView> load_views(const UndistortedWorkspace& workspace, int levels, Reporter& reporter);
 
 // Renders the mesh's depth into every view at the size of pyramid level
@@ -69,8 +79,14 @@ std::optional<Eigen::Vector3d> surface_point(const RefineView& view,
                                              const Eigen::Vector2d& pixel,
                                              double max_depth_jump);
 
+// Whether the bilinear sample of pyramid level `level` whose top-left
+// neighbour is pixel (x0, y0) may be used (RefineView::masks).
+inline bool usable_sample(const RefineView& view, int level, int x0, int y0) {
+  return view.masks.empty() || view.masks[level].at<unsigned char>(y0, x0) != 0;
+}
+
 // Bilinear grey level in [0, 1] of pyramid level `level` at a pixel (COLMAP
-// convention); nothing outside the image.
+// convention); nothing outside the image or where the view is masked.
 std::optional<float> sample(const RefineView& view, int level, const Eigen::Vector2d& pixel);
 
 }  // namespace hos::refine

@@ -17,18 +17,6 @@ Eigen::Vector3d TextureView::project(const Eigen::Vector3d& x_in_world) const {
           camera.focal_y() * x.y() * inv_z + camera.principal_y(), x.z()};
 }
 
-namespace {
-
-// The masked region grown by one pixel (bilinear samples reach that far).
-cv::Mat grown_mask(const cv::Mat& mask) {
-  if (mask.empty()) return mask;
-  cv::Mat grown;
-  cv::erode(mask, grown, cv::Mat::ones(3, 3, CV_8U), cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
-  return grown;
-}
-
-}  // namespace
-
 std::vector<TextureView> load_texture_views(const UndistortedWorkspace& workspace, Reporter& reporter) {
   return load_texture_views(workspace, reporter, ViewRange{0, static_cast<int>(workspace.model.images.size()) - 1});
 }
@@ -56,7 +44,7 @@ std::vector<TextureView> load_texture_views(const UndistortedWorkspace& workspac
                        format_message("image is ", view.image.cols, "x", view.image.rows, " but its camera is ",
                                       view.camera.width, "x", view.camera.height));
     }
-    view.mask = grown_mask(load_workspace_mask(workspace, image));
+    view.mask = grow_masked_region(load_workspace_mask(workspace, image));
     views.push_back(std::move(view));
     reporter.advance();
   }

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <utility>
 
+#include "core/image_mask.h"
 #include "eval/surface_distance.h"
 #include "refine/mesh_geometry.h"
 #include "tests/refine/rock_fixture.h"
@@ -115,6 +116,56 @@ TEST(SearchNormalOffsets, ObliqueReferencesStillPointBackToTheSurface) {
   ASSERT_GT(oblique_errors.size(), 100u);
   EXPECT_LT(median(oblique_errors), 0.2);
   EXPECT_LT(median(frontal_errors), 0.1);
+}
+
+// The upper 180 rows masked in every photo (as over a passer-by):
+// the vertices that every view sees only inside it get no target, and the
+// others still point back to the surface.
+TEST(SearchNormalOffsets, MaskedPixelsAreNeverCompared) {
+  PushedRock rock = pushed_rock();
+  auto& [scene, mesh, normals, shift, tolerance] = rock;
+  const int band_top = 0, band_bottom = 180;
+  std::vector<RefineView> masked_views;
+  for (const RefineView& view : scene.views) {
+    cv::Mat grey, mask(view.pyramid[0].size(), CV_8U, cv::Scalar(kUsable));
+    view.pyramid[0].convertTo(grey, CV_8U, 1.0 / 257.0);
+    mask.rowRange(band_top, band_bottom).setTo(kMaskedOut);
+    masked_views.push_back(make_view(view.camera, view.pose, grey, 1, view.pose.name, mask));
+  }
+  render_depths(mesh, masked_views, 0);
+  // Projects 10 pixels or more inside the band in every view that sees it
+  // (farther than the patch's half-width of 4 samples and the mask's growth).
+  const auto deep_in_band = [&](const Eigen::Vector3d& x) {
+    int seen = 0;
+    for (const RefineView& view : scene.views) {
+      if (!sees(view, x, tolerance)) continue;
+      ++seen;
+      const double y = view.project(x, 0)->y();
+      if (y < band_top + 10 || y > band_bottom - 10) return false;
+    }
+    return seen > 0;
+  };
+  RefineOptions options;
+  const auto plain = search_normal_offsets(mesh, normals, scene.views, 0, tolerance, options, null_reporter());
+  const auto masked = search_normal_offsets(mesh, normals, masked_views, 0, tolerance, options, null_reporter());
+  int in_band = 0, plain_targets_in_band = 0, masked_targets_in_band = 0;
+  std::vector<double> errors_outside;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    if (deep_in_band(mesh.vertices[v].cast<double>())) {
+      ++in_band;
+      plain_targets_in_band += plain[v].weight > 0;
+      masked_targets_in_band += masked[v].weight > 0;
+    } else if (masked[v].weight > 0) {
+      errors_outside.push_back(std::abs(masked[v].offset + shift) / shift);
+    }
+  }
+  std::cout << "[ figures  ] " << in_band << " vertices seen only inside the band: " << plain_targets_in_band
+            << " targets unmasked, " << masked_targets_in_band << " masked; " << errors_outside.size()
+            << " targets outside it, median error / shift " << median(errors_outside) << "\n";
+  ASSERT_GT(plain_targets_in_band, 50);
+  EXPECT_EQ(masked_targets_in_band, 0);
+  ASSERT_GT(errors_outside.size(), 100u);
+  EXPECT_LT(median(errors_outside), 0.25);
 }
 
 }  // namespace
