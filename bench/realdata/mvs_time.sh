@@ -13,38 +13,28 @@
 set -euo pipefail
 usage() { sed -n '9,12p' "$0" | sed 's/^# *//' >&2; exit 2; }
 [ $# -ge 3 ] || usage
-old_bin="$(cd "$1" && pwd)" new_bin="$(cd "$2" && pwd)"
+stage=hos-mvs
+source "$(dirname "$0")/side_by_side.sh"
 IFS=: read -r -a works <<<"$3"
+check_builds "$1" "$2"
 shift 3
-repeat=2 sets=()
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --repeat) repeat="$2"; shift 2 ;;
-    --set) sets+=(--set "$2"); shift 2 ;;
-    *) usage ;;
-  esac
-done
-for b in "$old_bin" "$new_bin"; do [ -x "$b/hos-mvs" ] || { echo "$b/hos-mvs: missing" >&2; exit 3; }; done
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
+parse_side_by_side_options "$@"
+
+# One run; prints the finest level's size as this run had it.
+run_one() {
+  local bin="$1"
+  shift
+  timed "$undistorted" "$bin/hos-mvs" --workspace "$undistorted" --output "$tmp/points.ply" --progress none \
+    --log "$tmp/mvs.log" "$@"
+  "$bin/hos-mvs" "$@" --print-config | awk '/^ *max_image_size:/ { print $2; exit }'
+}
+
 echo "| WORK | build | run | wall s | CPU s | views | finest level MP | s per view per MP (wall / CPU) | load avg |"
 echo "|---|---|---|---|---|---|---|---|---|"
 for work in "${works[@]}"; do
   undistorted="$work/sfm-train/sfm/undistorted"
   [ -d "$undistorted/sparse" ] || { echo "$undistorted/sparse: missing (make WORK with holdout.sh)" >&2; exit 3; }
-  : > "$tmp/rows"
-  for ((r = 1; r <= repeat; ++r)); do
-    for build in old new; do
-      if [ "$build" = old ]; then bin="$old_bin" extra=(); else bin="$new_bin" extra=("${sets[@]}"); fi
-      /usr/bin/time -f "%e %U %S" -o "$tmp/time" "$bin/hos-mvs" --workspace "$undistorted" \
-        --output "$tmp/points.ply" --progress none --log "$tmp/mvs.log" "${extra[@]}" >/dev/null 2>"$tmp/stderr" ||
-        { cat "$tmp/stderr" >&2; echo "$bin/hos-mvs failed on $undistorted (log: above)" >&2; exit 4; }
-      read -r wall user sys < "$tmp/time"
-      # The finest level's size as this run had it.
-      size=$("$bin/hos-mvs" "${extra[@]}" --print-config | awk '/^ *max_image_size:/ { print $2; exit }')
-      echo "$build $r $wall $user $sys $size $(cut -d' ' -f1 /proc/loadavg)" >> "$tmp/rows"
-    done
-  done
+  run_alternately "$tmp/rows" run_one
   python3 - "$work" "$undistorted" "$tmp/rows" <<'PY'
 import os, statistics, struct, sys
 work, undistorted, rows_path = sys.argv[1:4]
@@ -61,7 +51,7 @@ else:
 views = len(os.listdir(os.path.join(undistorted, "images")))  # the registered photos, undistorted
 runs = {"old": [], "new": []}
 for line in open(rows_path):
-    build, r, wall, user, sys_, size, load = line.split()
+    build, r, wall, user, sys_, load, size = line.split()
     s = min(1.0, float(size) / max(w, h))
     mp = (w * s) * (h * s) / 1e6
     cpu = float(user) + float(sys_)

@@ -14,39 +14,28 @@
 set -euo pipefail
 usage() { sed -n '8,12p' "$0" | sed 's/^# *//' >&2; exit 2; }
 [ $# -ge 4 ] || usage
-old_bin="$(cd "$1" && pwd)" new_bin="$(cd "$2" && pwd)"
+stage=hos-refine
+source "$(dirname "$0")/side_by_side.sh"
 IFS=: read -r -a works <<<"$3"
 label="$4"
+check_builds "$1" "$2"
 shift 4
-repeat=2 sets=()
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --repeat) repeat="$2"; shift 2 ;;
-    --set) sets+=(--set "$2"); shift 2 ;;
-    *) usage ;;
-  esac
-done
-for b in "$old_bin" "$new_bin"; do [ -x "$b/hos-refine" ] || { echo "$b/hos-refine: missing" >&2; exit 3; }; done
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
+parse_side_by_side_options "$@"
+
+run_one() {
+  local bin="$1"
+  shift
+  timed "$mesh" "$bin/hos-refine" --workspace "$undistorted" --mesh "$mesh" --output "$tmp/refined.ply" \
+    --progress none --log "$tmp/refine.log" --set refine.max_seconds=100000 "$@"
+}
+
 echo "| WORK | build | run | wall s | CPU s | load avg |"
 echo "|---|---|---|---|---|---|"
 for work in "${works[@]}"; do
   undistorted="$work/sfm-train/sfm/undistorted" mesh="$work/runs/$label/mesh.ply"
   [ -d "$undistorted/sparse" ] || { echo "$undistorted/sparse: missing (make WORK with holdout.sh)" >&2; exit 3; }
   [ -f "$mesh" ] || { echo "$mesh: missing (make run $label with holdout.sh --keep)" >&2; exit 3; }
-  : > "$tmp/rows"
-  for ((r = 1; r <= repeat; ++r)); do
-    for build in old new; do
-      if [ "$build" = old ]; then bin="$old_bin" extra=(); else bin="$new_bin" extra=("${sets[@]}"); fi
-      /usr/bin/time -f "%e %U %S" -o "$tmp/time" "$bin/hos-refine" --workspace "$undistorted" --mesh "$mesh" \
-        --output "$tmp/refined.ply" --progress none --log "$tmp/refine.log" --set refine.max_seconds=100000 \
-        "${extra[@]}" >/dev/null 2>"$tmp/stderr" ||
-        { cat "$tmp/stderr" >&2; echo "$bin/hos-refine failed on $mesh (log: above)" >&2; exit 4; }
-      read -r wall user sys < "$tmp/time"
-      echo "$build $r $wall $user $sys $(cut -d' ' -f1 /proc/loadavg)" >> "$tmp/rows"
-    done
-  done
+  run_alternately "$tmp/rows" run_one
   python3 - "$work" "$tmp/rows" <<'PY'
 import os, statistics, sys
 work, rows_path = sys.argv[1:3]

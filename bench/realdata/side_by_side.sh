@@ -1,0 +1,52 @@
+# Sourced by the side-by-side time benchmarks of bench/realdata (mvs_time.sh,
+# refine_time.sh): their shared argument parsing and the alternating runs.
+#
+# The sourcing script sets `usage` (a function) and `stage` (the executable's
+# name, e.g. hos-mvs), parses its own leading arguments and then calls
+#   parse_side_by_side_options "$@"  -> sets repeat (default 2) and sets (--set ...)
+#   check_builds OLD_BIN NEW_BIN     -> sets old_bin and new_bin (absolute)
+#   run_alternately ROWS run_one     -> runs `run_one BIN EXTRA...` repeat times
+#                                       per build, old first, and appends
+#                                       "build run wall user sys load" and
+#                                       whatever run_one printed to ROWS
+# run_one runs the stage under `timed` (below) and may print extra columns.
+
+parse_side_by_side_options() {
+  repeat=2 sets=()
+  while [ $# -gt 0 ]; do
+    case "$1" in
+      --repeat) repeat="$2"; shift 2 ;;
+      --set) sets+=(--set "$2"); shift 2 ;;
+      *) usage ;;
+    esac
+  done
+}
+
+check_builds() {
+  old_bin="$(cd "$1" && pwd)" new_bin="$(cd "$2" && pwd)"
+  for b in "$old_bin" "$new_bin"; do [ -x "$b/$stage" ] || { echo "$b/$stage: missing" >&2; exit 3; }; done
+  tmp="$(mktemp -d)"
+  trap 'rm -rf "$tmp"' EXIT
+}
+
+# timed WHAT COMMAND...: runs COMMAND, its wall, user and sys seconds into
+# $tmp/time; on failure prints its stderr and exits 4 naming WHAT.
+timed() {
+  local what="$1"
+  shift
+  /usr/bin/time -f "%e %U %S" -o "$tmp/time" "$@" >/dev/null 2>"$tmp/stderr" ||
+    { cat "$tmp/stderr" >&2; echo "$1 failed on $what (log: above)" >&2; exit 4; }
+}
+
+run_alternately() {
+  local rows="$1" run_one="$2" r build bin extra extra_columns
+  : > "$rows"
+  for ((r = 1; r <= repeat; ++r)); do
+    for build in old new; do
+      if [ "$build" = old ]; then bin="$old_bin" extra=(); else bin="$new_bin" extra=("${sets[@]}"); fi
+      extra_columns=$("$run_one" "$bin" "${extra[@]}") || exit 4
+      read -r wall user sys < "$tmp/time"
+      echo "$build $r $wall $user $sys $(cut -d' ' -f1 /proc/loadavg) $extra_columns" >> "$rows"
+    done
+  done
+}
