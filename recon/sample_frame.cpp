@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/reporter.h"
+#include "core/statistics.h"
 
 namespace hos::recon {
 namespace {
@@ -19,12 +20,6 @@ constexpr double kFarFactor = 1.0;
 constexpr double kMinRelativeExtent = 1.0 / 65536.0;
 // Below this the unit frame's scaling (1 / extent) would overflow float.
 constexpr double kMinAbsoluteExtent = 1e-35;
-
-double quantile(std::vector<float>& values, double q) {
-  const auto k = static_cast<std::size_t>(q * static_cast<double>(values.size() - 1));
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
-  return values[k];
-}
 
 // Keeps the samples within kFarFactor robust extents of the robust box;
 // returns how many were dropped.

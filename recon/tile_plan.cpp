@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/reporter.h"
+#include "core/statistics.h"
 #include "recon/domain.h"
 #include "recon/memory_budget.h"
 
@@ -119,11 +120,8 @@ bool split(std::vector<Tile>& tiles,
       const Eigen::Vector3d u = lattice_coordinates(lattice, p);
       if (inside(tile.core, u)) along.push_back(u[axis]);
     }
-    double median = 0.5 * (tile.core.lo[axis] + tile.core.hi[axis]);
-    if (!along.empty()) {
-      std::nth_element(along.begin(), along.begin() + static_cast<std::ptrdiff_t>(along.size() / 2), along.end());
-      median = along[along.size() / 2];
-    }
+    const double median =
+        along.empty() ? 0.5 * (tile.core.lo[axis] + tile.core.hi[axis]) : upper_median(std::move(along));
     const int cut = std::clamp(static_cast<int>(std::lround(median)), tile.core.lo[axis] + kMinCoreNodes,
                                tile.core.hi[axis] - kMinCoreNodes);
     Tile below = tile, above = tile;

@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/reporter.h"
+#include "core/statistics.h"
 
 namespace hos::texture {
 namespace {
@@ -118,11 +119,6 @@ std::optional<Fit<Dim>> robust_similarity(const Points<Dim>& from,
     if (same) break;
   }
   return best;
-}
-
-double median(std::vector<double> values) {
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2), values.end());
-  return values[values.size() / 2];
 }
 
 std::string rounded_metres(double m) {
@@ -250,7 +246,7 @@ bool fit_horizontal(const Points<3>& model,
   rotation2.topLeftCorner<2, 2>() = fit2->rotation;
   result.enu_from_model.scale = fit2->scale;
   result.enu_from_model.rotation = rotation2 * level;
-  result.enu_from_model.translation << fit2->translation, heights.empty() ? 0.0 : median(heights);
+  result.enu_from_model.translation << fit2->translation, heights.empty() ? 0.0 : upper_median(heights);
   return true;
 }
 

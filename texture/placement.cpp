@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/statistics.h"
 
 namespace hos::texture {
 namespace {
@@ -57,12 +58,6 @@ double measured_scale(const std::vector<CameraPose>& cameras, const ScaleDistanc
   return d.metres / model;
 }
 
-float percentile(std::vector<float>& values, double fraction) {
-  const auto k = static_cast<std::size_t>(std::clamp(fraction, 0.0, 1.0) * double(values.size() - 1));
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
-  return values[k];
-}
-
 // Centre of the footprint (x, z) and the base height (y) of points
 // transformed by the linear part.
 Eigen::Vector3d footprint_origin(const std::vector<Eigen::Vector3f>& vertices,
@@ -77,9 +72,9 @@ Eigen::Vector3d footprint_origin(const std::vector<Eigen::Vector3f>& vertices,
     for (int k = 0; k < 3; ++k) axis[k].push_back(static_cast<float>(p[k]));
   }
   const double lo = options.footprint_percentile, hi = 1.0 - options.footprint_percentile;
-  const double x = 0.5 * (double(percentile(axis[0], lo)) + percentile(axis[0], hi));
-  const double z = 0.5 * (double(percentile(axis[2], lo)) + percentile(axis[2], hi));
-  return {x, percentile(axis[1], options.base_percentile), z};
+  const double x = 0.5 * (double(quantile(axis[0], lo)) + quantile(axis[0], hi));
+  const double z = 0.5 * (double(quantile(axis[2], lo)) + quantile(axis[2], hi));
+  return {x, quantile(axis[1], options.base_percentile), z};
 }
 
 std::string format_metres(double m) {

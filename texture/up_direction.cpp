@@ -5,6 +5,8 @@
 #include <cmath>
 #include <random>
 
+#include "core/statistics.h"
+
 namespace hos::texture {
 namespace {
 
@@ -36,14 +38,6 @@ Eigen::Vector3d orient_up(Eigen::Vector3d up, const std::vector<CameraPose>& cam
   return up.dot(mean_forward) > 0 ? Eigen::Vector3d(-up) : up;
 }
 
-// The value below which the given fraction of values lies.
-float percentile(std::vector<float> values, double fraction) {
-  if (values.empty()) return 0.0f;
-  const auto k = static_cast<std::size_t>(std::clamp(fraction, 0.0, 1.0) * double(values.size() - 1));
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
-  return values[k];
-}
-
 // Diagonal of the box of the 1st to 99th percentiles per axis: a size that
 // stray points do not inflate.
 double robust_size(const std::vector<Eigen::Vector3f>& points) {
@@ -51,7 +45,7 @@ double robust_size(const std::vector<Eigen::Vector3f>& points) {
   for (int axis = 0; axis < 3; ++axis) {
     std::vector<float> values(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) values[i] = points[i][axis];
-    const double extent = percentile(values, 0.99) - percentile(values, 0.01);
+    const double extent = quantile(values, 0.99) - quantile(values, 0.01);
     squared += extent * extent;
   }
   return std::sqrt(squared);

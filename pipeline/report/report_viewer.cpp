@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/json_report.h"
 #include "core/ply_io.h"
+#include "core/statistics.h"
 #include "pipeline/report/svg_plot.h"
 #include "pipeline/stage_figures.h"
 
@@ -50,13 +51,6 @@ std::string viewer_script_text(const fs::path& script) {
 
 Eigen::Vector3d transform_point(const Eigen::Matrix4d& m, const Eigen::Vector3d& x) {
   return (m * x.homogeneous()).hnormalized();
-}
-
-// The percentile p of values (sorted in place).
-double percentile(std::vector<double>& values, double p) {
-  const auto k = static_cast<std::size_t>(p * static_cast<double>(values.size() - 1));
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
-  return values[k];
 }
 
 // The surface the model was textured from (refined, else reconstructed).
@@ -220,7 +214,7 @@ std::optional<RobustBounds> robust_bounds(const std::vector<Eigen::Vector3f>& ve
   RobustBounds bounds;
   double size = 0.0;
   for (int k = 0; k < 3; ++k) {
-    const double low = percentile(axis[k], 0.02), high = percentile(axis[k], 0.98);
+    const double low = quantile(axis[k], 0.02), high = quantile(axis[k], 0.98);
     bounds.centre[k] = 0.5 * (low + high);
     size = std::max(size, high - low);
   }
