@@ -7,6 +7,7 @@
 #include <map>
 #include <opencv2/imgproc.hpp>
 
+#include "render/scan_triangle.h"
 #include "texture/atlas_packing.h"
 
 namespace hos::texture {
@@ -27,29 +28,20 @@ struct ChartFrame {
   Eigen::Vector2d offset = Eigen::Vector2d::Zero();
 };
 
-// Marks texels whose centre lies in the triangle (texel coordinates) and
-// calls fill(x, y, barycentric) for each.
+// Calls fill(x, y, barycentric) for each texel whose centre lies in the
+// triangle (texel coordinates; centres on an edge count for both faces).
 template <typename Fill>
 void raster_triangle(
     const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c, int width, int height, Fill&& fill) {
   const double area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
   if (std::abs(area) < 1e-12) return;
-  const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}) - 0.5)));
-  const int x1 = std::min(width - 1, static_cast<int>(std::ceil(std::max({a.x(), b.x(), c.x()}))));
-  const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}) - 0.5)));
-  const int y1 = std::min(height - 1, static_cast<int>(std::ceil(std::max({a.y(), b.y(), c.y()}))));
-  const double eps = -1e-6;
-  for (int y = y0; y <= y1; ++y) {
-    const double py = y + 0.5;
-    for (int x = x0; x <= x1; ++x) {
-      const double px = x + 0.5;
-      const double wa = ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) / area;
-      const double wb = ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) / area;
-      const double wc = 1.0 - wa - wb;
-      if (wa < eps || wb < eps || wc < eps) continue;
-      fill(x, y, Eigen::Vector3d(wa, wb, wc));
-    }
-  }
+  const render::PixelRange range{std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}) - 0.5))),
+                                 std::min(width - 1, static_cast<int>(std::ceil(std::max({a.x(), b.x(), c.x()})))),
+                                 std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}) - 0.5))),
+                                 std::min(height - 1, static_cast<int>(std::ceil(std::max({a.y(), b.y(), c.y()}))))};
+  render::scan_triangle(
+      a, b, c, 1.0 / area, range,
+      [&](int x, int y, double wa, double wb, double wc) { fill(x, y, Eigen::Vector3d(wa, wb, wc)); }, -1e-6);
 }
 
 // Fills empty texels from filled 8-neighbours, ring by ring.
