@@ -70,19 +70,17 @@ TEST(RunMvs, FusedPointsAreAccurateAndCorrectlyOriented) {
 // pixels with a depth, the confidence histogram counts every point.
 TEST(MvsReport, CoveragePerViewAndConfidenceMatchTheResult) {
   const MvsResult& result = mvs_result();
-  const nlohmann::ordered_json j = mvs_report_json(result);
-  ASSERT_EQ(j["per_view"].size(), result.stats.per_view.size());
+  const MvsReport report = mvs_report(result);
+  ASSERT_EQ(report.per_view.size(), result.stats.per_view.size());
   for (std::size_t i = 0; i < result.stats.per_view.size(); ++i) {
     const MvsViewStats& v = result.stats.per_view[i];
     if (v.skipped) continue;
     ASSERT_GT(v.pixels, 0u) << v.name;
     EXPECT_LE(v.valid_pixels, v.pixels) << v.name;
-    EXPECT_DOUBLE_EQ(j["per_view"][i]["coverage"].get<double>(), double(v.valid_pixels) / double(v.pixels));
-    EXPECT_GT(j["per_view"][i]["coverage"].get<double>(), 0.1) << v.name << ": the synthetic scene fills the views";
+    EXPECT_DOUBLE_EQ(report.per_view[i].coverage, double(v.valid_pixels) / double(v.pixels));
+    EXPECT_GT(report.per_view[i].coverage, 0.1) << v.name << ": the synthetic scene fills the views";
   }
-  std::int64_t counted = 0;
-  for (const auto& c : j["confidence"]["counts"]) counted += c.get<std::int64_t>();
-  EXPECT_EQ(counted, static_cast<std::int64_t>(result.points.size()));
+  EXPECT_EQ(report.confidence.total(), static_cast<std::int64_t>(result.points.size()));
 }
 
 TEST(RunMvs, PointsCoverTheSurfaceThatTwoViewsSee) {
