@@ -205,7 +205,10 @@ double packed_texels(const std::vector<cv::Mat>& footprints,
     height[p.page] = std::max(height[p.page], p.y + h);
   }
   double texels = 0.0;
-  for (int h : height) texels += static_cast<double>(width) * ((h + 3) / 4 * 4);
+  for (int h : height) {
+    const int rounded = (h + 3) / 4 * 4;  // a page's height, a multiple of 4
+    texels += static_cast<double>(width) * rounded;
+  }
   return texels;
 }
 

@@ -26,7 +26,7 @@ Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> x_axis_moments(const std::vector<
 
 // Turns a vertical towards the cameras' up; for cameras looking straight
 // down (their up is horizontal) towards the side they look away from.
-Eigen::Vector3d orient_up(Eigen::Vector3d up, const std::vector<CameraPose>& cameras) {
+Eigen::Vector3d orient_up(const Eigen::Vector3d& up, const std::vector<CameraPose>& cameras) {
   Eigen::Vector3d mean_up = Eigen::Vector3d::Zero(), mean_forward = Eigen::Vector3d::Zero();
   for (const CameraPose& c : cameras) {
     mean_up += camera_up(c);
@@ -64,6 +64,7 @@ std::vector<Eigen::Vector3f> subsample(const std::vector<Eigen::Vector3f>& point
 
 std::vector<CameraPose> camera_poses(const std::vector<TextureView>& views) {
   std::vector<CameraPose> out;
+  out.reserve(views.size());
   for (const TextureView& v : views) out.push_back({v.name, v.pose.rotation(), v.pose.center()});
   return out;
 }
@@ -142,7 +143,7 @@ UpEstimate estimate_up(const std::vector<CameraPose>& cameras,
                        const UpOptions& options) {
   UpEstimate estimate;
   const auto moments = x_axis_moments(cameras);
-  const Eigen::Vector3d eig = moments.eigenvalues();
+  const Eigen::Vector3d& eig = moments.eigenvalues();
   estimate.x_axis_eigenvalues = eig;
   if (cameras.size() >= 2 && eig[1] > 1e-12 && eig[0] <= options.max_eigenvalue_ratio * eig[1]) {
     estimate.up = orient_up(moments.eigenvectors().col(0), cameras);
