@@ -144,9 +144,9 @@ TEST(Debris, StrayPointClusterLeavesNoPieceInTheReconstruction) {
   EXPECT_EQ(cleaned.stats.debris.components, 2u);
   EXPECT_EQ(cleaned.stats.debris.components_removed, 1u);
   for (const auto& v : cleaned.mesh.vertices) EXPECT_LT(v.norm(), 1.2f);
-  const auto json = recon_report_json(cleaned);
-  EXPECT_EQ(json["debris_pieces_removed"], 1);
-  EXPECT_GT(json["debris_area_removed"].get<double>(), 0.0);
+  const ReconReport report = recon_report(cleaned);
+  EXPECT_EQ(report.debris_pieces_removed, 1);
+  EXPECT_GT(report.debris_area_removed, 0.0);
 
   options.debris.remove = false;
   const ReconResult kept = reconstruct_surface(points, options, null_reporter());
