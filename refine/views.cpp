@@ -35,6 +35,7 @@ std::vector<cv::Mat> mask_pyramid(const cv::Mat& mask, const std::vector<cv::Mat
     unmasked.push_back(averaged == kUsable);
   }
   std::vector<cv::Mat> masks;
+  masks.reserve(unmasked.size());
   for (const cv::Mat& m : unmasked) masks.push_back(grow_masked_region(m));
   return masks;
 }
