@@ -107,7 +107,7 @@ int main(int argc, char** argv) {
         reporter.info(hos::format_message("wrote ", hos::recon::tile_function_file(tile_dir, tile).string()));
         return;
       }
-      write_result(hos::recon::join_tiles(run, join_dir, reporter), reporter);
+      write_result(hos::recon::join_tiles(run, points, join_dir, reporter), reporter);
       return;
     }
     const std::filesystem::path tiles_dir = tile_dir.empty() ? output_path + ".tiles" : tile_dir;

@@ -34,8 +34,7 @@ struct DebrisReport {
 // within support.distance of its vertices and their mean confidence (the
 // views that agreed on them in fusion) is at least keep_min_views. A hanging
 // object whose pole and wire are too thin to close a surface around is such
-// a piece; stray points that few views agree on are not. Tiled
-// reconstructions pass no samples yet (every small piece goes).
+// a piece; stray points that few views agree on are not.
 struct DebrisSupport {
   const std::vector<Eigen::Vector3f>* points = nullptr;  // the samples, in the mesh's frame
   const std::vector<float>* views = nullptr;             // their confidence (empty: no piece is kept by it)

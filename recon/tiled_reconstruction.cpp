@@ -304,7 +304,10 @@ TileSolveReport solve_tile(const TiledRun& run, int k, const std::filesystem::pa
   return report;
 }
 
-ReconResult join_tiles(const TiledRun& run, const std::filesystem::path& dir, Reporter& reporter) {
+ReconResult join_tiles(const TiledRun& run,
+                       const PointCloud& input,
+                       const std::filesystem::path& dir,
+                       Reporter& reporter) {
   const TilePlan& plan = run.plan;
   const GridGeometry& lattice = plan.lattice;
   const int count = static_cast<int>(plan.tiles.size());
@@ -351,7 +354,8 @@ ReconResult join_tiles(const TiledRun& run, const std::filesystem::path& dir, Re
     throw NumericalError("recon", "the isosurface of the joined tiles is empty (the orientations may be inconsistent)");
   }
   to_world(run.samples.frame, result.mesh);
-  remove_debris_and_report(options.debris, result, reporter);
+  remove_debris_and_report(options.debris, result, reporter,
+                           {&input.positions, &input.confidence, options.trim.distance_voxels * stats.voxel_size});
   reporter.info(format_message("recon: joined ", count, " tiles: ", result.mesh.num_vertices(), " vertices, ",
                                result.mesh.num_faces(), " faces (", stats.faces_trimmed,
                                " trimmed); largest core with its ring ", stats.largest_join_nodes, " nodes"));
@@ -383,7 +387,7 @@ ReconResult reconstruct_with_tiles(const PointCloud& input,
     largest_tile = std::max(largest_tile, r.grid_nodes);
     add_tile_solve(r.stats, solved);
   }
-  ReconResult result = join_tiles(run, dir, reporter);
+  ReconResult result = join_tiles(run, input, dir, reporter);
   result.stats.largest_tile_nodes = largest_tile;
   add_tile_solve(solved, result.stats);
   return result;

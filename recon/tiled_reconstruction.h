@@ -69,10 +69,15 @@ struct TileSolveReport {
 TileSolveReport solve_tile(const TiledRun& run, int k, const std::filesystem::path& dir, Reporter& reporter);
 
 // Blends the tiles' functions of dir core by core, extracts, welds and trims
-// the surface (in world units; ReconResult::function stays empty). Throws
+// the surface (in world units; ReconResult::function stays empty), then
+// removes debris as reconstruct_surface does (input, the points the run was
+// prepared from, keeps small pieces its confident samples support). Throws
 // InputError naming a tile file that is missing, truncated or foreign,
 // NumericalError when the surface is empty.
-ReconResult join_tiles(const TiledRun& run, const std::filesystem::path& dir, Reporter& reporter);
+ReconResult join_tiles(const TiledRun& run,
+                       const PointCloud& input,
+                       const std::filesystem::path& dir,
+                       Reporter& reporter);
 
 // reconstruct_surface, or, when recon.tiles asks for tiles or (tiles 0) the
 // whole grid exceeds the memory budget, every tile solved in turn into dir

@@ -258,7 +258,7 @@ TEST(TiledReconstruction, BadTileFilesAreInputErrorsNamingTheFile) {
   solve_tile(run, 0, dir.path(), null_reporter());
   const auto expect_input_error = [&](const std::filesystem::path& file, const std::string& reason) {
     try {
-      join_tiles(run, dir.path(), null_reporter());
+      join_tiles(run, points, dir.path(), null_reporter());
       ADD_FAILURE() << "no error for " << reason;
     } catch (const InputError& e) {
       EXPECT_EQ(e.path(), file.string()) << reason;
@@ -273,12 +273,34 @@ TEST(TiledReconstruction, BadTileFilesAreInputErrorsNamingTheFile) {
   solve_tile(prepare_tiled_run(points, other, null_reporter()), 1, dir.path(), null_reporter());
   expect_input_error(t1, "does not belong to this run");
   solve_tile(run, 1, dir.path(), null_reporter());
-  EXPECT_NO_THROW(join_tiles(run, dir.path(), null_reporter()));
+  EXPECT_NO_THROW(join_tiles(run, points, dir.path(), null_reporter()));
   std::filesystem::resize_file(t1, std::filesystem::file_size(t1) - 4);
   expect_input_error(t1, "truncated");
   std::ofstream(t1, std::ios::binary) << "HOSTVIEW and more";
   expect_input_error(t1, "not a hos-recon tile function file");
   EXPECT_THROW(solve_tile(run, 2, dir.path(), null_reporter()), ConfigError);
+}
+
+// The joined tiles keep a small piece that confident samples support, as the
+// whole solve does (a hanging object), and drop it when few views agreed on
+// its samples.
+TEST(TiledReconstruction, JoinedTilesKeepSmallPiecesConfidentSamplesSupport) {
+  const auto pieces_kept = [](float speck_views) {
+    PointCloud points = synth::sample_sphere(15000, 1.0, 0.002, 1);
+    points.confidence.assign(points.positions.size(), 9.0f);
+    const PointCloud speck = synth::sample_sphere(600, 0.09, 0.002, 2);
+    for (std::size_t i = 0; i < speck.positions.size(); ++i) {
+      points.positions.push_back(speck.positions[i] + Eigen::Vector3f(1.6f, 0.0f, 0.0f));
+      points.normals.push_back(speck.normals[i]);
+      points.confidence.push_back(speck_views);
+    }
+    hos::testing::TempDir dir;
+    const ReconResult r = reconstruct_with_tiles(points, options_at(64, 2), dir.path(), null_reporter());
+    EXPECT_EQ(r.stats.tiles, 2);
+    return std::pair{analyze_topology(r.mesh).components, r.stats.debris.components_kept_by_support};
+  };
+  EXPECT_EQ(pieces_kept(6.0f), std::pair(2, std::size_t{1}));
+  EXPECT_EQ(pieces_kept(2.0f), std::pair(1, std::size_t{0}));
 }
 
 }  // namespace
