@@ -18,7 +18,7 @@ find_package(nlohmann_json QUIET)
 # Debian's libtinygltf-dev ships the compiled library: never define
 # TINYGLTF_IMPLEMENTATION in project code, link TinyGLTF::TinyGLTF.
 find_package(TinyGLTF QUIET)
-find_package(JPEG QUIET)  # texture atlases as 4:4:4 JPEG
+find_package(JPEG REQUIRED)  # JPEG with full chroma (core/jpeg_encoding.h)
 
 # Header-only packages without CMake config files.
 find_path(NANOFLANN_INCLUDE_DIR nanoflann.hpp)

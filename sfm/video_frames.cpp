@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/jpeg_encoding.h"
 #include "core/statistics.h"
 #include "sfm/image_inputs.h"
 
@@ -233,9 +234,7 @@ std::vector<fs::path> write_frame(const cv::Mat& image,
                                   const fs::path& thumbnail_dir) {
   std::vector<fs::path> files{staging_dir / name};
   fs::create_directories(files[0].parent_path());
-  if (!cv::imwrite(files[0].string(), image, {cv::IMWRITE_JPEG_QUALITY, kJpegQuality})) {
-    throw OutputError(files[0].string(), "cannot write the video frame");
-  }
+  write_jpeg_444(image, kJpegQuality, files[0], "the video frame");
   if (!thumbnail_dir.empty()) {
     files.push_back(thumbnail_dir / (name + ".jpg"));
     fs::create_directories(files[1].parent_path());

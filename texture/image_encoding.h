@@ -1,6 +1,6 @@
-// Encoding of the atlas images: PNG (lossless) or baseline JPEG with full
-// chroma resolution (4:4:4; chroma subsampling would mix neighbouring charts'
-// colours across the thin padding) and optimized Huffman tables.
+// Encoding of the atlas images: PNG (lossless) or JPEG with full chroma
+// resolution (core/jpeg_encoding.h; chroma subsampling would mix
+// neighbouring charts' colours across the thin padding).
 #pragma once
 
 #include <filesystem>

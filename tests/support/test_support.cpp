@@ -76,6 +76,18 @@ std::string read_text(const fs::path& file) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+std::vector<int> jpeg_sampling_factors(const std::string& jpeg) {
+  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(jpeg[i]); };
+  for (std::size_t i = 2; i + 9 < jpeg.size(); ++i) {
+    if (byte(i) != 0xFF || byte(i + 1) != 0xC0) continue;
+    std::vector<int> factors;
+    for (std::size_t c = 0; c < byte(i + 9) && i + 11 + 3 * c < jpeg.size(); ++c)
+      factors.push_back(byte(i + 11 + 3 * c));
+    return factors;
+  }
+  return {};
+}
+
 int make_synth_scene(const fs::path& folder, int views, int holdout, const fs::path& log_path, SynthPhotoSize size) {
   return run_command(shell_quote(executable("hos-synth").string()) + " --output " + shell_quote(folder.string()) +
                          " --views " + std::to_string(views) + " --width " + std::to_string(size.width) + " --height " +
