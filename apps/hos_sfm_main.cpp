@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/exit_codes.h"
 #include "sfm/sfm.h"
+#include "sfm/sfm_report.h"
 
 int main(int argc, char** argv) {
   namespace fs = std::filesystem;

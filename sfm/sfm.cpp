@@ -5,7 +5,6 @@
 #include <fstream>
 #include <iomanip>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <set>
 #include <sstream>
@@ -14,7 +13,6 @@
 #include "core/colmap_io.h"
 #include "core/error.h"
 #include "core/image_mask.h"
-#include "core/json_report.h"
 #include "core/sparse_model.h"
 #include "core/stopwatch.h"
 #include "core/undistorted_workspace.h"
@@ -654,105 +652,6 @@ SfmResult run_sfm(const SfmInput& input, const SfmOptions& options, Reporter& re
   result.undistorted = paths.undistorted;
   result.total_seconds = seconds_since(started);
   return result;
-}
-
-namespace {
-
-// Per clip: frames read, kept (by index) and dropped by reason.
-nlohmann::ordered_json videos_json(const std::vector<VideoClipSummary>& videos) {
-  nlohmann::ordered_json out = nlohmann::ordered_json::array();
-  for (const VideoClipSummary& clip : videos) {
-    const VideoFrameSelection& s = clip.selection;
-    out.push_back({{"file", clip.file.string()},
-                   {"name", clip.name},
-                   {"frames", s.frames_read},
-                   {"fps", s.fps},
-                   {"kept", s.kept.size()},
-                   {"kept_frames", s.kept},
-                   {"dropped_too_little_motion", s.too_little_motion},
-                   {"dropped_blurred", s.blurred},
-                   {"dropped_over_max_frames", s.over_limit}});
-  }
-  return out;
-}
-
-}  // namespace
-
-void write_sfm_report(const SfmResult& r, const fs::path& file) {
-  nlohmann::ordered_json j;
-  j["images_given"] = r.images_given;
-  j["images_registered"] = r.images_registered;
-  j["registered_fraction"] = r.registered_fraction;
-  if (!r.coverage_warning.empty()) j["warning"] = r.coverage_warning;
-  j["unregistered"] = r.unregistered;
-  j["unregistered_photos"] = nlohmann::json::array();
-  for (const auto& p : r.unregistered_photos) {
-    j["unregistered_photos"].push_back(
-        {{"name", p.name}, {"best_verified_matches", p.best_matches}, {"other_model", p.other_model}});
-  }
-  j["skipped"] = nlohmann::json::array();
-  for (const auto& s : r.skipped) j["skipped"].push_back({{"file", s.file.string()}, {"reason", s.reason}});
-  j["photos"] = nlohmann::json::array();
-  for (const auto& p : r.photos) {
-    nlohmann::json gps;  // null without GPS
-    if (p.gps) {
-      gps = {{"latitude_deg", p.gps->latitude_deg}, {"longitude_deg", p.gps->longitude_deg}};
-      if (p.gps->altitude_m) gps["altitude_m"] = *p.gps->altitude_m;
-    }
-    j["photos"].push_back({{"name", p.name}, {"gps", gps}});
-  }
-  if (!r.videos.empty()) j["videos"] = videos_json(r.videos);
-  j["masked_photos"] = r.masked_photos;
-  j["masks_undistorted"] = r.masks_undistorted;
-  j["points"] = r.points;
-  j["mean_reprojection_error_px"] = r.mean_reprojection_error_px;
-  j["mean_track_length"] = r.mean_track_length;
-  j["principal_point"] = {{"estimated", r.principal_point_estimated},
-                          {"offset_px", r.principal_point_offset_px},
-                          {"cameras", nlohmann::json::array()}};
-  for (const auto& c : r.principal_points) {
-    j["principal_point"]["cameras"].push_back({{"camera_id", c.camera_id},
-                                               {"width", c.width},
-                                               {"height", c.height},
-                                               {"images", c.images},
-                                               {"estimated", c.estimated},
-                                               {"offset_px", c.offset_px},
-                                               {"reason", c.reason}});
-  }
-  j["models"] = nlohmann::json::array();
-  for (const auto& m : r.models)
-    j["models"].push_back({{"index", m.index}, {"images", m.images}, {"points", m.points}});
-  j["used_model"] = r.used_model;
-  j["matcher"] = r.matcher;
-  if (!r.plan.matcher.empty()) {
-    nlohmann::ordered_json extractions = nlohmann::ordered_json::array();
-    for (const ExtractionRun& run : r.plan.extractions) {
-      extractions.push_back({{"photos", run.names.size()},
-                             {"description", run.description},
-                             {"single_camera", run.single_camera},
-                             {"sift_max_image_size", run.sift_max_image_size},
-                             {"sift_upsample", run.sift_upsample}});
-    }
-    j["plan"] = {{"matcher", r.plan.matcher},
-                 {"matcher_reason", r.plan.matcher_reason},
-                 {"spatial_ignore_z", r.plan.spatial_ignore_z},
-                 {"max_num_features", r.plan.max_num_features},
-                 {"max_num_matches", r.plan.max_num_matches},
-                 {"vocab_tree_words", r.plan.vocab_tree_words},
-                 {"extractions", extractions}};
-  }
-  j["cameras_planned"] = r.cameras_planned;
-  if (r.position_priors >= 0) j["position_priors"] = r.position_priors;
-  j["colmap_version"] = r.colmap_version;
-  nlohmann::ordered_json steps = nlohmann::ordered_json::object();
-  for (const auto& [name, seconds] : r.step_seconds) steps[name] = seconds;
-  j["step_seconds"] = steps;
-  j["total_seconds"] = r.total_seconds;
-  write_atomically(file, [&](const fs::path& tmp) {
-    std::ofstream out(tmp);
-    out << json_text(j) << "\n";
-    if (!out) throw OutputError(file.string(), "cannot write");
-  });
 }
 
 namespace {

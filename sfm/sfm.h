@@ -10,7 +10,7 @@
 //   WS/sfm/undistorted/      the result: images/ + sparse/ (PINHOLE), see
 //                            core/undistorted_workspace.h; written atomically;
 //                            with masks/ when photos have masks (core/image_mask.h)
-//   WS/sfm/report.json       figures of the run (written last)
+//   WS/sfm/report.json       figures of the run (written last; sfm/sfm_report.h)
 #pragma once
 
 #include <cstdint>
@@ -142,9 +142,6 @@ std::string coverage_warning_text(const SfmResult& result, int min_pose_inliers)
 // Runs the stage. Throws InputError (bad photo folder or model), StageError
 // (COLMAP missing or failed, too few images registered), Cancelled.
 SfmResult run_sfm(const SfmInput& input, const SfmOptions& options, Reporter& reporter);
-
-// The figures as JSON (WS/sfm/report.json), written atomically.
-void write_sfm_report(const SfmResult& result, const std::filesystem::path& file);
 
 // "times: total 41.2 s; prepare_images 0.3 s; feature_extractor 12.0 s; ...".
 std::string step_times_text(const SfmResult& result);

@@ -11,6 +11,7 @@
 #include "core/json_report.h"
 #include "sfm/photo_format.h"
 #include "sfm/sfm.h"
+#include "sfm/sfm_report.h"
 #include "tests/sfm/jpeg_fixtures.h"
 #include "tests/support/test_support.h"
 

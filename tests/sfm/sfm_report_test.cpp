@@ -1,4 +1,6 @@
 // The figures hos-sfm writes to WS/sfm/report.json and prints.
+#include "sfm/sfm_report.h"
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -135,6 +137,194 @@ TEST(SfmReport, SaysLoudlyHowMuchOfTheCaptureWasUsed) {
   ASSERT_EQ(j["unregistered_photos"].size(), 9u);
   EXPECT_EQ(j["unregistered_photos"][3]["best_verified_matches"], 3);
   EXPECT_EQ(j["unregistered_photos"][8]["other_model"], 1);
+}
+
+// Every field of the result away from its default: GPS with and without
+// altitude, a video clip, a principal point per camera, two models.
+SfmResult full_result() {
+  SfmResult r = result_with_plan();
+  r.images_given = 14;
+  r.images_registered = 11;
+  r.registered_fraction = 11.0 / 14.0;
+  r.coverage_warning = "only 11 of 14 photos (79%) registered";
+  r.unregistered = {"x.jpg", "y.jpg"};
+  r.unregistered_photos = {{"x.jpg", 4, -1}, {"y.jpg", 90, 1}};
+  r.skipped = {{"notes.txt", "not an image"}, {"sub/broken.jpg", "cannot be decoded"}};
+  r.photos = {{"p0.jpg", GpsPosition{47.25, 8.5, 412.5}},
+              {"p1.jpg", GpsPosition{-33.5, 151.25, std::nullopt}},
+              {"p2.jpg", std::nullopt}};
+  VideoClipSummary clip;
+  clip.file = "clips/walk.mp4";
+  clip.name = "walk_mp4";
+  clip.selection.frames_read = 300;
+  clip.selection.kept = {0, 12, 31};
+  clip.selection.too_little_motion = 250;
+  clip.selection.blurred = 40;
+  clip.selection.over_limit = 7;
+  clip.selection.fps = 29.97;
+  r.videos = {clip};
+  r.masked_photos = 5;
+  r.masks_undistorted = 4;
+  r.points = 123456;
+  r.mean_reprojection_error_px = 0.6875;
+  r.mean_track_length = 4.125;
+  r.principal_point_estimated = true;
+  r.principal_point_offset_px = 23.5;
+  r.principal_points = {{1, 3072, 2304, 10, true, 23.5, ""}, {2, 640, 480, 1, false, 0.0, "centre kept"}};
+  r.models = {{0, 11, 123456}, {1, 2, 80}};
+  r.used_model = 0;
+  r.plan.spatial_ignore_z = true;
+  r.plan.vocab_tree_words = 768;
+  r.cameras_planned = 2;
+  r.position_priors = 2;
+  r.colmap_version = "COLMAP 3.9.1";
+  return r;
+}
+
+void expect_equal(const SfmPlanReport& r, const SfmPlanReport& w) {
+  EXPECT_EQ(r.matcher, w.matcher);
+  EXPECT_EQ(r.matcher_reason, w.matcher_reason);
+  EXPECT_EQ(r.spatial_ignore_z, w.spatial_ignore_z);
+  EXPECT_EQ(r.max_num_features, w.max_num_features);
+  EXPECT_EQ(r.max_num_matches, w.max_num_matches);
+  EXPECT_EQ(r.vocab_tree_words, w.vocab_tree_words);
+  ASSERT_EQ(r.extractions.size(), w.extractions.size());
+  for (std::size_t i = 0; i < w.extractions.size(); ++i) {
+    EXPECT_EQ(r.extractions[i].photos, w.extractions[i].photos);
+    EXPECT_EQ(r.extractions[i].description, w.extractions[i].description);
+    EXPECT_EQ(r.extractions[i].single_camera, w.extractions[i].single_camera);
+    EXPECT_EQ(r.extractions[i].sift_max_image_size, w.extractions[i].sift_max_image_size);
+    EXPECT_EQ(r.extractions[i].sift_upsample, w.extractions[i].sift_upsample);
+  }
+}
+
+void expect_equal_lists(const SfmReport& r, const SfmReport& w) {
+  EXPECT_EQ(r.unregistered, w.unregistered);
+  ASSERT_EQ(r.unregistered_photos.size(), w.unregistered_photos.size());
+  for (std::size_t i = 0; i < w.unregistered_photos.size(); ++i) {
+    EXPECT_EQ(r.unregistered_photos[i].name, w.unregistered_photos[i].name);
+    EXPECT_EQ(r.unregistered_photos[i].best_matches, w.unregistered_photos[i].best_matches);
+    EXPECT_EQ(r.unregistered_photos[i].other_model, w.unregistered_photos[i].other_model);
+  }
+  ASSERT_EQ(r.skipped.size(), w.skipped.size());
+  for (std::size_t i = 0; i < w.skipped.size(); ++i) {
+    EXPECT_EQ(r.skipped[i].file, w.skipped[i].file);
+    EXPECT_EQ(r.skipped[i].reason, w.skipped[i].reason);
+  }
+  ASSERT_EQ(r.photos.size(), w.photos.size());
+  for (std::size_t i = 0; i < w.photos.size(); ++i) {
+    EXPECT_EQ(r.photos[i].name, w.photos[i].name);
+    ASSERT_EQ(r.photos[i].gps.has_value(), w.photos[i].gps.has_value()) << w.photos[i].name;
+    if (!w.photos[i].gps) continue;
+    EXPECT_EQ(r.photos[i].gps->latitude_deg, w.photos[i].gps->latitude_deg);
+    EXPECT_EQ(r.photos[i].gps->longitude_deg, w.photos[i].gps->longitude_deg);
+    EXPECT_EQ(r.photos[i].gps->altitude_m, w.photos[i].gps->altitude_m);
+  }
+  ASSERT_EQ(r.videos.size(), w.videos.size());
+  for (std::size_t i = 0; i < w.videos.size(); ++i) {
+    EXPECT_EQ(r.videos[i].file, w.videos[i].file);
+    EXPECT_EQ(r.videos[i].name, w.videos[i].name);
+    EXPECT_EQ(r.videos[i].frames, w.videos[i].frames);
+    EXPECT_EQ(r.videos[i].fps, w.videos[i].fps);
+    EXPECT_EQ(r.videos[i].kept_frames, w.videos[i].kept_frames);
+    EXPECT_EQ(r.videos[i].dropped_too_little_motion, w.videos[i].dropped_too_little_motion);
+    EXPECT_EQ(r.videos[i].dropped_blurred, w.videos[i].dropped_blurred);
+    EXPECT_EQ(r.videos[i].dropped_over_max_frames, w.videos[i].dropped_over_max_frames);
+  }
+  ASSERT_EQ(r.principal_points.size(), w.principal_points.size());
+  for (std::size_t i = 0; i < w.principal_points.size(); ++i) {
+    const CameraPrincipalPoint &a = r.principal_points[i], &b = w.principal_points[i];
+    EXPECT_EQ(a.camera_id, b.camera_id);
+    EXPECT_EQ(a.width, b.width);
+    EXPECT_EQ(a.height, b.height);
+    EXPECT_EQ(a.images, b.images);
+    EXPECT_EQ(a.estimated, b.estimated);
+    EXPECT_EQ(a.offset_px, b.offset_px);
+    EXPECT_EQ(a.reason, b.reason);
+  }
+  ASSERT_EQ(r.models.size(), w.models.size());
+  for (std::size_t i = 0; i < w.models.size(); ++i) {
+    EXPECT_EQ(r.models[i].index, w.models[i].index);
+    EXPECT_EQ(r.models[i].images, w.models[i].images);
+    EXPECT_EQ(r.models[i].points, w.models[i].points);
+  }
+}
+
+void expect_equal(const SfmReport& r, const SfmReport& w) {
+  EXPECT_EQ(r.images_given, w.images_given);
+  EXPECT_EQ(r.images_registered, w.images_registered);
+  EXPECT_EQ(r.registered_fraction, w.registered_fraction);
+  EXPECT_EQ(r.warning, w.warning);
+  expect_equal_lists(r, w);
+  EXPECT_EQ(r.masked_photos, w.masked_photos);
+  EXPECT_EQ(r.masks_undistorted, w.masks_undistorted);
+  EXPECT_EQ(r.points, w.points);
+  EXPECT_EQ(r.mean_reprojection_error_px, w.mean_reprojection_error_px);
+  EXPECT_EQ(r.mean_track_length, w.mean_track_length);
+  EXPECT_EQ(r.principal_point_estimated, w.principal_point_estimated);
+  EXPECT_EQ(r.principal_point_offset_px, w.principal_point_offset_px);
+  EXPECT_EQ(r.used_model, w.used_model);
+  EXPECT_EQ(r.matcher, w.matcher);
+  ASSERT_EQ(r.plan.has_value(), w.plan.has_value());
+  if (w.plan) expect_equal(*r.plan, *w.plan);
+  EXPECT_EQ(r.cameras_planned, w.cameras_planned);
+  EXPECT_EQ(r.position_priors, w.position_priors);
+  EXPECT_EQ(r.colmap_version, w.colmap_version);
+  EXPECT_EQ(r.step_seconds, w.step_seconds);
+  EXPECT_EQ(r.total_seconds, w.total_seconds);
+}
+
+TEST(SfmReport, ReadsBackWhatItWrites) {
+  hos::testing::TempDir dir;
+  const SfmResult result = full_result();
+  write_sfm_report(result, dir / "report.json");
+  const SfmReport read = read_sfm_report(dir / "report.json");
+  expect_equal(read, sfm_report(result));
+  // The result's own figures, as the pipeline sees them.
+  EXPECT_EQ(read.images_registered, 11);
+  EXPECT_EQ(read.warning, result.coverage_warning);
+  ASSERT_EQ(read.videos.size(), 1u);
+  EXPECT_EQ(read.videos[0].kept_frames, (std::vector<int>{0, 12, 31}));
+  ASSERT_TRUE(read.plan.has_value());
+  ASSERT_EQ(read.plan->extractions.size(), 1u);
+  EXPECT_EQ(read.plan->extractions[0].photos, 11);
+  ASSERT_EQ(read.step_seconds.size(), 5u);
+  EXPECT_EQ(read.step_seconds[1], std::make_pair(std::string("feature_extractor"), 12.25));  // in the order they ran
+}
+
+// An existing model: no plan, no warning, no videos, priors not checked.
+TEST(SfmReport, KeysLeftOutOfTheFileReadAsTheirDefaults) {
+  hos::testing::TempDir dir;
+  SfmResult result;
+  result.matcher = "existing model";
+  write_sfm_report(result, dir / "report.json");
+  const SfmReport read = read_sfm_report(dir / "report.json");
+  expect_equal(read, sfm_report(result));
+  EXPECT_FALSE(read.plan.has_value());
+  EXPECT_EQ(read.position_priors, -1);
+  EXPECT_TRUE(read.warning.empty());
+}
+
+TEST(SfmReport, AMissingOrMalformedReportIsAnInputErrorNamingTheFile) {
+  hos::testing::TempDir dir;
+  const std::filesystem::path file = dir / "report.json";
+  const auto expect_input_error = [&](const std::string& why) {
+    try {
+      read_sfm_report(file);
+      ADD_FAILURE() << why << ": no error";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.path(), file.string()) << why;
+    }
+  };
+  expect_input_error("missing");
+  for (const char* text :
+       {"", "{\"images_given\": 3", "42", R"({"images_registered": "3"})", R"({"unregistered": "a.jpg"})",
+        R"({"skipped": [{"file": 1}]})", R"({"photos": [{"name": "a.jpg", "gps": {"latitude_deg": "N"}}]})",
+        R"({"plan": {"extractions": 2}})", R"({"step_seconds": {"mapper": "long"}})",
+        R"({"principal_point": {"cameras": [{"width": "wide"}]}})"}) {
+    std::ofstream(file) << text;
+    expect_input_error(text);
+  }
 }
 
 // --sparse with a model of other photos used to end in a COLMAP stack
