@@ -6,6 +6,7 @@
 
 #include "mvs/fusion_store.h"
 #include "mvs/mvs_options.h"
+#include "mvs/mvs_report.h"
 #include "mvs/patch_match.h"
 #include "pipeline/stage_entries.h"
 #include "pipeline/stage_figures.h"
@@ -66,19 +67,20 @@ double job_cpu_seconds(StageJob job, const PipelineConfig& config, const RunBoun
 
 // Depth-map coverage per view and the points' confidence, from its report.
 std::vector<StagePlot> plots(const StagePaths& paths) {
-  const nlohmann::json report = read_json_or_empty(paths.mvs_report);
+  const auto written = report_if_written(paths.mvs_report, mvs::read_mvs_report);
+  if (!written) return {};
+  const mvs::MvsReport& report = *written;
   std::vector<StagePlot> plots;
   StagePlot coverage{"plot-depth-coverage", "mvs: depth-map coverage per view", "view (hover a bar for its name)",
                      StagePlot::Kind::kBars};
   coverage.y_label = "fraction of pixels with a depth";
-  for (const auto& view : report.value("per_view", nlohmann::json::array())) {
-    if (view.value("skipped", false)) continue;
-    coverage.bars.emplace_back(view.value("name", ""), view.value("coverage", 0.0));
+  for (const mvs::MvsViewReport& view : report.per_view) {
+    if (!view.skipped) coverage.bars.emplace_back(view.name, view.coverage);
   }
   if (!coverage.bars.empty()) plots.push_back(coverage);
-  if (const auto confidence = histogram_at(report, "confidence")) {
+  if (!report.confidence.counts.empty()) {
     StagePlot plot{"plot-mvs-confidence", "mvs: confidence of the dense points", "confidence (agreeing views)"};
-    plot.histograms = {{"", *confidence}};
+    plot.histograms = {{"", report.confidence}};
     plots.push_back(plot);
   }
   return plots;

@@ -6,8 +6,8 @@
 #include <sstream>
 
 #include "pipeline/stage_entries.h"
-#include "pipeline/stage_figures.h"
 #include "recon/recon_options.h"
+#include "recon/recon_report.h"
 
 namespace hos::pipeline {
 namespace fs = std::filesystem;
@@ -60,7 +60,10 @@ double job_cpu_seconds(StageJob, const PipelineConfig& config, const RunBounds&,
 
 void read_figures(const StagePaths& paths, nlohmann::ordered_json& f) {
   add_mesh_figures(paths.mesh, f);
-  copy_report_figures(paths.recon_report, {"debris_pieces_removed", "debris_area_removed", "surface_area"}, f);
+  const recon::ReconReport report = recon::read_recon_report(paths.recon_report);
+  f["debris_pieces_removed"] = report.debris_pieces_removed;
+  f["debris_area_removed"] = report.debris_area_removed;
+  f["surface_area"] = report.surface_area;
 }
 
 std::string figures_line(const nlohmann::ordered_json& f) {
@@ -77,13 +80,15 @@ std::string figures_line(const nlohmann::ordered_json& f) {
 
 // The solver's residual per iteration, from its report.
 std::vector<StagePlot> plots(const StagePaths& paths) {
-  const nlohmann::json report = read_json_or_empty(paths.recon_report);
+  const auto written = report_if_written(paths.recon_report, recon::read_recon_report);
+  if (!written) return {};
+  const recon::ReconReport& report = *written;
+  if (report.residual_history.empty()) return {};
   StagePlot plot{"plot-solver-residual", "recon: solver residual per iteration",
                  "CG iteration (all solves in turn, dashed: a solve starts)", StagePlot::Kind::kLogLine};
   plot.y_label = "relative residual |r| / |b|";
-  plot.values = report.value("residual_history", std::vector<double>{});
-  plot.segment_lengths = report.value("solve_iterations", std::vector<int>{});
-  if (plot.values.empty()) return {};
+  plot.values = report.residual_history;
+  plot.segment_lengths = report.solve_iterations;
   return {plot};
 }
 

@@ -1,16 +1,17 @@
 // The sfm stage's entry in the stage table: hos-sfm registers the photos and
 // writes the undistorted workspace every later stage reads.
 #include <algorithm>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 
 #include "core/colmap_io.h"
 #include "core/error.h"
+#include "core/json_report.h"
 #include "pipeline/output_checks.h"
 #include "pipeline/stage_entries.h"
 #include "sfm/image_inputs.h"
 #include "sfm/sfm_options.h"
+#include "sfm/sfm_report.h"
 
 namespace hos::pipeline {
 namespace fs = std::filesystem;
@@ -39,13 +40,14 @@ void inputs(Fingerprint& f, const DriverOptions& o, const PipelineConfig& config
 }
 
 void read_figures(const StagePaths& paths, nlohmann::ordered_json& f) {
-  std::ifstream in(paths.sfm_report);
-  // Ordered, so the steps keep the order they ran in.
-  const nlohmann::ordered_json r = nlohmann::ordered_json::parse(in);
-  for (const char* key : {"images_registered", "images_given", "points", "mean_reprojection_error_px",
-                          "mean_track_length", "matcher", "step_seconds"}) {
-    if (r.contains(key)) f[key] = r[key];
-  }
+  const sfm::SfmReport r = sfm::read_sfm_report(paths.sfm_report);
+  f["images_registered"] = r.images_registered;
+  f["images_given"] = r.images_given;
+  f["points"] = r.points;
+  f["mean_reprojection_error_px"] = r.mean_reprojection_error_px;
+  f["mean_track_length"] = r.mean_track_length;
+  if (!r.matcher.empty()) f["matcher"] = r.matcher;
+  f["step_seconds"] = named_values_json(r.step_seconds);  // in the order the steps ran
 }
 
 std::string figures_line(const nlohmann::ordered_json& f) {

@@ -1,8 +1,6 @@
 #include "pipeline/stage_entries.h"
 
-#include <fstream>
-
-#include "core/json_report.h"
+#include "core/error.h"
 #include "pipeline/stage_figures.h"
 
 namespace hos::pipeline {
@@ -28,22 +26,11 @@ std::uintmax_t size_of(const fs::path& path) {
   return total;
 }
 
-std::optional<Histogram> histogram_at(const nlohmann::json& report, const char* key) {
-  if (!report.contains(key)) return std::nullopt;
-  Histogram h = histogram_from_json(report[key]);
-  if (h.counts.empty()) return std::nullopt;
-  return h;
-}
-
-void copy_report_figures(const fs::path& report,
-                         std::initializer_list<const char*> keys,
-                         nlohmann::ordered_json& figures) {
-  std::ifstream in(report);
-  if (!in) return;
-  const nlohmann::json r = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
-  if (!r.is_object()) return;
-  for (const char* key : keys) {
-    if (r.contains(key)) figures[key] = r[key];
+std::optional<sfm::SfmReport> written_sfm_report(const StagePaths& paths) {
+  try {
+    return sfm::read_sfm_report(paths.sfm_report);
+  } catch (const InputError&) {
+    return std::nullopt;
   }
 }
 

@@ -4,14 +4,13 @@
 
 #include <cstdint>
 #include <filesystem>
-#include <initializer_list>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
-#include "core/histogram.h"
 #include "pipeline/stages.h"
+#include "sfm/sfm_report.h"
 
 namespace hos::pipeline {
 
@@ -36,14 +35,19 @@ inline constexpr std::uintmax_t kScratchBytes = 64ull << 20;
 // Bytes of a file, or of every file in a folder (0 when missing).
 std::uintmax_t size_of(const std::filesystem::path& path);
 
-// A histogram stored under key in a report, or nothing if it has none.
-std::optional<Histogram> histogram_at(const nlohmann::json& report, const char* key);
+// A stage's report as read(file) reads it, for the stage's plots: none when
+// the stage has not written it; read's InputError when it is damaged.
+template <typename Report>
+std::optional<Report> report_if_written(const std::filesystem::path& file,
+                                        Report (*read)(const std::filesystem::path&)) {
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec)) return std::nullopt;
+  return read(file);
+}
 
-// The keys a stage's report.json has, copied into figures (none if it cannot
-// be read).
-void copy_report_figures(const std::filesystem::path& report,
-                         std::initializer_list<const char*> keys,
-                         nlohmann::ordered_json& figures);
+// The sfm stage's report (WS/sfm/report.json), for the run report's photos;
+// none when the stage has not written it or it cannot be read.
+std::optional<sfm::SfmReport> written_sfm_report(const StagePaths& paths);
 
 // figures[key] as JSON text, "?" when missing.
 std::string figure_text(const nlohmann::ordered_json& figures, const char* key);

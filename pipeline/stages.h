@@ -82,7 +82,7 @@ struct StageSpec {
   // Those figures as one line, e.g. "16/16 images registered, 4210 points".
   std::function<std::string(const nlohmann::ordered_json& figures)> figures_text;
   // The run report's plots of the stage, each only where its data is in the
-  // workspace; may throw nlohmann::json::exception on a damaged report file.
+  // workspace; may throw InputError on a damaged report file.
   std::function<std::vector<StagePlot>(const StagePaths&)> plots;
 };
 

@@ -2,13 +2,15 @@
 // per face and writes the textured model; on a cluster the per-view data are
 // chunks of the views and the atlas joins them.
 #include <algorithm>
-#include <fstream>
+#include <optional>
 #include <sstream>
 
+#include "core/error.h"
 #include "pipeline/stage_entries.h"
 #include "pipeline/stage_figures.h"
 #include "refine/refine_options.h"
 #include "texture/texture_options.h"
+#include "texture/texture_report.h"
 
 namespace hos::pipeline {
 namespace fs = std::filesystem;
@@ -66,7 +68,13 @@ double job_cpu_seconds(StageJob job, const PipelineConfig& config, const RunBoun
 }
 
 void read_figures(const StagePaths& paths, nlohmann::ordered_json& f) {
-  copy_report_figures(paths.texture_report, {"unseen_faces"}, f);
+  // The model's figures also where its report is missing or damaged.
+  std::optional<texture::TextureReport> report;
+  try {
+    report = texture::read_texture_report(paths.texture_report);
+  } catch (const InputError&) {
+  }
+  if (report) f["unseen_faces"] = report->unseen_faces;
   const GlbFigures g = read_glb_figures(paths.textured_model);
   f["bytes"] = g.bytes;
   f["vertices"] = g.vertices;
@@ -75,11 +83,7 @@ void read_figures(const StagePaths& paths, nlohmann::ordered_json& f) {
   for (const auto& [w, h] : g.texture_sizes) sizes.push_back(std::to_string(w) + "x" + std::to_string(h));
   f["textures"] = sizes;
   // How the model is placed: "units: metres from GPS (...)" or why the units are arbitrary.
-  std::ifstream in(paths.texture_report);
-  const nlohmann::json report = nlohmann::json::parse(in, nullptr, false);
-  if (report.is_object() && report.contains("placement") && report["placement"].contains("units_text")) {
-    f["units"] = report["placement"]["units_text"];
-  }
+  if (report && !report->placement.units_text.empty()) f["units"] = report->placement.units_text;
 }
 
 std::string figures_line(const nlohmann::ordered_json& f) {
@@ -99,18 +103,19 @@ std::string figures_line(const nlohmann::ordered_json& f) {
 // Photos per face and the colour jumps at seams before and after leveling,
 // from its report.
 std::vector<StagePlot> plots(const StagePaths& paths) {
-  const nlohmann::json report = read_json_or_empty(paths.texture_report);
+  const auto written = report_if_written(paths.texture_report, texture::read_texture_report);
+  if (!written) return {};
+  const texture::TextureReport& report = *written;
   std::vector<StagePlot> plots;
-  if (const auto views = histogram_at(report, "views_per_face")) {
+  if (!report.views_per_face.counts.empty()) {
     StagePlot plot{"plot-views-per-face", "texture: photos seeing each face", "photos (after the visibility test)"};
-    plot.histograms = {{"", *views}};
+    plot.histograms = {{"", report.views_per_face}};
     plots.push_back(plot);
   }
-  const auto before = histogram_at(report, "seam_jumps_before");
-  const auto after = histogram_at(report, "seam_jumps_after");
-  if (before && after && before->counts.size() == after->counts.size()) {
+  const Histogram &before = report.seam_jumps_before, &after = report.seam_jumps_after;
+  if (!before.counts.empty() && before.counts.size() == after.counts.size()) {
     StagePlot plot{"plot-seam-jump", "texture: colour jump at seam vertices", "RGB distance (8 bit; last bin: larger)"};
-    plot.histograms = {{"before leveling", *before}, {"after leveling", *after}};
+    plot.histograms = {{"before leveling", before}, {"after leveling", after}};
     plots.push_back(plot);
   }
   return plots;

@@ -6,6 +6,7 @@
 #include <iomanip>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <sstream>
 
 #include "core/atomic_file.h"
@@ -14,6 +15,7 @@
 #include "pipeline/report/report_viewer.h"
 #include "pipeline/report/svg_plot.h"
 #include "pipeline/run_record.h"
+#include "pipeline/stage_entries.h"
 #include "pipeline/stage_figures.h"
 #include "pipeline/stage_paths.h"
 #include "pipeline/stages.h"
@@ -166,16 +168,13 @@ void write_photo(std::ostream& html,
 void write_photos(std::ostream& html,
                   const RunRecord& record,
                   const StagePaths& paths,
-                  const nlohmann::json& sfm_report) {
+                  const std::optional<sfm::SfmReport>& sfm_report) {
   html << "<h2>Photos</h2>\n";
   // How much of the capture the model uses, and the sfm stage's warning when little.
-  if (sfm_report.contains("registered_fraction")) {
-    html << "<p id=\"coverage\">" << sfm_report.value("images_registered", 0) << " of "
-         << sfm_report.value("images_given", 0) << " photos registered ("
-         << std::lround(100 * sfm_report.value("registered_fraction", 0.0)) << "%)";
-    if (sfm_report.contains("warning")) {
-      html << ": <strong>" << html_escape(sfm_report.value("warning", "")) << "</strong>";
-    }
+  if (sfm_report && sfm_report->images_given > 0) {
+    html << "<p id=\"coverage\">" << sfm_report->images_registered << " of " << sfm_report->images_given
+         << " photos registered (" << std::lround(100 * sfm_report->registered_fraction) << "%)";
+    if (!sfm_report->warning.empty()) html << ": <strong>" << html_escape(sfm_report->warning) << "</strong>";
     html << "</p>\n";
   }
   html << "<div id=\"photos\">\n";
@@ -190,15 +189,17 @@ void write_photos(std::ostream& html,
   }
   std::sort(registered.begin(), registered.end());
   for (const auto& name : registered) write_photo(html, paths, name, images / name, "registered", "registered");
-  for (const auto& name : sfm_report.value("unregistered", std::vector<std::string>{})) {
-    write_photo(html, paths, name, fs::path(record.photos) / name, "skipped",
-                "not registered (COLMAP found no pose for it)");
+  if (sfm_report) {
+    for (const std::string& name : sfm_report->unregistered) {
+      write_photo(html, paths, name, fs::path(record.photos) / name, "skipped",
+                  "not registered (COLMAP found no pose for it)");
+    }
+    for (const sfm::SkippedInput& s : sfm_report->skipped) {
+      html << "<figure class=\"skipped\"><figcaption>" << html_escape(s.file.string()) << ": skipped ("
+           << html_escape(s.reason) << ")</figcaption></figure>\n";
+    }
   }
-  for (const auto& s : sfm_report.value("skipped", nlohmann::json::array())) {
-    html << "<figure class=\"skipped\"><figcaption>" << html_escape(s.value("file", "")) << ": skipped ("
-         << html_escape(s.value("reason", "")) << ")</figcaption></figure>\n";
-  }
-  if (registered.empty() && sfm_report.empty()) html << "<p>The sfm stage has not written its results.</p>\n";
+  if (registered.empty() && !sfm_report) html << "<p>The sfm stage has not written its results.</p>\n";
   html << "</div>\n";
 }
 
@@ -299,7 +300,7 @@ std::string run_report_html(const fs::path& workspace, const ReportOptions& opti
     throw InputError(workspace.string(), "has neither run.json nor config.yaml: not a hos-pipeline workspace");
   }
   const RunRecord record = load_run_record(paths.run_record);
-  const nlohmann::json sfm_report = read_json_or_empty(paths.sfm_report);
+  const std::optional<sfm::SfmReport> sfm_report = written_sfm_report(paths);
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head><meta charset=\"utf-8\">\n"
           "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>hos run report</title>\n"

@@ -1,7 +1,6 @@
 #include "pipeline/report/report_plots.h"
 
-#include <nlohmann/json.hpp>
-
+#include "core/error.h"
 #include "pipeline/report/svg_plot.h"
 #include "pipeline/stages.h"
 
@@ -42,8 +41,8 @@ void write_stage_plots(std::ostream& html, const StagePaths& paths) {
       for (const StagePlot& plot : spec.plots(paths)) {
         html << "<div id=\"" << plot.id << "\">" << plot_svg(plot) << "</div>\n";
       }
-    } catch (const nlohmann::json::exception&) {
-      // A report file of another version or a damaged one: its plots are left out, the page is still written.
+    } catch (const InputError&) {
+      // A report file missing or damaged: its plots are left out, the page is still written.
     }
   }
 }
