@@ -6,11 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <functional>
+#include <iterator>
 #include <opencv2/imgcodecs.hpp>
 #include <unordered_map>
 
 #include "core/error.h"
+#include "core/glb_container.h"
 
 namespace hos::eval {
 namespace {
@@ -106,6 +109,8 @@ class AccessorReader {
     if (accessor_->normalized) {
       if (accessor_->componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) v /= 255.0;
       if (accessor_->componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) v /= 65535.0;
+      if (accessor_->componentType == TINYGLTF_COMPONENT_TYPE_BYTE) v = std::max(v / 127.0, -1.0);
+      if (accessor_->componentType == TINYGLTF_COMPONENT_TYPE_SHORT) v = std::max(v / 32767.0, -1.0);
     }
     return v;
   }
@@ -246,11 +251,17 @@ struct Builder {
 
 render::RenderObject read_glb(const std::filesystem::path& path, GlbFrame frame) {
   if (!std::filesystem::is_regular_file(path)) throw InputError(path.string(), "no such file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string(), "cannot be opened");
+  // EXT_meshopt_compression is decoded here: tinygltf does not read it.
+  const std::string glb = decode_meshopt_glb(
+      std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), path.string());
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&decode_image, nullptr);
   tinygltf::Model model;
   std::string err, warn;
-  if (!loader.LoadBinaryFromFile(&model, &err, &warn, path.string())) {
+  if (!loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(glb.data()),
+                                   static_cast<unsigned int>(glb.size()))) {
     throw InputError(path.string(), "not a readable binary glTF: " + err);
   }
   Builder builder{model, path.string(), {}, {}, {}};

@@ -4,7 +4,8 @@
 // nodes' own matrices are left out (GlbFrame::kModel: the SfM frame) while
 // transforms below the roots apply; GlbFrame::kScene applies every node
 // transform (the frame a viewer shows). Vertices at exactly the same position are welded so topology checks see
-// the surface rather than the UV seams.
+// the surface rather than the UV seams. Quantized (KHR_mesh_quantization)
+// and meshopt-compressed (EXT_meshopt_compression) files are read as well.
 #pragma once
 
 #include <filesystem>

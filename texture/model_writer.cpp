@@ -8,9 +8,12 @@
 #include <cctype>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/error.h"
+#include "core/glb_container.h"
 
 namespace hos::texture {
 
@@ -154,24 +157,60 @@ void write_ply(const std::filesystem::path& path, const TexturedMesh& mesh, cons
   write_bytes(path, out.data(), out.size());
 }
 
-// The floats (or uint32 indices) of an accessor this project's writer made.
-template <typename T>
-std::vector<T> accessor_values(const tinygltf::Model& model, int index, const std::filesystem::path& path) {
+// One component of type component_type at bytes, normalized if asked.
+double component_value(const unsigned char* bytes, int component_type, bool normalized) {
+  auto read = [bytes](auto value) {
+    std::memcpy(&value, bytes, sizeof value);
+    return value;
+  };
+  switch (component_type) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return read(float{});
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+      return read(std::uint32_t{});
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return normalized ? read(std::uint16_t{}) / 65535.0 : read(std::uint16_t{});
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+      return normalized ? std::max(read(std::int16_t{}) / 32767.0, -1.0) : read(std::int16_t{});
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return normalized ? read(std::uint8_t{}) / 255.0 : read(std::uint8_t{});
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+      return normalized ? std::max(read(std::int8_t{}) / 127.0, -1.0) : read(std::int8_t{});
+    default:
+      throw std::invalid_argument("component_value: unknown component type");
+  }
+}
+
+// An accessor's values, component by component, as doubles: floats as they
+// are, integer components normalized as glTF defines it when the accessor
+// is normalized (signed ones clamped to -1), else as integers.
+std::vector<double> accessor_values(const tinygltf::Model& model, int index, const std::filesystem::path& path) {
   if (index < 0 || index >= static_cast<int>(model.accessors.size())) {
     throw InputError(path.string(), "a primitive refers to a missing accessor");
   }
   const tinygltf::Accessor& a = model.accessors[index];
-  const tinygltf::BufferView& view = model.bufferViews.at(a.bufferView);
-  const auto& data = model.buffers.at(view.buffer).data;
-  const std::size_t count = a.count * static_cast<std::size_t>(tinygltf::GetNumComponentsInType(a.type));
-  const std::size_t start = view.byteOffset + a.byteOffset;
-  if ((view.byteStride != 0 && view.byteStride != tinygltf::GetNumComponentsInType(a.type) * sizeof(T)) ||
-      tinygltf::GetComponentSizeInBytes(a.componentType) != static_cast<int>(sizeof(T)) ||
-      start + count * sizeof(T) > data.size()) {
-    throw InputError(path.string(), "an accessor is not in the layout hos writes");
+  if (a.bufferView < 0 || a.bufferView >= static_cast<int>(model.bufferViews.size())) {
+    throw InputError(path.string(), "an accessor without a buffer view");
   }
-  std::vector<T> values(count);
-  std::memcpy(values.data(), data.data() + start, count * sizeof(T));
+  const tinygltf::BufferView& view = model.bufferViews[a.bufferView];
+  const auto& data = model.buffers.at(view.buffer).data;
+  const int components = tinygltf::GetNumComponentsInType(a.type);
+  const int size = tinygltf::GetComponentSizeInBytes(a.componentType);
+  if (components <= 0 || size <= 0 || a.componentType == TINYGLTF_COMPONENT_TYPE_DOUBLE) {
+    throw InputError(path.string(), "an accessor has an unknown type");
+  }
+  const std::size_t stride = view.byteStride > 0 ? view.byteStride : static_cast<std::size_t>(components * size);
+  const std::size_t start = view.byteOffset + a.byteOffset;
+  if (a.count > 0 && start + (a.count - 1) * stride + static_cast<std::size_t>(components * size) > data.size()) {
+    throw InputError(path.string(), "an accessor reads past the end of its buffer");
+  }
+  std::vector<double> values;
+  values.reserve(a.count * components);
+  for (std::size_t i = 0; i < a.count; ++i) {
+    for (int c = 0; c < components; ++c) {
+      values.push_back(component_value(data.data() + start + i * stride + c * size, a.componentType, a.normalized));
+    }
+  }
   return values;
 }
 
@@ -240,53 +279,116 @@ void read_placement_extras(const tinygltf::Value& extras, TexturedMesh& mesh) {
   mesh.geo_origin = geo;
 }
 
-}  // namespace
-
-StoredModel read_glb_model(const std::filesystem::path& path) {
+// The file's bytes with EXT_meshopt_compression decoded, parsed by tinygltf
+// (images left encoded).
+tinygltf::Model load_glb(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string(), "cannot be opened");
+  const std::string glb = decode_meshopt_glb(
+      std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), path.string());
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
-  // The images stay encoded here; they are decoded once below.
   loader.SetImageLoader([](tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
                            void*) { return true; },
                         nullptr);
   std::string error, warning;
-  if (!loader.LoadBinaryFromFile(&model, &error, &warning, path.string())) {
+  if (!loader.LoadBinaryFromMemory(&model, &error, &warning, reinterpret_cast<const unsigned char*>(glb.data()),
+                                   static_cast<unsigned int>(glb.size()))) {
     throw InputError(path.string(), "not a readable binary glTF: " + error);
   }
-  if (!model.extensionsRequired.empty()) {
-    throw InputError(path.string(), "its mesh is compressed (" + model.extensionsRequired[0] +
-                                        "); write it with texture.mesh_compression none to convert it");
+  return model;
+}
+
+// The matrix of the node holding mesh 0 relative to the root node: the
+// dequantization of KHR_mesh_quantization's positions (a child of the root,
+// as gltf_writer.h writes it), else the identity.
+Eigen::Matrix4d mesh_node_matrix(const tinygltf::Model& model) {
+  if (model.nodes.empty() || model.nodes[0].mesh == 0) return Eigen::Matrix4d::Identity();
+  for (int child : model.nodes[0].children) {
+    if (child <= 0 || child >= static_cast<int>(model.nodes.size())) continue;
+    const tinygltf::Node& node = model.nodes[child];
+    if (node.mesh == 0 && node.matrix.size() == 16) return Eigen::Map<const Eigen::Matrix4d>(node.matrix.data());
   }
-  StoredModel out;
-  if (model.meshes.empty() || model.meshes[0].primitives.empty()) return out;
-  const auto& primitives = model.meshes[0].primitives;
-  const auto& attributes = primitives[0].attributes;
+  return Eigen::Matrix4d::Identity();
+}
+
+// Positions (through the mesh node's matrix), unit normals and UVs of the
+// vertices every primitive shares.
+void read_vertices(const tinygltf::Model& model, const std::filesystem::path& path, TexturedMesh& mesh) {
+  const auto& attributes = model.meshes[0].primitives[0].attributes;
   if (!attributes.count("POSITION") || !attributes.count("NORMAL") || !attributes.count("TEXCOORD_0")) {
     throw InputError(path.string(), "the mesh lacks positions, normals or texture coordinates");
   }
-  const std::vector<float> p = accessor_values<float>(model, attributes.at("POSITION"), path);
-  const std::vector<float> n = accessor_values<float>(model, attributes.at("NORMAL"), path);
-  const std::vector<float> t = accessor_values<float>(model, attributes.at("TEXCOORD_0"), path);
-  for (std::size_t i = 0; i + 2 < p.size() && i + 2 < n.size(); i += 3) {
-    out.mesh.positions.emplace_back(p[i], p[i + 1], p[i + 2]);
-    out.mesh.normals.emplace_back(n[i], n[i + 1], n[i + 2]);
+  const std::vector<double> p = accessor_values(model, attributes.at("POSITION"), path);
+  const std::vector<double> n = accessor_values(model, attributes.at("NORMAL"), path);
+  const std::vector<double> t = accessor_values(model, attributes.at("TEXCOORD_0"), path);
+  if (p.size() % 3 != 0 || n.size() != p.size() || t.size() / 2 != p.size() / 3) {
+    throw InputError(path.string(), "positions, normals and texture coordinates differ in count or type");
   }
-  for (std::size_t i = 0; i + 1 < t.size(); i += 2) out.mesh.uvs.emplace_back(t[i], t[i + 1]);
-  for (const tinygltf::Primitive& primitive : primitives) {
-    const tinygltf::Material& material = model.materials.at(primitive.material);
-    const tinygltf::Texture& texture = model.textures.at(material.pbrMetallicRoughness.baseColorTexture.index);
-    const tinygltf::Image& image = model.images.at(texture.source);
-    const tinygltf::BufferView& view = model.bufferViews.at(image.bufferView);
-    const auto& data = model.buffers.at(view.buffer).data;
-    EncodedImage encoded;
-    encoded.bytes.assign(data.begin() + view.byteOffset, data.begin() + view.byteOffset + view.byteLength);
-    encoded.mime_type = image.mimeType;
-    encoded.extension = image.mimeType == "image/png" ? ".png" : ".jpg";
-    cv::Mat decoded = cv::imdecode(encoded.bytes, cv::IMREAD_COLOR);
-    if (decoded.empty()) throw InputError(path.string(), "an atlas image cannot be decoded");
-    out.mesh.atlases.push_back(decoded);
-    out.images.push_back(std::move(encoded));
-    out.mesh.indices.push_back(accessor_values<std::uint32_t>(model, primitive.indices, path));
+  const Eigen::Affine3d to_model(mesh_node_matrix(model));
+  const Eigen::Matrix3d normal_map = to_model.linear().inverse().transpose();
+  for (std::size_t i = 0; i + 2 < p.size(); i += 3) {
+    mesh.positions.push_back((to_model * Eigen::Vector3d(p[i], p[i + 1], p[i + 2])).cast<float>());
+    const Eigen::Vector3d normal = normal_map * Eigen::Vector3d(n[i], n[i + 1], n[i + 2]);
+    mesh.normals.push_back(normal.norm() > 0.0 ? Eigen::Vector3f(normal.normalized().cast<float>())
+                                               : Eigen::Vector3f::UnitZ());
+  }
+  for (std::size_t i = 0; i + 1 < t.size(); i += 2) mesh.uvs.emplace_back(t[i], t[i + 1]);
+}
+
+// A primitive's triangle indices, checked against the vertex count.
+std::vector<std::uint32_t> read_indices(const tinygltf::Model& model,
+                                        const tinygltf::Primitive& primitive,
+                                        std::size_t num_vertices,
+                                        const std::filesystem::path& path) {
+  std::vector<std::uint32_t> indices;
+  for (double index : accessor_values(model, primitive.indices, path)) {
+    if (!(index >= 0.0 && index < static_cast<double>(num_vertices))) {
+      throw InputError(path.string(), "a vertex index is out of range");
+    }
+    indices.push_back(static_cast<std::uint32_t>(index));
+  }
+  return indices;
+}
+
+// A primitive's atlas: its encoded bytes, kept, and decoded.
+void read_atlas(const tinygltf::Model& model,
+                const tinygltf::Primitive& primitive,
+                const std::filesystem::path& path,
+                StoredModel& out) {
+  const tinygltf::Material& material = model.materials.at(primitive.material);
+  const tinygltf::Texture& texture = model.textures.at(material.pbrMetallicRoughness.baseColorTexture.index);
+  const tinygltf::Image& image = model.images.at(texture.source);
+  const tinygltf::BufferView& view = model.bufferViews.at(image.bufferView);
+  const auto& data = model.buffers.at(view.buffer).data;
+  if (view.byteOffset + view.byteLength > data.size()) {
+    throw InputError(path.string(), "an atlas image reads past the end of its buffer");
+  }
+  EncodedImage encoded;
+  encoded.bytes.assign(data.begin() + view.byteOffset, data.begin() + view.byteOffset + view.byteLength);
+  encoded.mime_type = image.mimeType;
+  encoded.extension = image.mimeType == "image/png" ? ".png" : ".jpg";
+  cv::Mat decoded = cv::imdecode(encoded.bytes, cv::IMREAD_COLOR);
+  if (decoded.empty()) throw InputError(path.string(), "an atlas image cannot be decoded");
+  out.mesh.atlases.push_back(decoded);
+  out.images.push_back(std::move(encoded));
+}
+
+}  // namespace
+
+StoredModel read_glb_model(const std::filesystem::path& path) {
+  const tinygltf::Model model = load_glb(path);
+  for (const std::string& extension : model.extensionsRequired) {
+    if (extension != "KHR_mesh_quantization") {
+      throw InputError(path.string(), "it requires the glTF extension " + extension + ", which hos does not read");
+    }
+  }
+  StoredModel out;
+  if (model.meshes.empty() || model.meshes[0].primitives.empty()) return out;
+  read_vertices(model, path, out.mesh);
+  for (const tinygltf::Primitive& primitive : model.meshes[0].primitives) {
+    read_atlas(model, primitive, path, out);
+    out.mesh.indices.push_back(read_indices(model, primitive, out.mesh.positions.size(), path));
   }
   if (!model.nodes.empty() && model.nodes[0].matrix.size() == 16) {
     out.mesh.root_matrix = Eigen::Map<const Eigen::Matrix4d>(model.nodes[0].matrix.data());

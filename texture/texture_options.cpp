@@ -53,9 +53,10 @@ void register_options(OptionSet& set, TextureOptions& o) {
   set.add("max_atlases", o.max_atlases, "largest number of atlas images; beyond, texels shrink", 1, 1024);
   set.add_choice("image_format", o.image_format, {"jpeg", "png"}, "atlas image encoding (JPEG 4:4:4 or PNG)");
   set.add("jpeg_quality", o.jpeg_quality, "JPEG quality of the atlases", 1, 100);
-  set.add_choice("mesh_compression", o.mesh_compression, {"none", "quantized"},
+  set.add_choice("mesh_compression", o.mesh_compression, {"none", "quantized", "meshopt"},
                  "glTF vertex data: none = 32-bit floats; quantized = KHR_mesh_quantization (16-bit positions and UVs, "
-                 "8-bit normals; not every importer reads it)");
+                 "8-bit normals); meshopt = quantized and EXT_meshopt_compression (meshoptimizer's codecs); both are "
+                 "required extensions that Debian's Blender does not read");
   set.add_zero_or("preview_max_faces", o.preview_max_faces,
                   "faces of the preview model STEM.preview.glb written beside the output; 0 = no preview", 4,
                   2000000000);

@@ -78,14 +78,18 @@ struct TextureOptions {
   // held-out PSNR against PNG (docs/texture.md).
   std::string image_format = "jpeg";  // jpeg | png
   int jpeg_quality = 95;
-  // glTF vertex data: "none" (32-bit floats) or "quantized"
-  // (KHR_mesh_quantization, a required extension: Blender's importer in
-  // Debian does not read it; three.js, Babylon.js and model-viewer do).
+  // glTF vertex data: "none" (32-bit floats), "quantized"
+  // (KHR_mesh_quantization) or "meshopt" (quantized, then
+  // EXT_meshopt_compression). Both are required extensions: Blender's
+  // importer in Debian reads neither; three.js, Babylon.js and model-viewer
+  // read both (model-viewer once given its meshopt decoder's location).
   std::string mesh_compression = "none";
 
   // Preview model (texture/decimate.h): STEM.preview.glb beside the output
   // STEM.EXT, at most preview_max_faces faces on one JPEG atlas of at most
-  // preview_atlas_size texels per side; preview_max_faces 0 writes none.
+  // preview_atlas_size texels per side, its mesh compressed whatever
+  // mesh_compression says (it is for web viewers); preview_max_faces 0
+  // writes none.
   int preview_max_faces = 150000;
   int preview_atlas_size = 2048;
 

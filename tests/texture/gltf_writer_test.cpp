@@ -4,7 +4,11 @@
 #include <tiny_gltf.h>
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstring>
+#include <iostream>
 
 #include "core/error.h"
 #include "synth/shapes.h"
@@ -113,30 +117,47 @@ int validate(const fs::path& file, const fs::path& report) {
                                    report);
 }
 
-// KHR_mesh_quantization: the validator reads the quantized accessors (it
-// checks their bounds and that the extension is declared), and the
+// KHR_mesh_quantization and EXT_meshopt_compression, .glb and .gltf: the
+// validator reads the quantized accessors (it checks their bounds and that
+// the extensions are declared) and decodes the meshopt streams.
+TEST(GltfWriter, CompressedMeshesPassKhronosValidator) {
+  hos::testing::TempDir dir("hos-texture-gltf");
+  TexturedMesh mesh = textured_sphere(128);  // several pages: primitives
+  ASSERT_GT(mesh.atlases.size(), 1u);
+  mesh.root_matrix(1, 3) = 2.5;
+  for (const std::string compression : {"quantized", "meshopt"}) {
+    GltfWriteOptions options;
+    options.mesh_compression = compression;
+    for (const std::string name : {"model.glb", "model.gltf"}) {
+      const fs::path file = dir / name;
+      if (name == "model.glb") {
+        write_glb(file, mesh, options);
+      } else {
+        write_gltf(file, mesh, encode_atlases(mesh, options, file), options.mesh_compression);
+      }
+      const int status = validate(file, dir / "report.json");
+      ASSERT_NE(status, -1) << "npm install gltf-validator failed";
+      const std::string text = hos::testing::read_text(dir / "report.json");
+      EXPECT_EQ(status, 0) << compression << " " << name << ": " << text;
+      EXPECT_NE(text.find("\"numErrors\": 0"), std::string::npos) << text;
+      EXPECT_NE(text.find("KHR_mesh_quantization"), std::string::npos) << text;
+      if (compression == "meshopt") {
+        EXPECT_NE(text.find("EXT_meshopt_compression"), std::string::npos) << text;
+      }
+    }
+  }
+}
+
+// The quantized file's own bytes (read by tinygltf, no decoder of ours): the
 // positions, dequantized by the node matrices, come back within half a step
 // of the longest side / 65535; UVs (clamped to [0, 1]) within half of 1/65535.
-TEST(GltfWriter, QuantizedMeshPassesKhronosValidatorAndDequantizes) {
+TEST(GltfWriter, QuantizedMeshDequantizesByItsNodeMatrix) {
   hos::testing::TempDir dir("hos-texture-gltf");
   TexturedMesh mesh = textured_sphere();
   mesh.root_matrix(1, 3) = 2.5;
   GltfWriteOptions options;
   options.mesh_compression = "quantized";
-  for (const std::string name : {"model.glb", "model.gltf"}) {
-    const fs::path file = dir / name;
-    if (name == "model.glb") {
-      write_glb(file, mesh, options);
-    } else {
-      write_gltf(file, mesh, encode_atlases(mesh, options, file), options.mesh_compression);
-    }
-    const int status = validate(file, dir / "report.json");
-    ASSERT_NE(status, -1) << "npm install gltf-validator failed";
-    const std::string text = hos::testing::read_text(dir / "report.json");
-    EXPECT_EQ(status, 0) << name << ": " << text;
-    EXPECT_NE(text.find("\"numErrors\": 0"), std::string::npos) << text;
-    EXPECT_NE(text.find("KHR_mesh_quantization"), std::string::npos) << text;
-  }
+  write_glb(dir / "model.glb", mesh, options);
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
   std::string error, warning;
@@ -170,8 +191,128 @@ TEST(GltfWriter, QuantizedMeshPassesKhronosValidatorAndDequantizes) {
   EXPECT_LE(worst, 0.5 * step * 1.0001);
   EXPECT_LE(worst_uv, 0.5 / 65535.0 + 1e-7);
   EXPECT_GT(step, 0.0);
-  // A compressed model cannot be converted: it says so.
-  EXPECT_THROW(read_glb_model(dir / "model.glb"), InputError);
+}
+
+// Each vertex's first copy (same position and UV; unseen faces share a
+// texel, so such copies exist).
+std::vector<std::size_t> first_copies(const TexturedMesh& mesh) {
+  std::vector<std::size_t> first(mesh.positions.size());
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+    first[v] = v;
+    for (std::size_t w = 0; w < v; ++w) {
+      if (mesh.positions[w] == mesh.positions[v] && mesh.uvs[w] == mesh.uvs[v]) {
+        first[v] = w;
+        break;
+      }
+    }
+  }
+  return first;
+}
+
+// The original vertex each read-back vertex stands for: the nearest in
+// position (relative to extent) plus UV, as its first copy; the writer may
+// reorder vertices.
+std::vector<std::size_t> nearest_vertices(const TexturedMesh& original, const TexturedMesh& read, double extent) {
+  const std::vector<std::size_t> first = first_copies(original);
+  std::vector<std::size_t> nearest;
+  for (std::size_t i = 0; i < read.positions.size(); ++i) {
+    double best = 1e300;
+    std::size_t best_v = 0;
+    for (std::size_t v = 0; v < original.positions.size(); ++v) {
+      const Eigen::Vector2f uv = original.uvs[v].cwiseMax(0.0f).cwiseMin(1.0f);
+      const double d = (original.positions[v] - read.positions[i]).cwiseAbs().maxCoeff() / extent +
+                       (uv - read.uvs[i]).cwiseAbs().maxCoeff();
+      if (d < best) best = d, best_v = v;
+    }
+    nearest.push_back(first[best_v]);
+  }
+  return nearest;
+}
+
+// A page's triangles as sorted vertex triples, each rotated to start at its
+// smallest vertex (the meshopt index codec may rotate triangles).
+std::vector<std::array<std::size_t, 3>> triangle_set(const std::vector<std::uint32_t>& indices,
+                                                     const std::vector<std::size_t>& vertex_of) {
+  std::vector<std::array<std::size_t, 3>> out;
+  for (std::size_t k = 0; k + 2 < indices.size(); k += 3) {
+    std::array<std::size_t, 3> t = {vertex_of[indices[k]], vertex_of[indices[k + 1]], vertex_of[indices[k + 2]]};
+    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+    out.push_back(t);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Each mesh_compression written and read back with read_glb_model (which
+// decodes the meshopt streams with meshoptimizer and dequantizes): the same
+// triangles on the same pages (vertices told apart by position and UV), the same atlas bytes and root matrix;
+// positions within half a grid step (bounding box's longest side / 65535)
+// per axis, UVs (clamped to [0, 1]) within half of 1/65535, unit normals
+// within sqrt(3) / 127 (half an 8-bit step per component, renormalized);
+// none: floats exactly (normals as the writer normalizes them).
+TEST(GltfWriter, EachCompressionReadsBackWithinItsBounds) {
+  hos::testing::TempDir dir("hos-texture-gltf");
+  TexturedMesh mesh = textured_sphere(128);
+  ASSERT_GT(mesh.atlases.size(), 1u);
+  mesh.root_matrix(0, 3) = -1.5;
+  Eigen::Vector3f lo = mesh.positions[0], hi = mesh.positions[0];
+  for (const auto& p : mesh.positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const double extent = (hi - lo).maxCoeff();
+  for (const std::string compression : {"none", "quantized", "meshopt"}) {
+    GltfWriteOptions options;
+    options.mesh_compression = compression;
+    const fs::path file = dir / (compression + ".glb");
+    write_glb(file, mesh, options);
+    const StoredModel read = read_glb_model(file);
+    const bool exact = compression == "none";
+    const double position_bound = exact ? 0.0 : 0.5 * extent / 65535.0 * 1.0001 + 1e-6;
+    const double uv_bound = exact ? 0.0 : 0.5 / 65535.0 + 1e-7;
+    const double normal_bound = exact ? 1e-6 : std::sqrt(3.0) / 127.0;
+    const std::vector<std::size_t> original = nearest_vertices(mesh, read.mesh, extent);
+    double worst_position = 0.0, worst_uv = 0.0, worst_normal = 0.0;
+    for (std::size_t i = 0; i < original.size(); ++i) {
+      const std::size_t v = original[i];
+      const Eigen::Vector2f uv = exact ? mesh.uvs[v] : Eigen::Vector2f(mesh.uvs[v].cwiseMax(0.0f).cwiseMin(1.0f));
+      worst_position =
+          std::max(worst_position, double((read.mesh.positions[i] - mesh.positions[v]).cwiseAbs().maxCoeff()));
+      worst_uv = std::max(worst_uv, double((read.mesh.uvs[i] - uv).cwiseAbs().maxCoeff()));
+      worst_normal = std::max(worst_normal, double((read.mesh.normals[i] - mesh.normals[v].normalized()).norm()));
+    }
+    std::cout << "[ figures  ] " << compression << ": " << fs::file_size(file) << " bytes, worst position "
+              << worst_position << " (bound " << position_bound << "), uv " << worst_uv << ", normal " << worst_normal
+              << "\n";
+    EXPECT_LE(worst_position, position_bound) << compression;
+    EXPECT_LE(worst_uv, uv_bound) << compression;
+    EXPECT_LE(worst_normal, normal_bound) << compression;
+    ASSERT_EQ(read.mesh.indices.size(), mesh.indices.size()) << compression;
+    const std::vector<std::size_t> first = first_copies(mesh);
+    for (std::size_t page = 0; page < mesh.indices.size(); ++page) {
+      EXPECT_EQ(triangle_set(read.mesh.indices[page], original), triangle_set(mesh.indices[page], first))
+          << compression << " page " << page;
+      EXPECT_EQ(read.images[page].bytes, encode_atlases(mesh, options, file)[page].bytes);
+    }
+    for (int k = 0; k < 16; ++k) EXPECT_EQ(read.mesh.root_matrix(k), mesh.root_matrix(k)) << compression;
+  }
+  // meshopt compresses this sphere's geometry below the quantized file's.
+  EXPECT_LT(fs::file_size(dir / "meshopt.glb"), fs::file_size(dir / "quantized.glb"));
+  EXPECT_LT(fs::file_size(dir / "quantized.glb"), fs::file_size(dir / "none.glb"));
+}
+
+// A meshopt .glb cut short is an InputError naming the file, for the model
+// reader as for any other.
+TEST(GltfWriter, TruncatedMeshoptFileIsBadInput) {
+  hos::testing::TempDir dir("hos-texture-gltf");
+  GltfWriteOptions options;
+  options.mesh_compression = "meshopt";
+  const fs::path file = dir / "model.glb";
+  write_glb(file, textured_sphere(), options);
+  fs::resize_file(file, fs::file_size(file) / 2);
+  try {
+    read_glb_model(file);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("model.glb"), std::string::npos) << e.what();
+  }
 }
 
 TEST(GltfWriter, UnwritableTargetThrowsOutputError) {

@@ -256,6 +256,23 @@ TEST(ModelWriter, GlbConvertsToObjWithTheSameAtlasBytes) {
   expect_same_model(read_obj(dir / "copy.obj"), mesh, "converted obj");
 }
 
+// A compressed .glb (meshopt over quantized attributes) converts as well:
+// every triangle and atlas arrives (the geometry's bounds are
+// GltfWriter.EachCompressionReadsBackWithinItsBounds').
+TEST(ModelWriter, MeshoptGlbConvertsToObj) {
+  hos::testing::TempDir dir("hos-model-convert");
+  const TexturedMesh mesh = textured_sphere(128);
+  GltfWriteOptions options;
+  options.mesh_compression = "meshopt";
+  write_model(dir / "model.glb", mesh, options);
+  convert_model(dir / "model.glb", dir / "copy.obj");
+  const ReadModel obj = read_obj(dir / "copy.obj");
+  std::size_t num_faces = 0;
+  for (const auto& page : mesh.indices) num_faces += page.size() / 3;
+  EXPECT_EQ(obj.faces.size(), num_faces);
+  EXPECT_EQ(obj.pages.size(), mesh.atlases.size());
+}
+
 // A .glb converted to .gltf keeps asset.extras: the units and the
 // geographic origin of the root frame.
 TEST(ModelWriter, GlbConvertsToGltfWithItsPlacement) {
