@@ -187,10 +187,13 @@ constexpr const char* kViewerScript = R"JS(
     });
     requestAnimationFrame(draw);
   }
-  viewer.addEventListener('load', () => {
+  const start = () => {
     openFirstView();
     requestAnimationFrame(draw);
-  }, {once: true});
+  };
+  // The element loads as soon as the parser creates it: a small model may be
+  // in before this script runs.
+  if (viewer.loaded) start(); else viewer.addEventListener('load', start, {once: true});
   document.getElementById('show-cameras').addEventListener('change', (e) =>
     frame.classList.toggle('hide-cameras', !e.target.checked));
 })();
@@ -304,6 +307,13 @@ std::string model_viewer_html(const StagePaths& paths, const fs::path& viewer_sc
       // No cameras: the viewer frames the model itself.
     }
   }
+  // The bundle first, then where its meshopt decoder loads from, both before
+  // the element: the preview's geometry is meshopt-compressed
+  // (texture/texture_output.h), and the bundle, which holds the decoder and
+  // only waits for that script to load, replaces ModelViewerElement when it
+  // runs and reads the location when the element loads its model.
+  html << "<script>\n" << viewer_script_text(viewer_script) << "\n</script>\n";
+  html << "<script>self.ModelViewerElement.meshoptDecoderLocation = \"data:text/javascript,\";</script>\n";
   html << kViewerStyle << "\n<div id=\"viewer-frame\">\n<model-viewer id=\"viewer\" camera-controls "
        << "alt=\"the textured model\" ";
   if (!views.empty()) {
@@ -327,7 +337,7 @@ std::string model_viewer_html(const StagePaths& paths, const fs::path& viewer_sc
   }
   if (preview) html << "shown: the preview " << html_escape(shown_name) << "; the full model: ";
   html << model_link << "</p>\n";
-  html << "<script>\n" << viewer_script_text(viewer_script) << "\n</script>\n";
+
   if (!views.empty()) {
     html << "<script type=\"application/json\" id=\"viewer-data\">" << viewer_data_json(views, *bounds)
          << "</script>\n<script>" << kViewerScript << "</script>\n";

@@ -33,8 +33,9 @@ Eigen::Matrix4d test_root_matrix() {
   return m;
 }
 
-// A square of side 2 in the z = 0 plane (SfM frame) in pure red.
-void write_red_square(const fs::path& file) {
+// A square of side 2 in the z = 0 plane (SfM frame) in pure red, its
+// geometry compressed as `mesh_compression` says.
+void write_red_square(const fs::path& file, const std::string& mesh_compression) {
   texture::TexturedMesh mesh;
   mesh.positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
   mesh.normals.assign(4, Eigen::Vector3f(0, 0, 1));
@@ -42,7 +43,9 @@ void write_red_square(const fs::path& file) {
   mesh.indices = {{0, 1, 2, 0, 2, 3}};
   mesh.atlases = {cv::Mat(4, 4, CV_8UC3, cv::Scalar(0, 0, 255))};
   mesh.root_matrix = test_root_matrix();
-  texture::write_glb(file, mesh);
+  texture::GltfWriteOptions options;
+  options.mesh_compression = mesh_compression;
+  texture::write_glb(file, mesh, options);
 }
 
 // The surface behind the square: a 21 x 21 grid over it and one stray
@@ -104,7 +107,9 @@ class RunReportBrowser : public ::testing::Test {
     const StagePaths paths(dir_.path());
     fs::create_directories(paths.textured_model.parent_path());
     fs::create_directories(paths.mesh.parent_path());
-    write_red_square(paths.textured_model);
+    // The viewer shows the preview, meshopt-compressed as hos-texture writes it.
+    write_red_square(paths.textured_model, "none");
+    write_red_square(report_preview_model(paths), "meshopt");
     write_surface(paths.mesh);
     write_colmap_model(photos(), paths.undistorted / "sparse", ColmapFormat::kText);
     RunRecord record;
