@@ -58,7 +58,8 @@ Window make_window(const cv::Mat& ref_gray, int x, int y, int radius, int step, 
     w.ox.push_back(0.0f);
     w.oy.push_back(0.0f);
   }
-  w.window = {w.ox.data(), w.oy.data(), count, float(-radius), float(2 * radius / step * step - radius)};
+  const int last_offset = 2 * radius / step * step - radius;  // the window's last sample, a multiple of step
+  w.window = {w.ox.data(), w.oy.data(), count, float(-radius), float(last_offset)};
   w.ref.x = x + 0.5f;
   w.ref.y = y + 0.5f;
   w.ref.centre_value = ref_gray.at<float>(y, x);

@@ -58,8 +58,8 @@ TEST(PlotAxes, TicksAreRoundStepsInsideTheRange) {
 }
 
 TEST(PlotAxes, HistogramHasBothAxisLabelsAFewTicksAndGridlines) {
-  std::vector<double> values;
-  for (int i = 0; i < 200; ++i) values.push_back(0.01 * i);
+  std::vector<double> values(200);
+  for (int i = 0; i < 200; ++i) values[i] = 0.01 * i;
   const std::string svg =
       svg_histogram(make_histogram(values, 30, 0.0, 2.0), {"sfm: error", "mean reprojection error (px)", ""});
   EXPECT_TRUE(contains(svg, "class=\"x-label\""));
