@@ -19,7 +19,7 @@ struct GeoPosition {
 // altitude counts as 0.
 Eigen::Vector3d ecef_from_geodetic(const GeoPosition& position);
 // The inverse (iterative, sub-millimetre away from the poles; always with altitude).
-GeoPosition geodetic_from_ecef(const Eigen::Vector3d& ecef);
+GeoPosition geodetic_from_ecef(const Eigen::Vector3d& x);
 
 // The local tangent frame at a reference position: x east, y north, z up
 // (metres), origin at the reference (its altitude, 0 if unknown).

@@ -100,7 +100,7 @@ TEST(PipelineConfig, NestedAliasesAreRefusedAtOnce) {
   std::string yaml = "recon:\n  a: &a [x, x, x, x, x, x, x, x, x]\n";
   std::string before = "a";
   for (const std::string name : {"b", "c", "d", "e", "f", "g", "h", "i"}) {
-    yaml += "  " + name + ": &" + name + " [*" + before;
+    yaml.append("  ").append(name).append(": &").append(name).append(" [*").append(before);
     for (int i = 1; i < 9; ++i) yaml += ", *" + before;
     yaml += "]\n";
     before = name;

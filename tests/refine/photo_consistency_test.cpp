@@ -123,7 +123,9 @@ TEST(SearchNormalOffsets, ObliqueReferencesStillPointBackToTheSurface) {
 // others still point back to the surface.
 TEST(SearchNormalOffsets, MaskedPixelsAreNeverCompared) {
   PushedRock rock = pushed_rock();
-  auto& [scene, mesh, normals, shift, tolerance] = rock;
+  const testing::RockScene& scene = rock.scene;
+  const TriangleMesh& mesh = rock.mesh;
+  const double shift = rock.shift, tolerance = rock.tolerance;
   const int band_top = 0, band_bottom = 180;
   std::vector<RefineView> masked_views;
   for (const RefineView& view : scene.views) {
@@ -146,8 +148,8 @@ TEST(SearchNormalOffsets, MaskedPixelsAreNeverCompared) {
     return seen > 0;
   };
   RefineOptions options;
-  const auto plain = search_normal_offsets(mesh, normals, scene.views, 0, tolerance, options, null_reporter());
-  const auto masked = search_normal_offsets(mesh, normals, masked_views, 0, tolerance, options, null_reporter());
+  const auto plain = search_normal_offsets(mesh, rock.normals, scene.views, 0, tolerance, options, null_reporter());
+  const auto masked = search_normal_offsets(mesh, rock.normals, masked_views, 0, tolerance, options, null_reporter());
   int in_band = 0, plain_targets_in_band = 0, masked_targets_in_band = 0;
   std::vector<double> errors_outside;
   for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
