@@ -39,6 +39,7 @@ StagedImage staged(const std::string& name,
 // 23 small photos and one large one, as a user might mix them.
 std::vector<StagedImage> small_photos_and_one_large() {
   std::vector<StagedImage> images;
+  images.reserve(24);
   for (int i = 0; i < 23; ++i) images.push_back(staged(format_message("small", i, ".jpg"), 400, 300));
   images.push_back(staged("large.jpg", 1600, 1200));
   return images;
@@ -134,6 +135,7 @@ TEST(SfmPlan, OneLargePhotoKeepsTheSmallOnesUpsampled) {
 // Frames of two videos without EXIF: one camera per size, not per photo.
 TEST(SfmPlan, PhotosOfTwoSizesWithoutExifGetOneCameraPerSize) {
   std::vector<StagedImage> images;
+  images.reserve(12);
   for (int i = 0; i < 6; ++i) images.push_back(staged(format_message("a", i, ".png"), 640, 480));
   for (int i = 0; i < 6; ++i) images.push_back(staged(format_message("b", i, ".png"), 800, 600));
   const PhotoSetFacts facts = photo_set_facts(images, "auto");

@@ -126,9 +126,11 @@ TEST(UpDirection, RandomRollAveragesOut) {
 
 TEST(UpDirection, NadirCamerasWithVariedHeadingsUseGravity) {
   std::vector<CameraPose> cameras;
+  cameras.reserve(12);
   for (int i = 0; i < 12; ++i) {
     const double heading = 2 * kPi * i / 12.0 + 0.3;
-    cameras.push_back(camera_at(Eigen::Vector3d(i % 4, -10.0, i / 4), -kSceneUp,
+    const int row = i / 4;  // a 4 x 3 grid of positions
+    cameras.push_back(camera_at(Eigen::Vector3d(i % 4, -10.0, row), -kSceneUp,
                                 Eigen::Vector3d(std::cos(heading), 0, std::sin(heading))));
   }
   const UpEstimate up = estimate_up(cameras, {});
@@ -140,6 +142,7 @@ TEST(UpDirection, NadirCamerasWithVariedHeadingsUseGravity) {
 // parallel, so gravity is undetermined about them; the ground decides.
 TEST(UpDirection, ParallelCamerasFallBackToTheGroundPlane) {
   std::vector<CameraPose> cameras;
+  cameras.reserve(8);
   const Eigen::Vector3d forward = Eigen::Vector3d(0, -std::sin(0.25), std::cos(0.25));  // 14 deg up
   for (int i = 0; i < 8; ++i) cameras.push_back(camera_at(Eigen::Vector3d(i - 4.0, -1.6, 0), forward, kSceneUp));
   std::vector<Eigen::Vector3f> points;
