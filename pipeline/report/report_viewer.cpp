@@ -193,11 +193,22 @@ constexpr const char* kViewerScript = R"JS(
   };
   // The element loads as soon as the parser creates it: a small model may be
   // in before this script runs.
-  if (viewer.loaded) start(); else viewer.addEventListener('load', start, {once: true});
+  if (viewer.dataset.loaded) start(); else viewer.addEventListener('load', start, {once: true});
   document.getElementById('show-cameras').addEventListener('change', (e) =>
     frame.classList.toggle('hide-cameras', !e.target.checked));
 })();
 )JS";
+
+// model-viewer's bundle as a script element. A meshopt-compressed model (the
+// preview: texture/texture_output.h) needs the bundle and where its meshopt
+// decoder loads from before the element (the bundle holds the decoder and
+// only waits for that script to load; it replaces ModelViewerElement when it
+// runs). Other models keep the bundle after the element.
+std::string bundle_scripts(const fs::path& viewer_script, bool meshopt) {
+  std::string html = "<script>\n" + viewer_script_text(viewer_script) + "\n</script>\n";
+  if (meshopt) html += "<script>self.ModelViewerElement.meshoptDecoderLocation = \"data:text/javascript,\";</script>\n";
+  return html;
+}
 
 }  // namespace
 
@@ -307,13 +318,13 @@ std::string model_viewer_html(const StagePaths& paths, const fs::path& viewer_sc
       // No cameras: the viewer frames the model itself.
     }
   }
-  // The bundle first, then where its meshopt decoder loads from, both before
-  // the element: the preview's geometry is meshopt-compressed
-  // (texture/texture_output.h), and the bundle, which holds the decoder and
-  // only waits for that script to load, replaces ModelViewerElement when it
-  // runs and reads the location when the element loads its model.
-  html << "<script>\n" << viewer_script_text(viewer_script) << "\n</script>\n";
-  html << "<script>self.ModelViewerElement.meshoptDecoderLocation = \"data:text/javascript,\";</script>\n";
+  const std::string shown_bytes = read_bytes(*shown);
+  const bool meshopt = shown_bytes.find("EXT_meshopt_compression") != std::string::npos;
+  if (meshopt) html << bundle_scripts(viewer_script, true);
+  // The element may load its model before the viewer script below runs: a
+  // capturing listener notes the load on it.
+  html << "<script>document.addEventListener('load', (e) => { if (e.target.id === 'viewer') "
+          "e.target.dataset.loaded = '1'; }, true);</script>\n";
   html << kViewerStyle << "\n<div id=\"viewer-frame\">\n<model-viewer id=\"viewer\" camera-controls "
        << "alt=\"the textured model\" ";
   if (!views.empty()) {
@@ -328,7 +339,7 @@ std::string model_viewer_html(const StagePaths& paths, const fs::path& viewer_sc
   } else {
     html << "style=\"aspect-ratio: 16 / 9\" ";
   }
-  html << "src=\"data:model/gltf-binary;base64," << base64(read_bytes(*shown)) << "\">\n"
+  html << "src=\"data:model/gltf-binary;base64," << base64(shown_bytes) << "\">\n"
        << "</model-viewer>\n<svg id=\"viewer-frusta\"></svg>\n</div>\n";
   html << "<p>";
   if (!views.empty()) {
@@ -337,7 +348,7 @@ std::string model_viewer_html(const StagePaths& paths, const fs::path& viewer_sc
   }
   if (preview) html << "shown: the preview " << html_escape(shown_name) << "; the full model: ";
   html << model_link << "</p>\n";
-
+  if (!meshopt) html << bundle_scripts(viewer_script, false);
   if (!views.empty()) {
     html << "<script type=\"application/json\" id=\"viewer-data\">" << viewer_data_json(views, *bounds)
          << "</script>\n<script>" << kViewerScript << "</script>\n";
