@@ -4,16 +4,14 @@
 
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <string>
+#include <filesystem>
 
-#include "core/error.h"
 #include "core/json_report.h"
+#include "tests/support/damaged_file_checks.h"
 #include "tests/support/test_support.h"
 
 namespace hos::mvs {
 namespace {
-namespace fs = std::filesystem;
 
 MvsReport example_report() {
   MvsReport r;
@@ -58,22 +56,10 @@ TEST(MvsReport, ReadsBackWhatItWrites) {
 }
 
 TEST(MvsReport, AMissingOrMalformedReportIsAnInputErrorNamingTheFile) {
-  hos::testing::TempDir dir;
-  const fs::path file = dir / "report.json";
-  const auto expect_input_error = [&](const std::string& why) {
-    try {
-      read_mvs_report(file);
-      ADD_FAILURE() << why << ": no error";
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.path(), file.string()) << why;
-    }
-  };
-  expect_input_error("missing");
-  for (const char* text : {"", R"({"views": 3,)", "[1, 2]", R"({"per_view": 3})", R"({"per_view": [{"name": 7}]})",
-                           R"({"points": "many"})", R"({"confidence": {"lo": "x"}})"}) {
-    std::ofstream(file) << text;
-    expect_input_error(text);
-  }
+  hos::testing::expect_input_error_naming_the_file(
+      "report.json", [](const std::filesystem::path& file) { read_mvs_report(file); },
+      {"", R"({"views": 3,)", "[1, 2]", R"({"per_view": 3})", R"({"per_view": [{"name": 7}]})", R"({"points": "many"})",
+       R"({"confidence": {"lo": "x"}})"});
 }
 
 }  // namespace

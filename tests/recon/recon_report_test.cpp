@@ -4,16 +4,14 @@
 
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <string>
+#include <filesystem>
 
-#include "core/error.h"
 #include "core/json_report.h"
+#include "tests/support/damaged_file_checks.h"
 #include "tests/support/test_support.h"
 
 namespace hos::recon {
 namespace {
-namespace fs = std::filesystem;
 
 // Every field away from its default, each value of its own.
 ReconReport tiled_report() {
@@ -105,22 +103,10 @@ TEST(ReconReport, KeysLeftOutOfTheFileReadAsTheirDefaults) {
 }
 
 TEST(ReconReport, AMissingOrMalformedReportIsAnInputErrorNamingTheFile) {
-  hos::testing::TempDir dir;
-  const fs::path file = dir / "report.json";
-  const auto expect_input_error = [&](const std::string& why) {
-    try {
-      read_recon_report(file);
-      ADD_FAILURE() << why << ": no error";
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.path(), file.string()) << why;
-    }
-  };
-  expect_input_error("missing");
-  for (const char* text : {"", "{\"faces\": 3", "null", R"({"residual_history": 0.5})",
-                           R"({"solve_iterations": ["a"]})", R"({"grid": {"x": 3}})", R"({"surface_area": "big"})"}) {
-    std::ofstream(file) << text;
-    expect_input_error(text);
-  }
+  hos::testing::expect_input_error_naming_the_file(
+      "report.json", [](const std::filesystem::path& file) { read_recon_report(file); },
+      {"", "{\"faces\": 3", "null", R"({"residual_history": 0.5})", R"({"solve_iterations": ["a"]})",
+       R"({"grid": {"x": 3}})", R"({"surface_area": "big"})"});
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/reporter.h"
 #include "sfm/sfm.h"
+#include "tests/support/damaged_file_checks.h"
 #include "tests/support/test_support.h"
 
 namespace hos::sfm {
@@ -306,25 +307,12 @@ TEST(SfmReport, KeysLeftOutOfTheFileReadAsTheirDefaults) {
 }
 
 TEST(SfmReport, AMissingOrMalformedReportIsAnInputErrorNamingTheFile) {
-  hos::testing::TempDir dir;
-  const std::filesystem::path file = dir / "report.json";
-  const auto expect_input_error = [&](const std::string& why) {
-    try {
-      read_sfm_report(file);
-      ADD_FAILURE() << why << ": no error";
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.path(), file.string()) << why;
-    }
-  };
-  expect_input_error("missing");
-  for (const char* text :
-       {"", "{\"images_given\": 3", "42", R"({"images_registered": "3"})", R"({"unregistered": "a.jpg"})",
-        R"({"skipped": [{"file": 1}]})", R"({"photos": [{"name": "a.jpg", "gps": {"latitude_deg": "N"}}]})",
-        R"({"plan": {"extractions": 2}})", R"({"step_seconds": {"mapper": "long"}})",
-        R"({"principal_point": {"cameras": [{"width": "wide"}]}})"}) {
-    std::ofstream(file) << text;
-    expect_input_error(text);
-  }
+  hos::testing::expect_input_error_naming_the_file(
+      "report.json", [](const std::filesystem::path& file) { read_sfm_report(file); },
+      {"", "{\"images_given\": 3", "42", R"({"images_registered": "3"})", R"({"unregistered": "a.jpg"})",
+       R"({"skipped": [{"file": 1}]})", R"({"photos": [{"name": "a.jpg", "gps": {"latitude_deg": "N"}}]})",
+       R"({"plan": {"extractions": 2}})", R"({"step_seconds": {"mapper": "long"}})",
+       R"({"principal_point": {"cameras": [{"width": "wide"}]}})"});
 }
 
 // --sparse with a model of other photos used to end in a COLMAP stack

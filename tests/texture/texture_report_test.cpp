@@ -4,16 +4,14 @@
 
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <string>
+#include <filesystem>
 
-#include "core/error.h"
 #include "core/json_report.h"
+#include "tests/support/damaged_file_checks.h"
 #include "tests/support/test_support.h"
 
 namespace hos::texture {
 namespace {
-namespace fs = std::filesystem;
 
 // Every field away from its default, each value of its own; GPS placement.
 TextureReport placed_report() {
@@ -135,24 +133,11 @@ TEST(TextureReport, PlacementWithoutGpsReadsBackWithoutIt) {
 }
 
 TEST(TextureReport, AMissingOrMalformedReportIsAnInputErrorNamingTheFile) {
-  hos::testing::TempDir dir;
-  const fs::path file = dir / "report.json";
-  const auto expect_input_error = [&](const std::string& why) {
-    try {
-      read_texture_report(file);
-      ADD_FAILURE() << why << ": no error";
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.path(), file.string()) << why;
-    }
-  };
-  expect_input_error("missing");
-  for (const char* text :
-       {"", "{\"faces\": ", "\"report\"", R"({"unseen_faces": "some"})", R"({"views_per_face": {"lo": 0, "hi": 1}})",
-        R"({"exposure_gains": [[1, 2]]})", R"({"placement": {"units_text": 3}})",
-        R"({"step_seconds": {"atlas": "slow"}})", R"({"atlases": [[1, "x"]]})"}) {
-    std::ofstream(file) << text;
-    expect_input_error(text);
-  }
+  hos::testing::expect_input_error_naming_the_file(
+      "report.json", [](const std::filesystem::path& file) { read_texture_report(file); },
+      {"", "{\"faces\": ", "\"report\"", R"({"unseen_faces": "some"})", R"({"views_per_face": {"lo": 0, "hi": 1}})",
+       R"({"exposure_gains": [[1, 2]]})", R"({"placement": {"units_text": 3}})",
+       R"({"step_seconds": {"atlas": "slow"}})", R"({"atlases": [[1, "x"]]})"});
 }
 
 }  // namespace
