@@ -129,6 +129,15 @@ GlbChunks split_glb(const std::string& glb, const std::string& path) {
   return chunks;
 }
 
+std::vector<std::string> glb_required_extensions(const std::string& glb, const std::string& path) {
+  const GlbChunks chunks = split_glb(glb, path);
+  try {
+    return Json::parse(chunks.json).value("extensionsRequired", std::vector<std::string>{});
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path, std::string("malformed glTF JSON: ") + e.what());
+  }
+}
+
 std::string join_glb(const std::string& json, const std::string& bin) {
   std::string json_chunk = json, bin_chunk = bin;
   pad(json_chunk, ' ');

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace hos {
 
@@ -15,6 +16,11 @@ struct GlbChunks {
 // Throws InputError naming path for a file that is not a version 2 .glb or
 // whose chunks run past its end.
 GlbChunks split_glb(const std::string& glb, const std::string& path);
+
+// The names the .glb's JSON lists in extensionsRequired (the extensions a
+// reader must support to load it), in file order. Throws InputError naming
+// path for a file that is not a .glb or whose JSON is malformed.
+std::vector<std::string> glb_required_extensions(const std::string& glb, const std::string& path);
 
 // The .glb of the chunks: JSON padded with spaces, BIN with zeros, to 4 bytes.
 std::string join_glb(const std::string& json, const std::string& bin);

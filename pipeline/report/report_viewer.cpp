@@ -8,6 +8,7 @@
 
 #include "core/colmap_io.h"
 #include "core/error.h"
+#include "core/glb_container.h"
 #include "core/json_report.h"
 #include "core/ply_io.h"
 #include "core/statistics.h"
@@ -199,6 +200,13 @@ constexpr const char* kViewerScript = R"JS(
 })();
 )JS";
 
+// Whether the .glb requires EXT_meshopt_compression, as the preview does; a
+// name or extras that mention it do not count.
+bool needs_meshopt_decoder(const std::string& glb, const fs::path& file) {
+  const std::vector<std::string> required = glb_required_extensions(glb, file.string());
+  return std::find(required.begin(), required.end(), "EXT_meshopt_compression") != required.end();
+}
+
 // model-viewer's bundle as a script element. A meshopt-compressed model (the
 // preview: texture/texture_output.h) needs the bundle and where its meshopt
 // decoder loads from before the element (the bundle holds the decoder and
@@ -301,9 +309,12 @@ std::string model_viewer_html(const StagePaths& paths, const fs::path& viewer_sc
   }
   const bool preview = *shown != paths.textured_model;
   const std::string shown_name = "texture/" + shown->filename().string();
+  const std::string shown_bytes = read_bytes(*shown);
   GlbFigures glb;
+  bool meshopt = false;
   try {
     glb = read_glb_figures(*shown);
+    meshopt = needs_meshopt_decoder(shown_bytes, *shown);
   } catch (const Error&) {
     html << "<p id=\"model\">" << html_escape(shown_name) << " is not a valid binary glTF: " << model_link << "</p>\n";
     return html.str();
@@ -318,8 +329,6 @@ std::string model_viewer_html(const StagePaths& paths, const fs::path& viewer_sc
       // No cameras: the viewer frames the model itself.
     }
   }
-  const std::string shown_bytes = read_bytes(*shown);
-  const bool meshopt = shown_bytes.find("EXT_meshopt_compression") != std::string::npos;
   if (meshopt) html << bundle_scripts(viewer_script, true);
   // The element may load its model before the viewer script below runs: a
   // capturing listener notes the load on it.

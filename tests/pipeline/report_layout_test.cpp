@@ -1,11 +1,15 @@
 // The run report's plots read on their own (axis labels, ticks, a marker per
-// solve, where the time went) and its page stays small whatever the model.
+// solve, where the time went), its page stays small whatever the model, and
+// its viewer's scripts come in the order the model needs.
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
 #include <regex>
 
+#include "core/glb_container.h"
 #include "core/histogram.h"
 #include "pipeline/report/report.h"
 #include "pipeline/report/report_plots.h"
@@ -14,6 +18,7 @@
 #include "pipeline/run_record.h"
 #include "pipeline/stage_paths.h"
 #include "tests/support/test_support.h"
+#include "texture/gltf_writer.h"
 
 namespace hos::pipeline {
 namespace {
@@ -203,6 +208,59 @@ TEST(ReportPageSize, SmallModelWithoutPreviewIsShownItself) {
   const std::string html = run_report_html(ws.dir.path(), {ws.script});
   EXPECT_TRUE(contains(html, "data:model/gltf-binary;base64," + base64(read_bytes(ws.paths.textured_model))));
   EXPECT_TRUE(contains(html, "href=\"texture/model.glb\""));
+}
+
+// A one-triangle model as hos-texture writes it, its geometry compressed as
+// mesh_compression says.
+void write_triangle_model(const fs::path& file, const std::string& mesh_compression) {
+  texture::TexturedMesh mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh.normals.assign(3, Eigen::Vector3f(0, 0, 1));
+  mesh.uvs = {{0, 1}, {1, 1}, {0, 0}};
+  mesh.indices = {{0, 1, 2}};
+  mesh.atlases = {cv::Mat(4, 4, CV_8UC3, cv::Scalar(40, 80, 120))};
+  texture::GltfWriteOptions options;
+  options.mesh_compression = mesh_compression;
+  texture::write_glb(file, mesh, options);
+}
+
+// Where the viewer's bundle (the workspace's stand-in) and the meshopt
+// decoder location are in the page, relative to the <model-viewer> element.
+struct ViewerOrder {
+  bool decoder_location = false;
+  bool bundle_first = false;
+};
+ViewerOrder viewer_order(const std::string& html) {
+  const auto element = html.find("<model-viewer id=\"viewer\"");
+  const auto bundle = html.find("/*xxx");
+  const auto decoder = html.find("meshoptDecoderLocation");
+  EXPECT_NE(element, std::string::npos);
+  EXPECT_NE(bundle, std::string::npos);
+  EXPECT_TRUE(decoder == std::string::npos || decoder < element) << "the decoder location after the element";
+  return {decoder != std::string::npos, bundle < element};
+}
+
+// A meshopt-compressed preview needs the bundle and its decoder location
+// before the element; a model that only mentions the extension (in a name,
+// in extras) is not compressed and keeps the bundle after it.
+TEST(ReportViewer, OnlyAModelThatRequiresMeshoptGetsTheDecoderFirst) {
+  ModelWorkspace ws(1000);
+  const fs::path preview = report_preview_model(ws.paths);
+  write_triangle_model(preview, "meshopt");
+  ViewerOrder order = viewer_order(run_report_html(ws.dir.path(), {ws.script}));
+  EXPECT_TRUE(order.decoder_location);
+  EXPECT_TRUE(order.bundle_first);
+
+  write_triangle_model(preview, "quantized");
+  const GlbChunks chunks = split_glb(read_bytes(preview), preview.string());
+  nlohmann::json json = nlohmann::json::parse(chunks.json);
+  ASSERT_EQ(json["extensionsRequired"], nlohmann::json::array({"KHR_mesh_quantization"}));
+  json["asset"]["extras"]["note"] = "not EXT_meshopt_compression";
+  json["meshes"][0]["name"] = "EXT_meshopt_compression";
+  std::ofstream(preview, std::ios::binary) << join_glb(json.dump(), chunks.bin);
+  order = viewer_order(run_report_html(ws.dir.path(), {ws.script}));
+  EXPECT_FALSE(order.decoder_location);
+  EXPECT_FALSE(order.bundle_first);
 }
 
 TEST(ReportLayout, PageFitsTheWindowsWidth) {
