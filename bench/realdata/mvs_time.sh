@@ -36,7 +36,7 @@ for work in "${works[@]}"; do
   [ -d "$undistorted/sparse" ] || { echo "$undistorted/sparse: missing (make WORK with holdout.sh)" >&2; exit 3; }
   run_alternately "$tmp/rows" run_one
   python3 - "$work" "$undistorted" "$tmp/rows" <<'PY'
-import os, statistics, struct, sys
+import os, struct, sys
 work, undistorted, rows_path = sys.argv[1:4]
 # The first camera's image size from the COLMAP model (text or binary; a
 # binary camera record starts with id, model, width, height).
@@ -49,17 +49,13 @@ else:
     with open(os.path.join(sparse, "cameras.bin"), "rb") as f:
         _, _, _, w, h = struct.unpack("<QiiQQ", f.read(32))
 views = len(os.listdir(os.path.join(undistorted, "images")))  # the registered photos, undistorted
-runs = {"old": [], "new": []}
 for line in open(rows_path):
     build, r, wall, user, sys_, load, size = line.split()
     s = min(1.0, float(size) / max(w, h))
     mp = (w * s) * (h * s) / 1e6
     cpu = float(user) + float(sys_)
-    runs[build].append((float(wall), cpu))
     print(f"| {os.path.basename(os.path.normpath(work))} | {build} | {r} | {float(wall):.1f} | {cpu:.1f} | {views} | "
           f"{mp:.2f} | {float(wall) / views / mp:.1f} / {cpu / views / mp:.1f} | {load} |")
-med = {b: (statistics.median(x[0] for x in v), statistics.median(x[1] for x in v)) for b, v in runs.items()}
-print(f"| {os.path.basename(os.path.normpath(work))} | new / old (medians) | | {med['new'][0] / med['old'][0]:.2f}x | "
-      f"{med['new'][1] / med['old'][1]:.2f}x | | | | |")
 PY
+  medians_row "$(basename "$work")" "$tmp/rows" 4
 done

@@ -36,17 +36,7 @@ for work in "${works[@]}"; do
   [ -d "$undistorted/sparse" ] || { echo "$undistorted/sparse: missing (make WORK with holdout.sh)" >&2; exit 3; }
   [ -f "$mesh" ] || { echo "$mesh: missing (make run $label with holdout.sh --keep)" >&2; exit 3; }
   run_alternately "$tmp/rows" run_one
-  python3 - "$work" "$tmp/rows" <<'PY'
-import os, statistics, sys
-work, rows_path = sys.argv[1:3]
-name = os.path.basename(os.path.normpath(work))
-runs = {"old": [], "new": []}
-for line in open(rows_path):
-    build, r, wall, user, sys_, load = line.split()
-    cpu = float(user) + float(sys_)
-    runs[build].append((float(wall), cpu))
-    print(f"| {name} | {build} | {r} | {float(wall):.1f} | {cpu:.1f} | {load} |")
-med = {b: (statistics.median(x[0] for x in v), statistics.median(x[1] for x in v)) for b, v in runs.items()}
-print(f"| {name} | new / old (medians) | | {med['new'][0] / med['old'][0]:.2f}x | {med['new'][1] / med['old'][1]:.2f}x | |")
-PY
+  awk -v name="$(basename "$work")" \
+    '{ printf "| %s | %s | %s | %.1f | %.1f | %s |\n", name, $1, $2, $3, $4 + $5, $6 }' "$tmp/rows"
+  medians_row "$(basename "$work")" "$tmp/rows" 1
 done

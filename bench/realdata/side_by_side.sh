@@ -9,6 +9,7 @@
 #                                       per build, old first, and appends
 #                                       "build run wall user sys load" and
 #                                       whatever run_one printed to ROWS
+#   medians_row NAME ROWS CELLS      -> prints the table row of ROWS' medians
 # run_one runs the stage under `timed` (below) and may print extra columns.
 
 parse_side_by_side_options() {
@@ -49,4 +50,20 @@ run_alternately() {
       echo "$build $r $wall $user $sys $(cut -d' ' -f1 /proc/loadavg) $extra_columns" >> "$rows"
     done
   done
+}
+
+# medians_row NAME ROWS CELLS: the row "| NAME | new / old (medians) | | WALL
+# | CPU |" and CELLS empty cells, WALL and CPU the ratios new / old of the
+# medians over ROWS' runs of the wall and CPU (user + sys) seconds.
+medians_row() {
+  python3 - "$@" <<'PY'
+import statistics, sys
+name, rows_path, cells = sys.argv[1], sys.argv[2], int(sys.argv[3])
+runs = {"old": [], "new": []}
+for line in open(rows_path):
+    build, _, wall, user, sys_ = line.split()[:5]
+    runs[build].append((float(wall), float(user) + float(sys_)))
+wall, cpu = (statistics.median(t[k] for t in runs["new"]) / statistics.median(t[k] for t in runs["old"]) for k in (0, 1))
+print(f"| {name} | new / old (medians) | | {wall:.2f}x | {cpu:.2f}x |" + " |" * cells)
+PY
 }
