@@ -2,11 +2,15 @@
 
 #include <jpeglib.h>
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "core/error.h"
 
@@ -88,7 +92,7 @@ void write_jpeg_444(const cv::Mat& image, int quality, const std::filesystem::pa
   const std::vector<unsigned char> bytes = encode_jpeg_444(image, quality);
   std::ofstream out(file, std::ios::binary);
   out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  if (!out) throw OutputError(file.string(), "cannot write " + what);
+  if (!out) throw OutputError(file.string(), what);  // "FILE: cannot write: WHAT"
 }
 
 }  // namespace hos

@@ -2,10 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
+#include "core/error.h"
 #include "tests/support/test_support.h"
 
 namespace hos {
@@ -51,6 +55,25 @@ TEST(JpegEncoding, EncodesGreyImagesAndRefusesOtherTypes) {
   EXPECT_GT(cv::PSNR(grey, decoded), 40.0);
   EXPECT_THROW(encode_jpeg_444(cv::Mat(), 95), std::invalid_argument);
   EXPECT_THROW(encode_jpeg_444(cv::Mat(8, 8, CV_16UC3), 95), std::invalid_argument);
+}
+
+// A file that cannot be created (its folder is missing, or it is a folder)
+// is an OutputError naming it and what it was (once: the error says "cannot
+// write" itself); one that can holds the encoder's bytes.
+TEST(JpegEncoding, AFileItCannotWriteIsAnOutputErrorNamingIt) {
+  const testing::TempDir dir;
+  const cv::Mat image = colour_stripes();
+  for (const std::filesystem::path& file : {dir / "missing" / "frame.jpg", dir.path()}) {
+    try {
+      write_jpeg_444(image, 90, file, "the video frame");
+      ADD_FAILURE() << file << ": no error";
+    } catch (const OutputError& e) {
+      EXPECT_EQ(std::string(e.what()), file.string() + ": cannot write: the video frame");
+    }
+  }
+  write_jpeg_444(image, 90, dir / "frame.jpg", "the video frame");
+  const std::vector<unsigned char> bytes = encode_jpeg_444(image, 90);
+  EXPECT_EQ(testing::read_text(dir / "frame.jpg"), std::string(bytes.begin(), bytes.end()));
 }
 
 }  // namespace
