@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <map>
 #include <opencv2/imgproc.hpp>
@@ -242,22 +243,34 @@ Packing pack_charts(const std::vector<Chart>& charts,
       area += cv::countNonZero(f);
       widest = std::max(widest, std::min(f.cols, f.rows));
     }
-    double best_texels = std::numeric_limits<double>::max();
+    std::vector<int> widths;
     for (const double factor : {1.05, 1.15, 1.3, 1.5}) {
-      const int width =
-          std::min(page_size, std::max(widest, (static_cast<int>(factor * std::sqrt(area)) + 15) / 16 * 16));
-      int pages = 0;
-      std::vector<FootprintPlacement> placements =
-          pack_footprints(footprints, options.padding, width, page_size, &pages);
-      const double texels = packed_texels(footprints, placements, width, pages);
-      if (texels < best_texels) {
-        best_texels = texels;
-        packing.page_width = width;
-        packing.num_pages = pages;
-        packing.placements = std::move(placements);
-      }
-      if (width == page_size) break;
+      widths.push_back(
+          std::min(page_size, std::max(widest, (static_cast<int>(factor * std::sqrt(area)) + 15) / 16 * 16)));
+      if (widths.back() == page_size) break;
     }
+    // The widths are packed in parallel, and the first with the fewest
+    // texels is kept.
+    std::vector<std::vector<FootprintPlacement>> placements(widths.size());
+    std::vector<int> pages(widths.size(), 0);
+    std::vector<double> texels(widths.size(), 0.0);
+    std::vector<std::exception_ptr> failures(widths.size());
+#pragma omp parallel for schedule(dynamic)
+    for (int w = 0; w < static_cast<int>(widths.size()); ++w) {
+      try {
+        placements[w] = pack_footprints(footprints, options.padding, widths[w], page_size, &pages[w]);
+        texels[w] = packed_texels(footprints, placements[w], widths[w], pages[w]);
+      } catch (...) {
+        failures[w] = std::current_exception();  // an exception may not leave the parallel loop
+      }
+    }
+    for (const std::exception_ptr& failure : failures) {
+      if (failure) std::rethrow_exception(failure);
+    }
+    const auto best = std::min_element(texels.begin(), texels.end()) - texels.begin();
+    packing.page_width = widths[best];
+    packing.num_pages = pages[best];
+    packing.placements = std::move(placements[best]);
     if (packing.num_pages <= options.max_atlases || attempt > 30) break;
     packing.scale *= 0.8;
   }
