@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <optional>
+#include <string>
 
 namespace hos {
 
@@ -13,6 +14,13 @@ struct GeoPosition {
   double latitude_deg = 0.0;         // north positive, -90..90
   double longitude_deg = 0.0;        // east positive
   std::optional<double> altitude_m;  // ellipsoidal/sea-level height; unknown for many phones
+};
+
+// A photo's position, by the photo's name in the workspace; none when its
+// EXIF has no GPS.
+struct PhotoGps {
+  std::string name;
+  std::optional<GeoPosition> gps;
 };
 
 // Earth-centred Earth-fixed coordinates (metres) of a position; a missing

@@ -12,18 +12,17 @@
 #include <string>
 #include <vector>
 
+#include "core/geodesy.h"
+
 namespace Exiv2 {
 class ExifData;
 }
 
 namespace hos::sfm {
 
-// A photo's EXIF GPS position (WGS84).
-struct GpsPosition {
-  double latitude_deg = 0.0;         // north positive
-  double longitude_deg = 0.0;        // east positive
-  std::optional<double> altitude_m;  // above sea level (negative below); many phones omit it
-};
+// A photo's EXIF GPS position (WGS84; the altitude above sea level, often
+// missing from phones' photos).
+using GpsPosition = GeoPosition;
 
 struct ExifInfo {
   int orientation = 1;  // 1..8 as EXIF defines it; 1 = upright

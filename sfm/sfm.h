@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/geodesy.h"
 #include "core/reporter.h"
 #include "core/sparse_model.h"
 #include "sfm/image_inputs.h"
@@ -87,12 +88,9 @@ struct SfmResult {
   double registered_fraction = 0.0;
   std::string coverage_warning;
   std::vector<SkippedInput> skipped;  // files of the folder that were not usable
-  // Every usable photo's EXIF GPS position (report.json "photos", read by
-  // the texture stage to place the model: texture/geo_alignment.h).
-  struct PhotoGps {
-    std::string name;
-    std::optional<GpsPosition> gps;
-  };
+  // Every usable photo's EXIF GPS position (report.json "photos" as
+  // core/photo_gps_json.h writes it, read by the texture stage to place the
+  // model: texture/geo_alignment.h).
   std::vector<PhotoGps> photos;
   std::vector<VideoClipSummary> videos;  // video clips among the photos: frames kept and why
   int masked_photos = 0;                 // photos given with a mask (sfm.masks or PHOTO.png)

@@ -1,6 +1,7 @@
 #include "sfm/sfm_report.h"
 
 #include "core/json_report.h"
+#include "core/photo_gps_json.h"
 
 namespace hos::sfm {
 namespace {
@@ -33,16 +34,6 @@ SfmPlanReport plan_report(const SfmPlan& plan) {
                              run.sift_max_image_size, run.sift_upsample});
   }
   return p;
-}
-
-// null without GPS; the keys in name order.
-Json gps_json(const std::optional<GpsPosition>& gps) {
-  if (!gps) return nullptr;
-  Json j;
-  if (gps->altitude_m) j["altitude_m"] = *gps->altitude_m;
-  j["latitude_deg"] = gps->latitude_deg;
-  j["longitude_deg"] = gps->longitude_deg;
-  return j;
 }
 
 Json video_json(const VideoClipReport& v) {
@@ -89,8 +80,7 @@ void add_lists_json(const SfmReport& r, Json& j) {
   }
   j["skipped"] = Json::array();
   for (const SkippedInput& s : r.skipped) j["skipped"].push_back({{"file", s.file.string()}, {"reason", s.reason}});
-  j["photos"] = Json::array();
-  for (const SfmResult::PhotoGps& p : r.photos) j["photos"].push_back({{"name", p.name}, {"gps", gps_json(p.gps)}});
+  j["photos"] = photo_gps_json(r.photos);
   if (!r.videos.empty()) {
     j["videos"] = Json::array();
     for (const VideoClipReport& v : r.videos) j["videos"].push_back(video_json(v));
@@ -112,20 +102,6 @@ SkippedInput skipped_from_json(const Json& j) {
   s.file = file;
   read_key(j, "reason", s.reason);
   return s;
-}
-
-SfmResult::PhotoGps photo_from_json(const Json& j) {
-  SfmResult::PhotoGps p;
-  read_key(j, "name", p.name);
-  if (const auto gps = j.find("gps"); gps != j.end() && !gps->is_null()) {
-    p.gps = GpsPosition{};
-    read_key(*gps, "latitude_deg", p.gps->latitude_deg);
-    read_key(*gps, "longitude_deg", p.gps->longitude_deg);
-    if (const auto altitude = gps->find("altitude_m"); altitude != gps->end()) {
-      p.gps->altitude_m = altitude->get<double>();
-    }
-  }
-  return p;
 }
 
 VideoClipReport video_from_json(const Json& j) {
@@ -187,7 +163,7 @@ void read_lists(const Json& j, SfmReport& r) {
   read_key(j, "unregistered", r.unregistered);
   read_list(j, "unregistered_photos", r.unregistered_photos, unregistered_from_json);
   read_list(j, "skipped", r.skipped, skipped_from_json);
-  read_list(j, "photos", r.photos, photo_from_json);
+  if (const auto photos = j.find("photos"); photos != j.end()) r.photos = photo_gps_from_json(*photos);
   read_list(j, "videos", r.videos, video_from_json);
   read_list(j, "models", r.models, model_from_json);
 }

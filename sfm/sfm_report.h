@@ -59,8 +59,8 @@ struct SfmReport {
   std::vector<std::string> unregistered;
   std::vector<UnregisteredPhoto> unregistered_photos;
   std::vector<SkippedInput> skipped;
-  std::vector<SfmResult::PhotoGps> photos;  // every usable photo, with its GPS if it has one
-  std::vector<VideoClipReport> videos;      // left out of the file when empty
+  std::vector<PhotoGps> photos;         // every usable photo, with its GPS if it has one
+  std::vector<VideoClipReport> videos;  // left out of the file when empty
   int masked_photos = 0;
   int masks_undistorted = 0;
   std::int64_t points = 0;

@@ -4,13 +4,14 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
 
 #include "core/error.h"
+#include "core/json_report.h"
+#include "core/photo_gps_json.h"
 #include "core/reporter.h"
 #include "core/statistics.h"
 
@@ -131,39 +132,19 @@ std::string rounded_metres(double m) {
 }  // namespace
 
 std::vector<PhotoPosition> read_photo_positions(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw InputError(file.string(), "cannot be opened");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(file.string(), std::string("not valid JSON: ") + e.what());
-  }
-  if (!j.is_object()) throw InputError(file.string(), "is not a JSON object");
+  const std::vector<PhotoGps> photos = read_json_report(file, [](const nlohmann::ordered_json& j) {
+    const auto it = j.find("photos");  // none: e.g. the report of an sfm run on an existing model
+    return it == j.end() ? std::vector<PhotoGps>{} : photo_gps_from_json(*it);
+  });
   std::vector<PhotoPosition> out;
-  if (!j.contains("photos")) return out;  // e.g. the report of an sfm run on an existing model
-  if (!j["photos"].is_array()) throw InputError(file.string(), "\"photos\" is not an array");
-  for (const auto& photo : j["photos"]) {
-    if (!photo.is_object() || !photo.contains("name") || !photo["name"].is_string()) {
-      throw InputError(file.string(), "a photo without a \"name\"");
+  for (const PhotoGps& photo : photos) {
+    if (!photo.gps) continue;
+    const GeoPosition& gps = *photo.gps;
+    if (!std::isfinite(gps.latitude_deg) || !std::isfinite(gps.longitude_deg) || std::abs(gps.latitude_deg) > 90.0 ||
+        std::abs(gps.longitude_deg) > 360.0) {
+      throw InputError(file.string(), "photo " + photo.name + ": latitude or longitude out of range");
     }
-    if (!photo.contains("gps") || photo["gps"].is_null()) continue;
-    const auto& gps = photo["gps"];
-    const std::string name = photo["name"].get<std::string>();
-    if (!gps.is_object() || !gps.contains("latitude_deg") || !gps.contains("longitude_deg") ||
-        !gps["latitude_deg"].is_number() || !gps["longitude_deg"].is_number()) {
-      throw InputError(file.string(), "photo " + name + ": \"gps\" needs numeric latitude_deg and longitude_deg");
-    }
-    PhotoPosition p;
-    p.name = name;
-    p.gps.latitude_deg = gps["latitude_deg"].get<double>();
-    p.gps.longitude_deg = gps["longitude_deg"].get<double>();
-    if (gps.contains("altitude_m") && gps["altitude_m"].is_number()) p.gps.altitude_m = gps["altitude_m"].get<double>();
-    if (!std::isfinite(p.gps.latitude_deg) || !std::isfinite(p.gps.longitude_deg) ||
-        std::abs(p.gps.latitude_deg) > 90.0 || std::abs(p.gps.longitude_deg) > 360.0) {
-      throw InputError(file.string(), "photo " + name + ": latitude or longitude out of range");
-    }
-    out.push_back(p);
+    out.push_back({photo.name, gps});
   }
   return out;
 }

@@ -27,11 +27,11 @@ struct PhotoPosition {
   GeoPosition gps;
 };
 
-// Reads the photos' GPS positions from JSON: an object whose "photos" array
-// holds {"name": ..., "gps": {"latitude_deg", "longitude_deg", optional
-// "altitude_m"}} (photos without "gps" or with null are skipped), as the sfm
-// stage's report.json has it; an object without "photos" holds none.
-// Throws InputError naming the file and the reason.
+// Reads the photos' GPS positions from JSON: an object whose "photos" key
+// lists them as the sfm stage's report.json does (core/photo_gps_json.h;
+// photos without a position are skipped); an object without "photos" holds
+// none. Throws InputError naming the file and the reason (a latitude or
+// longitude out of range among them).
 std::vector<PhotoPosition> read_photo_positions(const std::filesystem::path& file);
 
 // x -> scale * rotation * x + translation.

@@ -18,6 +18,7 @@
 #include "synth/dataset.h"
 #include "synth/geo_tags.h"
 #include "synth/scene.h"
+#include "tests/support/damaged_file_checks.h"
 #include "texture/gltf_writer.h"
 
 namespace hos::texture {
@@ -374,6 +375,17 @@ TEST(GeoAlignment, ReadsPhotoPositions) {
   EXPECT_THROW(read_photo_positions(file), InputError);
   std::filesystem::remove(file);
   EXPECT_THROW(read_photo_positions(file), InputError);
+}
+
+TEST(GeoAlignment, AMissingOrDamagedPositionsFileIsAnInputErrorNamingIt) {
+  hos::testing::expect_input_error_naming_the_file(
+      "report.json", [](const std::filesystem::path& file) { read_photo_positions(file); },
+      {"", "[1, 2]", R"({"photos": 3})", R"({"photos": [{"gps": null}]})", R"({"photos": [{"name": 7}]})",
+       R"({"photos": [{"name": "a.jpg", "gps": {"latitude_deg": 46.5}}]})",
+       R"({"photos": [{"name": "a.jpg", "gps": {"latitude_deg": "N", "longitude_deg": 6.6}}]})",
+       R"({"photos": [{"name": "a.jpg", "gps": {"latitude_deg": 46.5, "longitude_deg": 6.6, "altitude_m": "high"}}]})",
+       R"({"photos": [{"name": "a.jpg", "gps": {"latitude_deg": -90.5, "longitude_deg": 6.6}}]})",
+       R"({"photos": [{"name": "a.jpg", "gps": 46.5}]})"});
 }
 
 }  // namespace
