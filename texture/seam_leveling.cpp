@@ -1,7 +1,8 @@
 #include "texture/seam_leveling.h"
 
-#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/Sparse>
+#include <array>
+#include <limits>
 #include <numeric>
 #include <opencv2/imgproc.hpp>
 
@@ -105,35 +106,85 @@ Eigen::SparseMatrix<double> leveling_matrix(const std::vector<std::vector<int>>&
   return A;
 }
 
-// The offsets g minimizing the leveling energy, per channel by conjugate
-// gradients; returns the most iterations of a channel.
+// Y = A X for a symmetric A: its columns are its rows. One pass over the
+// matrix serves the three channels.
+void multiply_symmetric(const Eigen::SparseMatrix<double>& A, const Eigen::MatrixX3d& X, Eigen::MatrixX3d& Y) {
+  const double *x0 = X.col(0).data(), *x1 = X.col(1).data(), *x2 = X.col(2).data();
+  double *y0 = Y.col(0).data(), *y1 = Y.col(1).data(), *y2 = Y.col(2).data();
+  for (int j = 0; j < static_cast<int>(A.outerSize()); ++j) {
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) {
+      const double v = it.value();
+      const Eigen::Index i = it.index();
+      s0 += v * x0[i];
+      s1 += v * x1[i];
+      s2 += v * x2[i];
+    }
+    y0[j] = s0;
+    y1[j] = s1;
+    y2[j] = s2;
+  }
+}
+
+// Conjugate gradients with the diagonal preconditioner from zero, the three
+// channels side by side, each stopping on its own when its residual falls
+// below tolerance times its right-hand side (the steps and stopping rule of
+// Eigen's ConjugateGradient). Returns the most iterations of a channel.
+int block_conjugate_gradients(const Eigen::SparseMatrix<double>& A,
+                              const Eigen::MatrixX3d& B,
+                              double tolerance,
+                              int max_iterations,
+                              Eigen::MatrixX3d& X) {
+  const Eigen::Index n = B.rows();
+  const Eigen::VectorXd inverse_diagonal = A.diagonal().unaryExpr([](double d) { return d != 0.0 ? 1.0 / d : 1.0; });
+  X.setZero(n, 3);
+  Eigen::MatrixX3d R = B, Z = inverse_diagonal.asDiagonal() * R, P = Z, AP(n, 3);
+  Eigen::RowVector3d threshold = tolerance * tolerance * B.colwise().squaredNorm();
+  threshold = threshold.cwiseMax(std::numeric_limits<double>::min());
+  Eigen::RowVector3d rz = (R.cwiseProduct(Z)).colwise().sum();
+  std::array<bool, 3> active{};
+  for (int c = 0; c < 3; ++c) active[c] = R.col(c).squaredNorm() >= threshold[c];
+  int iterations = 0;
+  for (; iterations < max_iterations && (active[0] || active[1] || active[2]); ++iterations) {
+    multiply_symmetric(A, P, AP);
+    for (int c = 0; c < 3; ++c) {
+      if (!active[c]) continue;
+      const double alpha = rz[c] / P.col(c).dot(AP.col(c));
+      X.col(c) += alpha * P.col(c);
+      R.col(c) -= alpha * AP.col(c);
+      if (R.col(c).squaredNorm() < threshold[c]) {
+        active[c] = false;
+        continue;
+      }
+      Z.col(c) = inverse_diagonal.cwiseProduct(R.col(c));
+      const double rz_new = R.col(c).dot(Z.col(c));
+      P.col(c) = Z.col(c) + (rz_new / rz[c]) * P.col(c);
+      rz[c] = rz_new;
+    }
+  }
+  return iterations;
+}
+
+// The offsets g minimizing the leveling energy by conjugate gradients from
+// zero, stopped at a relative residual of 1e-3; returns the iterations.
+// (An exact solve, or one started from per-chart constants, levels further
+// and scores lower at held-out photos: fountain-P11 -0.07 and -0.49 dB.)
 int solve_offsets(const Eigen::SparseMatrix<double>& A,
                   const std::vector<std::vector<int>>& copies,
                   const std::vector<Eigen::Vector3f>& f,
-                  std::vector<Eigen::Vector3f>& g,
-                  Reporter& reporter) {
+                  std::vector<Eigen::Vector3f>& g) {
   const int n = static_cast<int>(f.size());
-  // Lower only: Eigen parallelizes the Lower|Upper product with OpenMP, whose
-  // per-iteration synchronization costs more than it gains on a busy machine.
-  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
-  solver.setMaxIterations(1000);
-  solver.setTolerance(1e-3);
-  solver.compute(A);
-  int iterations = 0;
-  for (int channel = 0; channel < 3; ++channel) {
-    reporter.throw_if_cancelled();
-    // Right-hand side: -d/dg of the seam terms at g = 0.
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
-    for_each_copy_pair(copies, [&](int i, int j) {
-      const double d = f[i][channel] - f[j][channel];
-      rhs[i] -= d;
-      rhs[j] += d;
-    });
-    const Eigen::VectorXd x = solver.solve(rhs);
-    if (!x.allFinite()) throw NumericalError("texture", "seam leveling produced non-finite offsets");
-    iterations = std::max(iterations, static_cast<int>(solver.iterations()));
-    for (int i = 0; i < n; ++i) g[i][channel] = static_cast<float>(x[i]);
-  }
+  // Right-hand side: -d/dg of the seam terms at g = 0.
+  Eigen::MatrixX3d rhs = Eigen::MatrixX3d::Zero(n, 3);
+  for_each_copy_pair(copies, [&](int i, int j) {
+    const Eigen::RowVector3d d = (f[i] - f[j]).cast<double>().transpose();
+    rhs.row(i) -= d;
+    rhs.row(j) += d;
+  });
+  Eigen::MatrixX3d x;
+  const int iterations = block_conjugate_gradients(A, rhs, 1e-3, 1000, x);
+  if (!x.allFinite()) throw NumericalError("texture", "seam leveling produced non-finite offsets");
+  for (int i = 0; i < n; ++i) g[i] = x.row(i).transpose().cast<float>();
   return iterations;
 }
 
@@ -157,7 +208,8 @@ SeamLeveling level_seams(const TriangleMesh& mesh,
 
   std::vector<Eigen::Vector3f> g(n, Eigen::Vector3f::Zero());
   if (options.global_leveling && result.num_seam_vertices > 0) {
-    result.solver_iterations = solve_offsets(leveling_matrix(copies, charts, first, options), copies, f, g, reporter);
+    reporter.throw_if_cancelled();
+    result.solver_iterations = solve_offsets(leveling_matrix(copies, charts, first, options), copies, f, g);
   }
 
   // Colour jump between chart copies, before and after leveling.

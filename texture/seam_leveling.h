@@ -4,7 +4,8 @@
 //   sum over seam vertices v, chart copies i != j of v: (f_i + g_i - f_j - g_j)^2
 //   + 1/lambda * sum over chart edges (a, b): (g_a - g_b)^2   (+ a tiny g^2)
 // where f_i is the (exposure-corrected) colour of v in chart i's view.
-// Sparse least squares, solved with Eigen's conjugate gradients per channel.
+// Sparse least squares, solved by diagonally preconditioned conjugate
+// gradients, the three channels side by side.
 #pragma once
 
 #include <Eigen/Core>
