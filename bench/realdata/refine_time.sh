@@ -25,18 +25,8 @@ parse_side_by_side_options "$@"
 run_one() {
   local bin="$1"
   shift
-  timed "$mesh" "$bin/hos-refine" --workspace "$undistorted" --mesh "$mesh" --output "$tmp/refined.ply" \
+  timed "$input" "$bin/hos-refine" --workspace "$undistorted" --mesh "$input" --output "$tmp/refined.ply" \
     --progress none --log "$tmp/refine.log" --set refine.max_seconds=100000 "$@"
 }
 
-echo "| WORK | build | run | wall s | CPU s | load avg |"
-echo "|---|---|---|---|---|---|"
-for work in "${works[@]}"; do
-  undistorted="$work/sfm-train/sfm/undistorted" mesh="$work/runs/$label/mesh.ply"
-  [ -d "$undistorted/sparse" ] || { echo "$undistorted/sparse: missing (make WORK with holdout.sh)" >&2; exit 3; }
-  [ -f "$mesh" ] || { echo "$mesh: missing (make run $label with holdout.sh --keep)" >&2; exit 3; }
-  run_alternately "$tmp/rows" run_one
-  awk -v name="$(basename "$work")" \
-    '{ printf "| %s | %s | %s | %.1f | %.1f | %s |\n", name, $1, $2, $3, $4 + $5, $6 }' "$tmp/rows"
-  medians_row "$(basename "$work")" "$tmp/rows" 1
-done
+time_on_run_files "$label" mesh.ply run_one "${works[@]}"

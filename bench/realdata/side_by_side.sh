@@ -1,5 +1,6 @@
 # Sourced by the side-by-side time benchmarks of bench/realdata (mvs_time.sh,
-# refine_time.sh): their shared argument parsing and the alternating runs.
+# refine_time.sh, texture_time.sh): their shared argument parsing and the
+# alternating runs.
 #
 # The sourcing script sets `usage` (a function) and `stage` (the executable's
 # name, e.g. hos-mvs), parses its own leading arguments and then calls
@@ -10,6 +11,10 @@
 #                                       "build run wall user sys load" and
 #                                       whatever run_one printed to ROWS
 #   medians_row NAME ROWS CELLS      -> prints the table row of ROWS' medians
+#   time_on_run_files LABEL FILE run_one WORK...
+#                                    -> the table of every WORK: run_one on
+#                                       WORK/runs/LABEL/FILE ($input) with
+#                                       the WORK's training SfM ($undistorted)
 # run_one runs the stage under `timed` (below) and may print extra columns.
 
 parse_side_by_side_options() {
@@ -66,4 +71,23 @@ for line in open(rows_path):
 wall, cpu = (statistics.median(t[k] for t in runs["new"]) / statistics.median(t[k] for t in runs["old"]) for k in (0, 1))
 print(f"| {name} | new / old (medians) | | {wall:.2f}x | {cpu:.2f}x |" + " |" * cells)
 PY
+}
+
+# time_on_run_files LABEL FILE run_one WORK...: per WORK, checks its training
+# SfM and the kept run's FILE, runs run_one alternately with $undistorted and
+# $input set, and prints its runs' rows and their medians.
+time_on_run_files() {
+  local label="$1" file="$2" run_one="$3" work
+  shift 3
+  echo "| WORK | build | run | wall s | CPU s | load avg |"
+  echo "|---|---|---|---|---|---|"
+  for work in "$@"; do
+    undistorted="$work/sfm-train/sfm/undistorted" input="$work/runs/$label/$file"
+    [ -d "$undistorted/sparse" ] || { echo "$undistorted/sparse: missing (make WORK with holdout.sh)" >&2; exit 3; }
+    [ -f "$input" ] || { echo "$input: missing (make run $label with holdout.sh --keep)" >&2; exit 3; }
+    run_alternately "$tmp/rows" "$run_one"
+    awk -v name="$(basename "$work")" \
+      '{ printf "| %s | %s | %s | %.1f | %.1f | %s |\n", name, $1, $2, $3, $4 + $5, $6 }' "$tmp/rows"
+    medians_row "$(basename "$work")" "$tmp/rows" 1
+  done
 }
