@@ -13,14 +13,9 @@
 # refine.max_seconds is raised for both, so that no run is cut by the load.
 set -euo pipefail
 usage() { sed -n '8,12p' "$0" | sed 's/^# *//' >&2; exit 2; }
-[ $# -ge 4 ] || usage
 stage=hos-refine
 source "$(dirname "$0")/side_by_side.sh"
-IFS=: read -r -a works <<<"$3"
-label="$4"
-check_builds "$1" "$2"
-shift 4
-parse_side_by_side_options "$@"
+parse_run_file_arguments "$@"
 
 run_one() {
   local bin="$1"

@@ -11,6 +11,10 @@
 #                                       "build run wall user sys load" and
 #                                       whatever run_one printed to ROWS
 #   medians_row NAME ROWS CELLS      -> prints the table row of ROWS' medians
+#   parse_run_file_arguments OLD_BIN NEW_BIN WORK[:WORK...] LABEL OPTIONS...
+#                                    -> the above for the scripts that time a
+#                                       stage on a kept run's file; sets
+#                                       works and label
 #   time_on_run_files LABEL FILE run_one WORK...
 #                                    -> the table of every WORK: run_one on
 #                                       WORK/runs/LABEL/FILE ($input) with
@@ -71,6 +75,15 @@ for line in open(rows_path):
 wall, cpu = (statistics.median(t[k] for t in runs["new"]) / statistics.median(t[k] for t in runs["old"]) for k in (0, 1))
 print(f"| {name} | new / old (medians) | | {wall:.2f}x | {cpu:.2f}x |" + " |" * cells)
 PY
+}
+
+parse_run_file_arguments() {
+  [ $# -ge 4 ] || usage
+  IFS=: read -r -a works <<<"$3"
+  label="$4"
+  check_builds "$1" "$2"
+  shift 4
+  parse_side_by_side_options "$@"
 }
 
 # time_on_run_files LABEL FILE run_one WORK...: per WORK, checks its training

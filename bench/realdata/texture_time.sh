@@ -12,14 +12,9 @@
 # --set        applies to the new build only (e.g. a setting being weighed)
 set -euo pipefail
 usage() { sed -n '8,11p' "$0" | sed 's/^# *//' >&2; exit 2; }
-[ $# -ge 4 ] || usage
 stage=hos-texture
 source "$(dirname "$0")/side_by_side.sh"
-IFS=: read -r -a works <<<"$3"
-label="$4"
-check_builds "$1" "$2"
-shift 4
-parse_side_by_side_options "$@"
+parse_run_file_arguments "$@"
 
 run_one() {
   local bin="$1"
