@@ -20,6 +20,7 @@
 #include "sfm/colmap_runner.h"
 #include "sfm/colmap_steps.h"
 #include "sfm/photo_masks.h"
+#include "sfm/principal_point_evidence.h"
 
 namespace hos::sfm {
 namespace fs = std::filesystem;
@@ -444,14 +445,39 @@ std::vector<CameraPrincipalPoint> principal_point_candidates(const SparseModel& 
 
 bool is_candidate(const CameraPrincipalPoint& c) { return c.reason.empty(); }
 
+// Keeps the centre of each candidate camera whose freed principal point fits
+// its keypoints no better than noise would (the reason says so). COLMAP
+// frees every camera's principal point or none, so each camera is judged on
+// its own photos' keypoints: a one-photo camera's free principal point,
+// which soaks up that photo's residuals, is no evidence for the others.
+void keep_centres_without_evidence(const SparseModel& centred,
+                                   const SparseModel& estimated,
+                                   Reporter& reporter,
+                                   std::vector<CameraPrincipalPoint>& cameras) {
+  for (auto& c : cameras) {
+    if (!is_candidate(c)) continue;
+    const ReprojectionFit before = reprojection_fit(centred, c.camera_id);
+    const ReprojectionFit after = reprojection_fit(estimated, c.camera_id);
+    const PrincipalPointEvidence evidence = principal_point_evidence(before, after, 2);
+    reporter.debug(format_message("sfm: camera ", c.camera_id, " with its principal point free: squared reprojection ",
+                                  "error ", before.sum_squared_px, " -> ", after.sum_squared_px, " px^2 over ",
+                                  after.observations, " keypoints; chi-square ", evidence.chi_square, ", chance ",
+                                  evidence.chance));
+    if (evidence.supported) continue;
+    c.reason = format_message("centre kept: the estimate fits the keypoints no better than noise would (chance ",
+                              evidence.chance, ", needs < ", kPrincipalPointSignificance, ")");
+  }
+}
+
 // The final bundle adjustment that also estimates the principal point of
 // each camera shared by at least options.principal_point_min_images photos,
-// kept when the estimate stays within options.principal_point_max_offset
-// of the image centre (an estimate farther away means the photos did not
-// constrain it). COLMAP refines every camera's principal point or none, so
-// when some cameras keep their centre, they get it back and a second
-// adjustment refines the rest of the model around it. Returns the folder of
-// the model to use.
+// kept when it fits the keypoints better than noise would
+// (sfm/principal_point_evidence.h) and stays within
+// options.principal_point_max_offset of the image centre (an estimate farther
+// away means the photos did not constrain it). COLMAP refines every camera's
+// principal point or none, so when some cameras keep their centre, they get
+// it back and a second adjustment refines the rest of the model around it.
+// Returns the folder of the model to use.
 fs::path adjust_principal_point(const ColmapInfo& colmap,
                                 const fs::path& model_dir,
                                 const SfmOptions& options,
@@ -459,7 +485,8 @@ fs::path adjust_principal_point(const ColmapInfo& colmap,
                                 Reporter& reporter,
                                 SfmResult& result) {
   if (options.principal_point_max_offset <= 0) return model_dir;
-  result.principal_points = principal_point_candidates(read_colmap_model(model_dir), options);
+  const SparseModel mapped = read_colmap_model(model_dir);
+  result.principal_points = principal_point_candidates(mapped, options);
   auto& cameras = result.principal_points;
   if (std::none_of(cameras.begin(), cameras.end(), is_candidate)) return model_dir;
   fs::path adjusted_dir = paths.sparse / "principal_point";
@@ -474,6 +501,7 @@ fs::path adjust_principal_point(const ColmapInfo& colmap,
     return model_dir;
   }
   SparseModel adjusted = read_colmap_model(adjusted_dir);
+  keep_centres_without_evidence(mapped, adjusted, reporter, cameras);
   for (auto& c : cameras) {
     Camera& camera = adjusted.cameras.at(c.camera_id);
     const double offset =
