@@ -21,8 +21,12 @@ namespace {
 
 constexpr int kMinUsableImages = 3;
 constexpr const char* kReadFormats = "JPEG, PNG, TIFF, BMP or HEIC/HEIF";
-// JPEG quality of the copies hos re-encodes (turned, shrunk, HEIC).
-constexpr int kCopyJpegQuality = 95;
+// JPEG quality of the copies hos re-encodes (turned, shrunk, HEIC): 100,
+// whose unit quantisation keeps the pixels within rounding (a 6 MP copy
+// takes 4.5 MB against 1.8 MB at 95). At 95 the copies of turned photos
+// moved SIFT's keypoints enough to raise the SfM rotation errors of a dark
+// synthetic capture from 0.063 to 0.077 degrees (0.068 at 100).
+constexpr int kCopyJpegQuality = 100;
 
 std::string join_skipped(const std::vector<SkippedInput>& skipped) {
   std::string out;
