@@ -6,6 +6,7 @@
 #include <random>
 
 #include "core/error.h"
+#include "tests/support/camera_poses.h"
 
 namespace hos::eval {
 namespace {
@@ -27,12 +28,7 @@ void make_models(const Similarity3& truth_from_recovered, double noise, SparseMo
   for (int i = 0; i < 24; ++i) {
     const double a = 2.0 * M_PI * i / 24.0;
     const Eigen::Vector3d centre(4.0 * std::cos(a), 4.0 * std::sin(a), 0.5 * std::sin(3 * a));
-    const Eigen::Vector3d z = (-centre).normalized();
-    const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
-    Eigen::Matrix3d cam_from_world;
-    cam_from_world.row(0) = x;
-    cam_from_world.row(1) = z.cross(x);
-    cam_from_world.row(2) = z;
+    const Eigen::Matrix3d cam_from_world = hos::testing::cam_from_world_looking(-centre, Eigen::Vector3d::UnitZ());
     ImageRecord t;
     t.id = i + 1;
     t.name = "img" + std::to_string(i) + ".png";

@@ -1,3 +1,4 @@
+
 // Opens a run report from file:// in headless Chromium: the embedded viewer
 // must show the model from the first registered photo's viewpoint, and the
 // console must stay free of errors.
@@ -16,6 +17,7 @@
 #include "pipeline/report/report_viewer.h"
 #include "pipeline/run_record.h"
 #include "pipeline/stage_paths.h"
+#include "tests/support/camera_poses.h"
 #include "tests/support/test_support.h"
 #include "texture/gltf_writer.h"
 
@@ -72,12 +74,7 @@ void write_surface(const fs::path& file) {
 
 // A camera at `centre` looking at `at`, image y along -up.
 ImageRecord looking_at(int id, const std::string& name, const Eigen::Vector3d& centre, const Eigen::Vector3d& at) {
-  const Eigen::Vector3d z = (at - centre).normalized();
-  const Eigen::Vector3d x = z.cross(Eigen::Vector3d(0, 1, 0)).normalized();
-  Eigen::Matrix3d cam_from_world;
-  cam_from_world.row(0) = x.transpose();
-  cam_from_world.row(1) = z.cross(x).transpose();
-  cam_from_world.row(2) = z.transpose();
+  const Eigen::Matrix3d cam_from_world = hos::testing::cam_from_world_looking(at - centre, Eigen::Vector3d(0, 1, 0));
   ImageRecord image;
   image.id = id;
   image.camera_id = 1;

@@ -1,3 +1,4 @@
+
 // The test that keeps a principal point only when the photos support it.
 #include "sfm/principal_point_evidence.h"
 
@@ -7,6 +8,8 @@
 #include <map>
 #include <optional>
 #include <random>
+
+#include "tests/support/camera_poses.h"
 
 namespace hos::sfm {
 namespace {
@@ -51,13 +54,8 @@ SparseModel ring_with_noisy_keypoints(const Eigen::Vector2d& true_principal,
   for (int i = 0; i < 12; ++i) {
     const double angle = 2.0 * M_PI * i / 12;
     const Eigen::Vector3d centre(4.0 * std::sin(angle), 0.3, -4.0 * std::cos(angle));
-    // Looking at the origin: camera z along -centre, y down.
-    const Eigen::Vector3d z = -centre.normalized();
-    const Eigen::Vector3d x = Eigen::Vector3d::UnitY().cross(z).normalized();
-    Eigen::Matrix3d cam_from_world;
-    cam_from_world.row(0) = x;
-    cam_from_world.row(1) = z.cross(x);
-    cam_from_world.row(2) = z;
+    // Looking at the origin, image y along the world's +y.
+    const Eigen::Matrix3d cam_from_world = hos::testing::cam_from_world_looking(-centre, -Eigen::Vector3d::UnitY());
     ImageRecord image;
     image.id = i + 1;
     image.camera_id = one_photo_principal && i == 0 ? 2 : 1;

@@ -18,6 +18,7 @@
 #include "synth/dataset.h"
 #include "synth/geo_tags.h"
 #include "synth/scene.h"
+#include "tests/support/camera_poses.h"
 #include "tests/support/damaged_file_checks.h"
 #include "texture/gltf_writer.h"
 
@@ -58,12 +59,8 @@ SynthScene make_synth_scene(double tilt_deg, bool ground_plane = true) {
 
 // A camera at centre looking along forward with the given image-up hint.
 CameraPose camera_at(const Eigen::Vector3d& centre, const Eigen::Vector3d& forward, const Eigen::Vector3d& up_hint) {
-  const Eigen::Vector3d z = forward.normalized();
-  const Eigen::Vector3d x = (-up_hint).cross(z).normalized();
   CameraPose c;
-  c.cam_from_world.row(0) = x;
-  c.cam_from_world.row(1) = z.cross(x);
-  c.cam_from_world.row(2) = z;
+  c.cam_from_world = hos::testing::cam_from_world_looking(forward, up_hint);
   c.centre = centre;
   return c;
 }
