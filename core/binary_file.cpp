@@ -16,7 +16,7 @@ void write_binary_file(const std::filesystem::path& file,
     out.write(kind.tag.data(), static_cast<std::streamsize>(kind.tag.size()));
     write_value(out, kind.version);
     body(out);
-    if (!out) throw OutputError(file.string(), format_message("cannot write the ", kind.name));
+    if (!out) throw OutputError(file.string(), format_message("the ", kind.name));
   });
 }
 

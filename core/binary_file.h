@@ -22,7 +22,7 @@ struct BinaryFileKind {
 };
 
 // Writes file atomically, creating its folder: the tag, the version, then
-// what body writes. Throws OutputError ("cannot write the <name>") when a
+// what body writes. Throws OutputError ("FILE: cannot write: the <name>") when a
 // write fails.
 void write_binary_file(const std::filesystem::path& file,
                        const BinaryFileKind& kind,

@@ -97,7 +97,7 @@ class BinaryWriter {
 void write_file(const fs::path& path, const std::string& contents) {
   write_atomically(path, [&](const fs::path& tmp) {
     std::ofstream out(tmp, std::ios::binary);
-    if (!out) throw OutputError(path.string(), "cannot create file");
+    if (!out) throw OutputError(path.string(), "the file cannot be created");
     out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
     if (!out) throw OutputError(path.string(), "write failed (disk full?)");
   });

@@ -44,7 +44,7 @@ void write_mask(const cv::Mat& mask, const fs::path& file) {
   } catch (const cv::Exception&) {
     written = false;
   }
-  if (!written) throw OutputError(file.string(), "cannot write the mask");
+  if (!written) throw OutputError(file.string(), "the mask");
 }
 
 fs::path workspace_mask_folder(const UndistortedWorkspace& workspace) { return workspace.root / "masks"; }

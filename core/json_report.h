@@ -96,7 +96,7 @@ inline void write_json_report(const std::filesystem::path& path, const nlohmann:
   write_atomically(path, [&](const std::filesystem::path& tmp) {
     std::ofstream out(tmp);
     out << text << "\n";
-    if (!out) throw OutputError(path.string(), "cannot write the report");
+    if (!out) throw OutputError(path.string(), "the report");
   });
 }
 

@@ -717,7 +717,7 @@ void write_vertices(BodyWriter& out, const VertexArrays& v) {
 void write_ply_file(const fs::path& path, const std::string& header, std::string& body) {
   write_atomically(path, [&](const fs::path& tmp) {
     std::ofstream out(tmp, std::ios::binary);
-    if (!out) throw OutputError(path.string(), "cannot create file");
+    if (!out) throw OutputError(path.string(), "the file cannot be created");
     out.write(header.data(), static_cast<std::streamsize>(header.size()));
     out.write(body.data(), static_cast<std::streamsize>(body.size()));
     if (!out) throw OutputError(path.string(), "write failed (disk full?)");

@@ -243,7 +243,7 @@ void write_eval_report(const EvalReport& report, bool json_requested, const std:
   write_atomically(json_path, [&](const fs::path& tmp) {
     std::ofstream out(tmp);
     out << json_text(report.j) << "\n";
-    if (!out) throw OutputError(json_path, "could not write");
+    if (!out) throw OutputError(json_path, "the evaluation report");
   });
 }
 

@@ -47,7 +47,7 @@ RenderComparison compare_renders(const render::RenderObject& object,
       // equal file names in two folders stay two files.
       const std::filesystem::path target = save_dir / std::filesystem::path(image.name).replace_extension(".png");
       std::filesystem::create_directories(target.parent_path());
-      if (!cv::imwrite(target.string(), side_by_side)) throw OutputError(target.string(), "cannot write the image");
+      if (!cv::imwrite(target.string(), side_by_side)) throw OutputError(target.string(), "the image");
     }
     const std::size_t pixels = static_cast<std::size_t>(cv::countNonZero(view.mask));
     if (pixels == 0) {
@@ -187,7 +187,7 @@ void save_crop(const std::vector<SavedRender>& runs, const PixelRect& rect, cons
   }
   cv::Mat side_by_side;
   cv::hconcat(parts, side_by_side);
-  if (!cv::imwrite(path.string(), side_by_side)) throw OutputError(path.string(), "cannot write the image");
+  if (!cv::imwrite(path.string(), side_by_side)) throw OutputError(path.string(), "the image");
 }
 
 // dir/tile_X_Y.png for each tile, dir/region_X_Y_WxH.png for each region.

@@ -141,7 +141,7 @@ void write_depth_map_file(const std::filesystem::path& file, const DepthMap& map
     out.write(kDepthMapTag, sizeof(kDepthMapTag));
     out.write(reinterpret_cast<const char*>(size), sizeof(size));
     for (const cv::Mat* m : {&map.depth, &map.normal, &map.cost}) write_raw_mat(out, *m);
-    if (!out) throw OutputError(file.string(), "cannot write the depth map");
+    if (!out) throw OutputError(file.string(), "the depth map");
   });
 }
 

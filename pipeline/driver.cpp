@@ -127,7 +127,7 @@ void prepare_workspace(const StagePaths& paths, const PipelineConfig& config) {
   write_atomically(paths.config, [&](const fs::path& tmp) {
     std::ofstream out(tmp);
     out << config.resolved_yaml();
-    if (!out) throw OutputError(paths.config.string(), "cannot write");
+    if (!out) throw OutputError(paths.config.string(), "the run's resolved configuration");
   });
 }
 

@@ -65,7 +65,7 @@ void save_run_record(const RunRecord& record, const fs::path& file) {
   write_atomically(file, [&](const fs::path& tmp) {
     std::ofstream out(tmp);
     out << json_text(j) << "\n";
-    if (!out) throw OutputError(file.string(), "cannot write the run record");
+    if (!out) throw OutputError(file.string(), "the run record");
   });
 }
 

@@ -227,7 +227,7 @@ void write_staged_exif(const ExifBlock& original, const StagedCopyChanges& chang
     image->setExifData(staged_copy_exif(original.data(), changes));
     image->writeMetadata();
   } catch (const std::exception& e) {
-    throw OutputError(copy.string(), std::string("cannot write the photo's EXIF into its staged copy: ") + e.what());
+    throw OutputError(copy.string(), std::string("the photo's EXIF into its staged copy: ") + e.what());
   }
 }
 

@@ -296,7 +296,7 @@ void write_encoded(const cv::Mat& image, PhotoFormat format, const fs::path& tar
     out.open(target, std::ios::binary);
     out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   }
-  if (!out) throw OutputError(target.string(), "cannot write " + what);
+  if (!out) throw OutputError(target.string(), what);
 }
 
 // Puts the photo into staging_dir as COLMAP must see it: 8 bits, upright,
@@ -444,7 +444,7 @@ void write_thumbnail(const cv::Mat& image, const fs::path& file) {
   cv::Mat thumbnail;
   cv::resize(image, thumbnail, cv::Size(kThumbnailWidth, height), 0.0, 0.0, cv::INTER_AREA);
   if (!cv::imwrite(file.string(), thumbnail, {cv::IMWRITE_JPEG_QUALITY, 75})) {
-    throw OutputError(file.string(), "cannot write the thumbnail");
+    throw OutputError(file.string(), "the thumbnail");
   }
 }
 

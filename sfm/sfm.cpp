@@ -293,7 +293,7 @@ void extract_features(const ColmapInfo& colmap,
     write_atomically(list, [&](const fs::path& tmp) {
       std::ofstream out(tmp, std::ios::binary);
       out << image_list_file_text(run);
-      if (!out) throw OutputError(list.string(), "cannot write");
+      if (!out) throw OutputError(list.string(), "the list of photos for COLMAP's feature extraction");
     });
     run_timed(colmap, feature_extraction_step(context, run, list, result.plan, options), reporter, result);
   }

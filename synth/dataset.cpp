@@ -168,7 +168,7 @@ void write_image(const fs::path& path, const cv::Mat& image) {
   } catch (const cv::Exception& e) {
     throw OutputError(path.string(), e.what());
   }
-  if (!ok) throw OutputError(path.string(), "could not write the image");
+  if (!ok) throw OutputError(path.string(), "the image");
 }
 
 nlohmann::json vec_json(const Eigen::Vector3f& v) { return {v.x(), v.y(), v.z()}; }
@@ -449,7 +449,7 @@ void write_dataset(const fs::path& folder,
     const nlohmann::json json = scene_description(scene, scene_options, o, data.model.points.size());
     std::ofstream out(tmp / "scene.json");
     out << json.dump(2) << "\n";
-    if (!out) throw OutputError((folder / "scene.json").string(), "could not write");
+    if (!out) throw OutputError((folder / "scene.json").string(), "the scene description");
   });
 }
 

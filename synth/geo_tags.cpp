@@ -51,7 +51,7 @@ void write_gps_exif(const std::filesystem::path& jpeg, const GeoPosition& p) {
     }
     image->writeMetadata();
   } catch (const Exiv2::AnyError& e) {
-    throw OutputError(jpeg.string(), std::string("cannot write the GPS EXIF: ") + e.what());
+    throw OutputError(jpeg.string(), std::string("the GPS EXIF: ") + e.what());
   }
 }
 

@@ -31,7 +31,7 @@ EncodedImage encode_image(const cv::Mat& bgr, const std::string& format, int jpe
 void write_bytes(const std::filesystem::path& path, const void* data, std::size_t size) {
   write_atomically(path, [&](const std::filesystem::path& tmp) {
     std::ofstream out(tmp, std::ios::binary);
-    if (!out) throw OutputError(path.string(), "cannot open for writing");
+    if (!out) throw OutputError(path.string(), "the file does not open for writing");
     out.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
     out.flush();
     if (!out) throw OutputError(path.string(), "write failed");

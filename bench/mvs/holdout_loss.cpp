@@ -168,7 +168,7 @@ void write_loss_map(const std::string& file, const std::vector<std::pair<std::st
     }
     out.write(reinterpret_cast<const char*>(rgb), 3);
   }
-  if (!out) throw hos::OutputError(file, "cannot write the map");
+  if (!out) throw hos::OutputError(file, "the map");
 }
 
 }  // namespace

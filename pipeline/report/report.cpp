@@ -327,7 +327,7 @@ fs::path write_run_report(const fs::path& workspace, const ReportOptions& option
   write_atomically(file, [&](const fs::path& tmp) {
     std::ofstream out(tmp);
     out << html;
-    if (!out) throw OutputError(file.string(), "cannot write");
+    if (!out) throw OutputError(file.string(), "the run report");
   });
   return file;
 }

@@ -177,7 +177,7 @@ class SlurmRun {
     write_atomically(script, [&](const fs::path& tmp) {
       std::ofstream out(tmp);
       out << job_script(job, options_, config_, bounds_, paths_);
-      if (!out) throw OutputError(script.string(), "cannot write the job script");
+      if (!out) throw OutputError(script.string(), "the job script");
     });
     for (int t : tasks) fs::remove(status_file(paths_, job, t), ec);
     const CommandOutput out = run_sbatch(script, job.tasks > 0, tasks, after);

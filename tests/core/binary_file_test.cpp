@@ -51,6 +51,18 @@ TEST(BinaryFile, WritesTagVersionAndBodyAndReadsThemBack) {
   EXPECT_EQ(version, 3u);
 }
 
+TEST(BinaryFile, AFailedWriteIsAnOutputErrorNamingTheFileAndTheKind) {
+  hos::testing::TempDir dir;
+  const std::filesystem::path file = dir / "a.bin";
+  try {
+    write_binary_file(file, kKind, [](std::ofstream& out) { out.setstate(std::ios::badbit); });
+    FAIL() << "a failed write was not reported";
+  } catch (const OutputError& e) {
+    EXPECT_EQ(std::string(e.what()), file.string() + ": cannot write: the test data");
+  }
+  EXPECT_FALSE(std::filesystem::exists(file)) << "nothing half-written is left under the file's name";
+}
+
 TEST(BinaryFile, RefusesOtherKindsVersionsAndTruncatedStarts) {
   hos::testing::TempDir dir;
   write_bytes(dir / "other", std::string("HOSTVIEW\3\0\0\0", 12));
