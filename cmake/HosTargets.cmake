@@ -56,16 +56,9 @@ function(hos_test name)
   # ./bin. LABELS is only passed when given: an empty value would make the
   # next keyword its value.
   set(test_properties TIMEOUT ${ARG_TIMEOUT} ENVIRONMENT "HOS_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
-  # The slow tests cost more, so ctest -j starts them first and the short
-  # ones fill the other cores at the end (a clean build folder has no
-  # measured costs).
-  set(slow_cost COST 100)
   set(fast_properties ${test_properties})
   if(ARG_LABELS)
     list(APPEND fast_properties LABELS "${ARG_LABELS}")
-  endif()
-  if("slow" IN_LIST ARG_LABELS)
-    list(APPEND fast_properties ${slow_cost})
   endif()
   if(NOT ARG_SLOW_TESTS)
     gtest_discover_tests(${name}
@@ -84,6 +77,6 @@ function(hos_test name)
   gtest_discover_tests(${name}
     WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
     TEST_FILTER "${slow_filter}"
-    PROPERTIES ${test_properties} LABELS slow ${slow_cost}
+    PROPERTIES ${test_properties} LABELS slow
     DISCOVERY_TIMEOUT 60)
 endfunction()
