@@ -1,12 +1,12 @@
 #include "core/geodesy.h"
 
 #include <cmath>
+#include <numbers>
 
 namespace hos {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDegree = kPi / 180.0;
+constexpr double kDegree = std::numbers::pi / 180.0;
 // WGS84 ellipsoid.
 constexpr double kSemiMajorAxis = 6378137.0;
 constexpr double kFlattening = 1.0 / 298.257223563;

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <opencv2/imgcodecs.hpp>
 #include <random>
 #include <sstream>
@@ -21,8 +22,6 @@
 namespace hos::synth {
 namespace fs = std::filesystem;
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 ImageRecord look_at(int id, const Eigen::Vector3d& centre, const Eigen::Vector3d& target, const Eigen::Vector3d& up) {
   const Eigen::Vector3d z = (target - centre).normalized();
@@ -45,7 +44,8 @@ ImageRecord look_at(int id, const Eigen::Vector3d& centre, const Eigen::Vector3d
 ImageRecord tilted(ImageRecord image, double tilt_deg) {
   if (tilt_deg == 0.0) return image;
   const Eigen::Vector3d centre = image.center();
-  const Eigen::Matrix3d turn = Eigen::AngleAxisd(-tilt_deg * kPi / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(-tilt_deg * std::numbers::pi / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
   const Eigen::Matrix3d rotation = turn * image.rotation();
   image.cam_from_world_rotation = Eigen::Quaterniond(rotation).normalized();
   image.cam_from_world_translation = -rotation * centre;
@@ -239,11 +239,12 @@ std::vector<std::pair<double, double>> view_directions(const DatasetOptions& o) 
   std::vector<std::pair<double, double>> dirs;
   for (int r = 0; r < o.rings; ++r) {
     const int count = o.num_views / o.rings + (r < o.num_views % o.rings ? 1 : 0);
-    const double elevation = (o.rings == 1 ? 30.0 : 15.0 + 35.0 * r / (o.rings - 1)) * kPi / 180.0;
-    const double offset = r * kPi / std::max(1, count);  // rings staggered
-    for (int k = 0; k < count; ++k) dirs.emplace_back(elevation, offset + 2 * kPi * k / count);
+    const double elevation = (o.rings == 1 ? 30.0 : 15.0 + 35.0 * r / (o.rings - 1)) * std::numbers::pi / 180.0;
+    const double offset = r * std::numbers::pi / std::max(1, count);  // rings staggered
+    for (int k = 0; k < count; ++k) dirs.emplace_back(elevation, offset + 2 * std::numbers::pi * k / count);
   }
-  for (int k = 0; k < o.holdout; ++k) dirs.emplace_back(27.0 * kPi / 180.0, 2 * kPi * (k + 0.37) / o.holdout);
+  for (int k = 0; k < o.holdout; ++k)
+    dirs.emplace_back(27.0 * std::numbers::pi / 180.0, 2 * std::numbers::pi * (k + 0.37) / o.holdout);
   return dirs;
 }
 

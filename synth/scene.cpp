@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <random>
 #include <tuple>
 
@@ -13,8 +14,6 @@
 
 namespace hos::synth {
 namespace {
-
-constexpr float kPi = 3.14159265358979f;
 
 std::uint32_t hash3(int x, int y, int z, std::uint32_t seed) {
   std::uint32_t h = seed * 0x9E3779B9u;
@@ -105,7 +104,7 @@ render::ProceduralAlbedo make_albedo(std::uint32_t seed, float scale) {
     Eigen::Vector3f col = a + (b - a) * std::clamp(1.8f * (n1 - 0.5f) + 0.5f, 0.0f, 1.0f);
     col = col + (c - col) * std::clamp(2.0f * (n2 - 0.5f) + 0.3f, 0.0f, 1.0f) * 0.6f;
     const float warp = fbm(3.0f * p, 2, seed + 37);
-    const float s = std::sin(2 * kPi * (5.0f * p.dot(stripe_dir) + 2.0f * warp));
+    const float s = std::sin(2 * std::numbers::pi_v<float> * (5.0f * p.dot(stripe_dir) + 2.0f * warp));
     if (s > 0.6f) col = 0.4f * col + 0.6f * stripe;
     const float d = cell_distance(9.0f * p, seed + 53);
     if (d < 0.28f)
@@ -142,9 +141,9 @@ TriangleMesh make_rock(std::uint32_t seed, float radius) {
 TriangleMesh make_torus(float major, float minor, int nu, int nv) {
   TriangleMesh m;
   for (int i = 0; i < nu; ++i) {
-    const float u = 2 * kPi * i / nu;
+    const float u = 2 * std::numbers::pi_v<float> * i / nu;
     for (int j = 0; j < nv; ++j) {
-      const float v = 2 * kPi * j / nv;
+      const float v = 2 * std::numbers::pi_v<float> * j / nv;
       m.vertices.emplace_back((major + minor * std::cos(v)) * std::cos(u), minor * std::sin(v),
                               (major + minor * std::cos(v)) * std::sin(u));
     }
@@ -242,7 +241,7 @@ TriangleMesh make_railing() {
   for (int i = 0; i < kRailingBars; ++i) {
     TriangleMesh bar = make_rounded_box(Eigen::Vector3f(kRailingBarWidth / 2, half_height, kRailingBarWidth / 2),
                                         kRailingBarWidth / 8, 4);
-    const float a = 2 * kPi * i / kRailingBars;
+    const float a = 2 * std::numbers::pi_v<float> * i / kRailingBars;
     place(bar, Eigen::AngleAxisf(-a, Eigen::Vector3f::UnitY()).toRotationMatrix(),
           Eigen::Vector3f(radius * std::cos(a), 0.0f, radius * std::sin(a)));
     append(m, bar);
@@ -305,7 +304,7 @@ Scene make_scene(const SceneOptions& options) {
   options.validate();
   Scene scene;
   std::mt19937 rng(options.seed * 7919u + 13u);
-  std::uniform_real_distribution<float> jitter(-0.08f, 0.08f), angle(0.0f, 2 * kPi);
+  std::uniform_real_distribution<float> jitter(-0.08f, 0.08f), angle(0.0f, 2 * std::numbers::pi_v<float>);
   const bool all = options.name == "default";
   auto add = [&](TriangleMesh mesh, const std::string& name, std::uint32_t salt, float pattern_scale) {
     compute_normals(mesh);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <numbers>
 #include <opencv2/videoio.hpp>
 #include <sstream>
 
@@ -16,7 +17,6 @@ namespace hos::synth {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // The elevations of the dataset's lowest and highest rings (view_directions).
 constexpr double kLowestElevationDeg = 15.0;
 constexpr double kHighestElevationDeg = 50.0;
@@ -53,14 +53,14 @@ SparseModel make_video_cameras(const Scene& scene, const DatasetOptions& dataset
   SparseModel model;
   const Camera camera = dataset_camera(dataset);
   model.cameras.emplace(1, camera);
-  const double middle = 0.5 * (kLowestElevationDeg + kHighestElevationDeg) * kPi / 180.0;
-  const double swing = 0.5 * (kHighestElevationDeg - kLowestElevationDeg) * kPi / 180.0;
+  const double middle = 0.5 * (kLowestElevationDeg + kHighestElevationDeg) * std::numbers::pi / 180.0;
+  const double swing = 0.5 * (kHighestElevationDeg - kLowestElevationDeg) * std::numbers::pi / 180.0;
   for (int k = 0; k < video.frames; ++k) {
     // Along the path: k / frames of the way, the last frame one step short
     // of the first so a whole turn does not repeat it.
     const double along = video.turns * k / video.frames;
-    const double azimuth = 2 * kPi * along;
-    const double elevation = middle - swing * std::cos(2 * kPi * kElevationSwingsPerTurn * along);
+    const double azimuth = 2 * std::numbers::pi * along;
+    const double elevation = middle - swing * std::cos(2 * std::numbers::pi * kElevationSwingsPerTurn * along);
     ImageRecord image = view_towards_centre(scene, camera, elevation, azimuth);
     image.id = k + 1;
     image.camera_id = 1;

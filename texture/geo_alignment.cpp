@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <random>
 #include <sstream>
 
@@ -17,8 +18,6 @@
 
 namespace hos::texture {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 template <int Dim>
 struct Fit {
@@ -252,7 +251,8 @@ void fit_vertical_too(const Points<3>& model,
   }
   const double count = double(fit3->inliers.size());
   result.tilt_uncertainty_deg =
-      std::atan(std::sqrt(vertical / count) / (std::sqrt(radius / count) * std::sqrt(count))) * 180.0 / kPi;
+      std::atan(std::sqrt(vertical / count) / (std::sqrt(radius / count) * std::sqrt(count))) * 180.0 /
+      std::numbers::pi;
   if (!(result.tilt_uncertainty_deg <= options.max_tilt_uncertainty_deg)) return;
   result.vertical_from_gps = true;
   result.inliers = static_cast<int>(fit3->inliers.size());

@@ -3,14 +3,13 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "core/statistics.h"
 
 namespace hos::texture {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 Eigen::Vector3d camera_up(const CameraPose& c) { return -c.cam_from_world.row(1).transpose(); }
 Eigen::Vector3d camera_right(const CameraPose& c) { return c.cam_from_world.row(0).transpose(); }
@@ -103,7 +102,7 @@ std::optional<Eigen::Vector3d> ground_plane_normal(const std::vector<Eigen::Vect
   if (points.size() < 3) return std::nullopt;
   const double threshold = options.inlier_fraction_of_size * robust_size(points);
   if (!(threshold > 0.0)) return std::nullopt;
-  const double min_cos = std::cos(options.ground_max_angle_deg * kPi / 180.0);
+  const double min_cos = std::cos(options.ground_max_angle_deg * std::numbers::pi / 180.0);
   std::mt19937 rng(1);
   std::uniform_int_distribution<std::size_t> pick(0, points.size() - 1);
   std::size_t best_count = 0;

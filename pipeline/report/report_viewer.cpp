@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <sstream>
 
 #include "core/colmap_io.h"
@@ -19,7 +20,6 @@ namespace hos::pipeline {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // The largest model the page embeds (base64 adds a third): with
 // model-viewer's script (about 1 MB), the thumbnails and the rest, the page
 // stays under 8 MB.
@@ -256,7 +256,7 @@ std::vector<PhotoView> photo_views(const SparseModel& model, const Eigen::Matrix
     const Eigen::Vector3d centre = image.center();
     view.position = transform_point(root, centre);
     view.direction = (linear * image.viewing_direction()).normalized();
-    view.vertical_fov_deg = 2.0 * std::atan(0.5 * cam.height / cam.focal_y()) * 180.0 / kPi;
+    view.vertical_fov_deg = 2.0 * std::atan(0.5 * cam.height / cam.focal_y()) * 180.0 / std::numbers::pi;
     view.aspect = static_cast<double>(cam.width) / cam.height;
     const double w = cam.width, h = cam.height;
     const std::array<Eigen::Vector2d, 4> pixels = {Eigen::Vector2d(0, 0), Eigen::Vector2d(w, 0), Eigen::Vector2d(w, h),

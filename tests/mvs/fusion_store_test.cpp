@@ -20,21 +20,21 @@
 namespace hos::mvs {
 namespace {
 
-constexpr int kWidth = 40, kHeight = 30;
+constexpr int kStoreWidth = 40, kStoreHeight = 30;
 
 // A view whose maps and colour are noise drawn from `seed`, so that any
 // byte lost or moved on the way to the file and back shows.
 FusionView noise_view(int seed) {
   cv::RNG rng(static_cast<std::uint64_t>(seed) + 1);
   FusionView v;
-  v.map.depth.create(kHeight, kWidth, CV_32F);
+  v.map.depth.create(kStoreHeight, kStoreWidth, CV_32F);
   rng.fill(v.map.depth, cv::RNG::UNIFORM, 1.0, 10.0);
-  v.map.normal.create(kHeight, kWidth, CV_16SC2);
+  v.map.normal.create(kStoreHeight, kStoreWidth, CV_16SC2);
   rng.fill(v.map.normal, cv::RNG::UNIFORM, -32767, 32767);
-  cv::Mat cost(kHeight, kWidth, CV_32F);
+  cv::Mat cost(kStoreHeight, kStoreWidth, CV_32F);
   rng.fill(cost, cv::RNG::UNIFORM, 0.0, 2.0);
   cost.convertTo(v.map.cost, CV_16F);
-  v.color.create(kHeight, kWidth, CV_8UC3);
+  v.color.create(kStoreHeight, kStoreWidth, CV_8UC3);
   rng.fill(v.color, cv::RNG::UNIFORM, 0, 256);
   return v;
 }
@@ -44,7 +44,7 @@ bool same_bytes(const cv::Mat& a, const cv::Mat& b) {
          std::memcmp(a.data, b.data, a.total() * a.elemSize()) == 0;
 }
 
-std::size_t view_bytes() { return static_cast<std::size_t>(kWidth * kHeight * fusion_bytes_per_pixel()); }
+std::size_t view_bytes() { return static_cast<std::size_t>(kStoreWidth * kStoreHeight * fusion_bytes_per_pixel()); }
 
 TEST(FusionViewStore, SpilledMapsComeBackBitForBitAndTheirFolderGoes) {
   const hos::testing::TempDir parent;

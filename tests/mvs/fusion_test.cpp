@@ -17,25 +17,25 @@
 namespace hos::mvs {
 namespace {
 
-constexpr int kWidth = 64, kHeight = 48, kViews = 4, kShift = 2;  // pixels between neighbouring views
+constexpr int kMapWidth = 64, kMapHeight = 48, kViews = 4, kShift = 2;  // pixels between neighbouring views
 constexpr double kDepth = 5.0;
 
-FusionView plane_view(int j) {
+FusionView fusion_plane_view(int j) {
   FusionView v;
-  v.K << 100, 0, kWidth / 2.0, 0, 100, kHeight / 2.0, 0, 0, 1;
+  v.K << 100, 0, kMapWidth / 2.0, 0, 100, kMapHeight / 2.0, 0, 0, 1;
   v.K_inv = v.K.inverse();
   v.t = -Eigen::Vector3d(0.1 * j, 0, 0);  // R = I, centre (0.1 j, 0, 0)
-  v.map = FusionMap(DepthMap{cv::Mat(kHeight, kWidth, CV_32F, cv::Scalar(kDepth)),
-                             cv::Mat(kHeight, kWidth, CV_32FC3, cv::Scalar(0, 0, -1)),
-                             cv::Mat(kHeight, kWidth, CV_32F, cv::Scalar(0.1))});
-  v.color = cv::Mat(kHeight, kWidth, CV_8UC3, cv::Scalar(0, 0, 40 * j));  // BGR: red = 40 j
+  v.map = FusionMap(DepthMap{cv::Mat(kMapHeight, kMapWidth, CV_32F, cv::Scalar(kDepth)),
+                             cv::Mat(kMapHeight, kMapWidth, CV_32FC3, cv::Scalar(0, 0, -1)),
+                             cv::Mat(kMapHeight, kMapWidth, CV_32F, cv::Scalar(0.1))});
+  v.color = cv::Mat(kMapHeight, kMapWidth, CV_8UC3, cv::Scalar(0, 0, 40 * j));  // BGR: red = 40 j
   return v;
 }
 
-std::vector<FusionView> plane_views() {
+std::vector<FusionView> fusion_plane_views() {
   std::vector<FusionView> views;
   views.reserve(kViews);
-  for (int j = 0; j < kViews; ++j) views.push_back(plane_view(j));
+  for (int j = 0; j < kViews; ++j) views.push_back(fusion_plane_view(j));
   return views;
 }
 
@@ -44,28 +44,28 @@ std::vector<FusionView> plane_views() {
 // with that many views as confidence.
 std::map<int, int> expected_confidence(const std::vector<bool>& agreeing, int min_views) {
   std::map<int, int> confidence;
-  for (int u = -kShift * kViews; u < kWidth + kShift * kViews; ++u) {
+  for (int u = -kShift * kViews; u < kMapWidth + kShift * kViews; ++u) {
     int seen = 0;
-    for (int j = 0; j < kViews; ++j) seen += agreeing[j] && u - kShift * j >= 0 && u - kShift * j < kWidth;
+    for (int j = 0; j < kViews; ++j) seen += agreeing[j] && u - kShift * j >= 0 && u - kShift * j < kMapWidth;
     if (seen >= min_views) confidence[u] = seen;
   }
   return confidence;
 }
 
 void expect_fused(const PointCloud& cloud, const std::map<int, int>& expected) {
-  ASSERT_EQ(cloud.size(), expected.size() * kHeight);
+  ASSERT_EQ(cloud.size(), expected.size() * kMapHeight);
   std::map<int, int> columns;  // column of view 0 -> points
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Eigen::Vector3d p = cloud.positions[i].cast<double>();
     EXPECT_NEAR(p.z(), kDepth, 1e-5);
     EXPECT_NEAR(cloud.normals[i].cast<double>().dot(Eigen::Vector3d(0, 0, -1)), 1.0, 1e-6);
     // Back into view 0's columns: x = f X / Z + cx - 0.5 at the pixel centre.
-    const int u = static_cast<int>(std::lround(100.0 * p.x() / p.z() + kWidth / 2.0 - 0.5));
+    const int u = static_cast<int>(std::lround(100.0 * p.x() / p.z() + kMapWidth / 2.0 - 0.5));
     ++columns[u];
     ASSERT_TRUE(expected.count(u)) << "column " << u;
     EXPECT_EQ(cloud.confidence[i], expected.at(u)) << "column " << u;
   }
-  for (const auto& [u, count] : columns) EXPECT_EQ(count, kHeight) << "column " << u;  // each point once
+  for (const auto& [u, count] : columns) EXPECT_EQ(count, kMapHeight) << "column " << u;  // each point once
 }
 
 // The tests state their thresholds: a point needs the reference and
@@ -86,7 +86,7 @@ MvsOptions three_views_must_agree() { return views_must_agree(3); }
 
 TEST(Fusion, AgreeingPlaneIsFusedOncePerPointWithItsViewCount) {
   const MvsOptions options = three_views_must_agree();
-  const PointCloud cloud = fuse_depth_maps(plane_views(), options, null_reporter());
+  const PointCloud cloud = fuse_depth_maps(fusion_plane_views(), options, null_reporter());
   expect_fused(cloud, expected_confidence({true, true, true, true}, 3));
   // Colours are the mean over the agreeing views: red 40 j averaged.
   for (std::size_t i = 0; i < cloud.size(); ++i) {
@@ -97,19 +97,19 @@ TEST(Fusion, AgreeingPlaneIsFusedOncePerPointWithItsViewCount) {
 }
 
 TEST(Fusion, StricterConsistencyKeepsOnlyPointsSeenByMoreViews) {
-  expect_fused(fuse_depth_maps(plane_views(), views_must_agree(4), null_reporter()),
+  expect_fused(fuse_depth_maps(fusion_plane_views(), views_must_agree(4), null_reporter()),
                expected_confidence({true, true, true, true}, 4));
 }
 
 TEST(Fusion, ViewWithWrongDepthDoesNotCount) {
-  auto views = plane_views();
+  auto views = fusion_plane_views();
   views[3].map.depth.setTo(kDepth * 1.05);  // 5% off; max_depth_error is 1%
   expect_fused(fuse_depth_maps(views, three_views_must_agree(), null_reporter()),
                expected_confidence({true, true, true, false}, 3));
 }
 
 TEST(Fusion, ViewWithWrongNormalsDoesNotCount) {
-  auto views = plane_views();
+  auto views = fusion_plane_views();
   const double a = 30.0 * M_PI / 180.0;  // max_normal_error_deg is 20
   views[1].map.normal.setTo(encode_normal({std::sin(a), 0, -std::cos(a)}));
   expect_fused(fuse_depth_maps(views, three_views_must_agree(), null_reporter()),
@@ -119,7 +119,7 @@ TEST(Fusion, ViewWithWrongNormalsDoesNotCount) {
 // Views 0 and 1 see the plane; views 2 and 3 see nearer things that agree
 // with nothing (depths 4 and 3), which hide the plane from them.
 std::vector<FusionView> plane_seen_by_two_views() {
-  auto views = plane_views();
+  auto views = fusion_plane_views();
   views[2].map.depth.setTo(4.0);
   views[3].map.depth.setTo(3.0);
   return views;
@@ -141,9 +141,9 @@ TEST(Fusion, TwoViewPointsAreDroppedWhereAnotherViewSeesNothing) {
   options.two_view_max_cost = 0.2;
   // View 2 has no depth on its right half (image columns 32..63, which see
   // the plane's columns 36..67 of view 0); view 3 still sees a nearer thing.
-  views[2].map.depth.colRange(kWidth / 2, kWidth).setTo(0);
+  views[2].map.depth.colRange(kMapWidth / 2, kMapWidth).setTo(0);
   std::map<int, int> expected = expected_confidence({true, true, false, false}, 2);
-  for (int u = kWidth / 2 + 2 * kShift; u < kWidth + 2 * kShift; ++u) expected.erase(u);
+  for (int u = kMapWidth / 2 + 2 * kShift; u < kMapWidth + 2 * kShift; ++u) expected.erase(u);
   expect_fused(fuse_depth_maps(views, options, null_reporter()), expected);
   // Allowing one such view keeps them all again.
   options.two_view_max_views_without_depth = 1;
@@ -156,28 +156,28 @@ TEST(Fusion, AViewSeeingTheSurfaceGrazinglyDoesNotSpeakAgainstIt) {
   // (towards -x): view 2 sees them at incidence between about t - 18 and t
   // degrees (30 degrees: at most 30; 80 degrees: at least 62).
   auto views = plane_seen_by_two_views();
-  views[2].map.depth.colRange(kWidth / 2, kWidth).setTo(0);
+  views[2].map.depth.colRange(kMapWidth / 2, kMapWidth).setTo(0);
   MvsOptions options = three_views_must_agree();
   options.two_view_max_cost = 0.2;
   options.two_view_veto_max_incidence_deg = 60.0;
   std::map<int, int> vetoed = expected_confidence({true, true, false, false}, 2);
-  for (int u = kWidth / 2 + 2 * kShift; u < kWidth + 2 * kShift; ++u) vetoed.erase(u);
+  for (int u = kMapWidth / 2 + 2 * kShift; u < kMapWidth + 2 * kShift; ++u) vetoed.erase(u);
   const auto tilt_normals = [&views](double degrees) {
     const double t = degrees * M_PI / 180.0;
     for (auto& v : views) v.map.normal.setTo(encode_normal({-std::sin(t), 0, -std::cos(t)}));
   };
   tilt_normals(30.0);  // view 2 faces the surface: its missing depth still counts
   const PointCloud facing = fuse_depth_maps(views, options, null_reporter());
-  EXPECT_EQ(facing.size(), vetoed.size() * kHeight);
+  EXPECT_EQ(facing.size(), vetoed.size() * kMapHeight);
   tilt_normals(80.0);  // view 2 sees it grazingly: the points stay
   const PointCloud grazing = fuse_depth_maps(views, options, null_reporter());
-  EXPECT_EQ(grazing.size(), expected_confidence({true, true, false, false}, 2).size() * kHeight);
+  EXPECT_EQ(grazing.size(), expected_confidence({true, true, false, false}, 2).size() * kMapHeight);
 }
 
 TEST(Fusion, PhotoFromTheSameSpotIsNoFurtherEvidence) {
   // Views 0, 1 and a second photo from view 0's spot agree on the plane.
   auto views = plane_seen_by_two_views();
-  views[2] = plane_view(0);
+  views[2] = fusion_plane_view(0);
   views[3].map.depth.setTo(0);
   const PointCloud cloud = fuse_depth_maps(views, three_views_must_agree(), null_reporter());
   EXPECT_EQ(cloud.size(), 0u);  // two distinct viewpoints only
@@ -223,9 +223,9 @@ PointCloud fuse_in_store(const hos::testing::TempDir& spill,
                          const std::vector<std::vector<std::size_t>>& neighbours,
                          const MvsOptions& options,
                          int* spilled = nullptr) {
-  const auto bytes = static_cast<std::size_t>(kWidth * kHeight * fusion_bytes_per_pixel());
+  const auto bytes = static_cast<std::size_t>(kMapWidth * kMapHeight * fusion_bytes_per_pixel());
   FusionViewStore store(budget_views * bytes, spill.path());
-  for (int j = 0; j < kViews; ++j) store.add(plane_view(j));
+  for (int j = 0; j < kViews; ++j) store.add(fusion_plane_view(j));
   PointCloud cloud = fuse_depth_maps(store, neighbours, options, null_reporter());
   if (spilled) *spilled = store.spilled_views();
   return cloud;
@@ -248,7 +248,7 @@ TEST(Fusion, MapsSpilledOverTheMemoryBudgetFuseToTheSamePoints) {
   int spilled = 0;
   // Every view checked against every other: all are held, none is dropped.
   expect_same_points(fuse_in_store(spill, 1, neighbours_within(kViews), options, &spilled),
-                     fuse_depth_maps(plane_views(), options, null_reporter()));
+                     fuse_depth_maps(fusion_plane_views(), options, null_reporter()));
   EXPECT_EQ(spilled, kViews - 1);
   // Against the next views only: views are dropped and read back in turn.
   expect_same_points(fuse_in_store(spill, 1, neighbours_within(1), options, &spilled),
@@ -274,7 +274,7 @@ TEST(Fusion, OnlyTheListedNeighboursConfirmAPoint) {
 }
 
 TEST(Fusion, PixelsWithoutDepthAreIgnored) {
-  auto views = plane_views();
+  auto views = fusion_plane_views();
   for (auto& v : views) v.map.depth.setTo(0);
   EXPECT_EQ(fuse_depth_maps(views, three_views_must_agree(), null_reporter()).size(), 0u);
 }

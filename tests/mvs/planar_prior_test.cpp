@@ -10,7 +10,7 @@
 namespace hos::mvs {
 namespace {
 
-constexpr int kWidth = 160, kHeight = 120;
+constexpr int kPriorWidth = 160, kPriorHeight = 120;
 
 Eigen::Matrix3d intrinsics() {
   Eigen::Matrix3d K;
@@ -29,11 +29,11 @@ double plane_depth(const Eigen::Vector3d& n, double offset, double x, double y) 
 PlaneMap plane_with_hole(const Eigen::Vector3d& n, double offset, const cv::Rect& hole) {
   PlaneMap map;
   map.K = intrinsics();
-  map.depth = cv::Mat(kHeight, kWidth, CV_32F);
-  map.normal = cv::Mat(kHeight, kWidth, CV_32FC3, cv::Vec3f(float(n.x()), float(n.y()), float(n.z())));
-  map.cost = cv::Mat(kHeight, kWidth, CV_32F, cv::Scalar(0.05));
-  for (int y = 0; y < kHeight; ++y) {
-    for (int x = 0; x < kWidth; ++x) map.depth.at<float>(y, x) = float(plane_depth(n, offset, x + 0.5, y + 0.5));
+  map.depth = cv::Mat(kPriorHeight, kPriorWidth, CV_32F);
+  map.normal = cv::Mat(kPriorHeight, kPriorWidth, CV_32FC3, cv::Vec3f(float(n.x()), float(n.y()), float(n.z())));
+  map.cost = cv::Mat(kPriorHeight, kPriorWidth, CV_32F, cv::Scalar(0.05));
+  for (int y = 0; y < kPriorHeight; ++y) {
+    for (int x = 0; x < kPriorWidth; ++x) map.depth.at<float>(y, x) = float(plane_depth(n, offset, x + 0.5, y + 0.5));
   }
   map.depth(hole).setTo(0.3);
   map.cost(hole).setTo(3.0);
@@ -67,22 +67,22 @@ TEST(PlanarPrior, NoPriorBridgesADepthStep) {
   // Two fronto-parallel planes, depth 2 on the left and 4 on the right.
   PlaneMap map = plane_with_hole(Eigen::Vector3d(0, 0, -1), -2.0, cv::Rect(0, 0, 1, 1));
   map.cost.setTo(0.05);
-  map.depth.colRange(kWidth / 2, kWidth).setTo(4.0);
+  map.depth.colRange(kPriorWidth / 2, kPriorWidth).setTo(4.0);
   const PriorPlanes prior = planar_prior(map, 0.2);
   int with_prior = 0;
-  for (int y = 0; y < kHeight; ++y) {
-    for (int x = 0; x < kWidth; ++x) {
+  for (int y = 0; y < kPriorHeight; ++y) {
+    for (int x = 0; x < kPriorWidth; ++x) {
       const float d = prior.depth.at<float>(y, x);
       if (d == 0.0f) continue;
       ++with_prior;
       EXPECT_TRUE(std::abs(d - 2.0f) < 1e-3f || std::abs(d - 4.0f) < 1e-3f) << x << "," << y << ": " << d;
     }
   }
-  EXPECT_GT(with_prior, kWidth * kHeight / 2);
+  EXPECT_GT(with_prior, kPriorWidth * kPriorHeight / 2);
 }
 
 TEST(PlanarPrior, NothingConfidentGivesNoPrior) {
-  PlaneMap map = plane_with_hole(Eigen::Vector3d(0, 0, -1), -2.0, cv::Rect(0, 0, kWidth, kHeight));
+  PlaneMap map = plane_with_hole(Eigen::Vector3d(0, 0, -1), -2.0, cv::Rect(0, 0, kPriorWidth, kPriorHeight));
   const PriorPlanes prior = planar_prior(map, 0.2);
   EXPECT_EQ(cv::countNonZero(prior.depth), 0);
 }

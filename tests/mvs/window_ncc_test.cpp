@@ -11,14 +11,14 @@
 namespace hos::mvs {
 namespace {
 
-constexpr int kWidth = 96, kHeight = 80;
+constexpr int kNccWidth = 96, kNccHeight = 80;
 
 // Random gray values on the photos' 8-bit grid.
 cv::Mat random_gray(std::mt19937& rng) {
-  cv::Mat gray(kHeight, kWidth, CV_32F);
+  cv::Mat gray(kNccHeight, kNccWidth, CV_32F);
   std::uniform_int_distribution<int> value(0, 255);
-  for (int y = 0; y < kHeight; ++y) {
-    for (int x = 0; x < kWidth; ++x) gray.at<float>(y, x) = float(value(rng)) / 255.0f;
+  for (int y = 0; y < kNccHeight; ++y) {
+    for (int x = 0; x < kNccWidth; ++x) gray.at<float>(y, x) = float(value(rng)) / 255.0f;
   }
   return gray;
 }
@@ -107,7 +107,7 @@ TEST(WindowNcc, PortableKernelEqualsTheDirectWeightedNcc) {
   int scored = 0;
   for (int trial = 0; trial < 2000; ++trial) {
     const int radius = 1 + trial % 5, step = 1 + trial % radius;
-    std::uniform_int_distribution<int> px(radius, kWidth - 1 - radius), py(radius, kHeight - 1 - radius);
+    std::uniform_int_distribution<int> px(radius, kNccWidth - 1 - radius), py(radius, kNccHeight - 1 - radius);
     const Window w = make_window(ref, px(rng), py(rng), radius, step, rng);
     const auto h = random_homography(rng);
     const double truth = direct_cost(w, h, src_gray);
@@ -130,7 +130,7 @@ TEST(WindowNcc, Avx2KernelEqualsThePortableOne) {
   int scored = 0;
   for (int trial = 0; trial < 5000; ++trial) {
     const int radius = 1 + trial % 7, step = 1 + trial % radius;
-    std::uniform_int_distribution<int> px(radius, kWidth - 1 - radius), py(radius, kHeight - 1 - radius);
+    std::uniform_int_distribution<int> px(radius, kNccWidth - 1 - radius), py(radius, kNccHeight - 1 - radius);
     const Window w = make_window(ref, px(rng), py(rng), radius, step, rng);
     const auto h = random_homography(rng);
     const float portable = window_ncc_portable(w.window, w.ref, h.data(), src);

@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
@@ -24,8 +25,6 @@
 namespace hos::pipeline {
 namespace {
 namespace fs = std::filesystem;
-
-constexpr double kPi = 3.14159265358979323846;
 
 // The glb's root node: rotation, translation and scale, as a placed model's.
 Eigen::Matrix4d test_root_matrix() {
@@ -225,7 +224,7 @@ TEST_F(RunReportBrowser, ViewerOpensFromTheFirstPhotosViewpoint) {
   const ImageRecord first = photos().images.at(1);
   const Eigen::Vector3d position = (root * first.center().homogeneous()).hnormalized();
   const Eigen::Vector3d direction = (root.topLeftCorner<3, 3>() * first.viewing_direction()).normalized();
-  const double fov_deg = 2.0 * std::atan(240.0 / 500.0) * 180.0 / kPi;
+  const double fov_deg = 2.0 * std::atan(240.0 / 500.0) * 180.0 / std::numbers::pi;
   const auto shown = [&](const char* key) {
     const auto& v = (*camera)[key];
     return Eigen::Vector3d(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
@@ -233,7 +232,7 @@ TEST_F(RunReportBrowser, ViewerOpensFromTheFirstPhotosViewpoint) {
   // Bounds: the model is 3.4 units (scaled 1.7) across; a thousandth of
   // that, a tenth of a degree.
   EXPECT_LT((shown("position") - position).norm(), 3.4e-3) << shown("position").transpose();
-  EXPECT_LT(std::acos(std::min(1.0, shown("direction").normalized().dot(direction))) * 180.0 / kPi, 0.1)
+  EXPECT_LT(std::acos(std::min(1.0, shown("direction").normalized().dot(direction))) * 180.0 / std::numbers::pi, 0.1)
       << shown("direction").transpose() << " against " << direction.transpose();
   EXPECT_NEAR((*camera)["fov_deg"].get<double>(), fov_deg, 0.1);
 }

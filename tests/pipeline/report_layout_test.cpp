@@ -23,16 +23,10 @@
 namespace hos::pipeline {
 namespace {
 namespace fs = std::filesystem;
+using hos::testing::contains;
+using hos::testing::count_occurrences;
 
 constexpr std::size_t kMaxPageBytes = 8'000'000;
-
-int count(const std::string& text, const std::string& part) {
-  int n = 0;
-  for (auto at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++n;
-  return n;
-}
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // The x1 attributes of the lines of a class, in order.
 std::vector<double> line_xs(const std::string& svg, const std::string& css_class) {
@@ -70,11 +64,12 @@ TEST(PlotAxes, HistogramHasBothAxisLabelsAFewTicksAndGridlines) {
   EXPECT_TRUE(contains(svg, "class=\"x-label\""));
   EXPECT_TRUE(contains(svg, ">mean reprojection error (px)</text>"));
   EXPECT_TRUE(contains(svg, ">count</text>"));  // the histogram's default y label
-  EXPECT_GE(count(svg, "class=\"x-tick\""), 3);
-  EXPECT_LE(count(svg, "class=\"x-tick\""), 7);
-  EXPECT_GE(count(svg, "class=\"y-tick\""), 3);
-  EXPECT_LE(count(svg, "class=\"y-tick\""), 7);
-  EXPECT_EQ(count(svg, "class=\"grid\""), count(svg, "class=\"x-tick\"") + count(svg, "class=\"y-tick\""));
+  EXPECT_GE(count_occurrences(svg, "class=\"x-tick\""), 3);
+  EXPECT_LE(count_occurrences(svg, "class=\"x-tick\""), 7);
+  EXPECT_GE(count_occurrences(svg, "class=\"y-tick\""), 3);
+  EXPECT_LE(count_occurrences(svg, "class=\"y-tick\""), 7);
+  EXPECT_EQ(count_occurrences(svg, "class=\"grid\""),
+            count_occurrences(svg, "class=\"x-tick\"") + count_occurrences(svg, "class=\"y-tick\""));
   // It scales with its container: a viewBox and no fixed size.
   EXPECT_TRUE(contains(svg, "viewBox=\"0 0 "));
   EXPECT_FALSE(contains(svg, " width=\"480\""));
@@ -83,11 +78,11 @@ TEST(PlotAxes, HistogramHasBothAxisLabelsAFewTicksAndGridlines) {
 TEST(PlotAxes, BarChartAndLogPlotCarryTheirYLabel) {
   const std::string bars = svg_bar_chart({{"a", 0.5}, {"b", 0.9}, {"c", 0.1}}, 1.0, {"cov", "view", "fraction"});
   EXPECT_TRUE(contains(bars, ">fraction</text>"));
-  EXPECT_GE(count(bars, "class=\"y-tick\""), 3);
-  EXPECT_EQ(count(bars, "class=\"x-tick\""), 3);  // views 1, 2, 3
+  EXPECT_GE(count_occurrences(bars, "class=\"y-tick\""), 3);
+  EXPECT_EQ(count_occurrences(bars, "class=\"x-tick\""), 3);  // views 1, 2, 3
   const std::string line = svg_log_line_plot({1.0, 0.1, 0.01, 0.001}, {"r", "iteration", "relative residual"});
   EXPECT_TRUE(contains(line, ">relative residual</text>"));
-  EXPECT_EQ(count(line, "class=\"y-tick\""), 4);  // 1e0 .. 1e-3
+  EXPECT_EQ(count_occurrences(line, "class=\"y-tick\""), 4);  // 1e0 .. 1e-3
 }
 
 TEST(SolverResidualPlot, MarksWhereEachSolveStarts) {
@@ -126,7 +121,7 @@ TEST(SolverResidualPlot, TheReportDrawsOneMarkerPerSolveOfReconsReport) {
   const auto start = html.find("<div id=\"plot-solver-residual\">");
   ASSERT_NE(start, std::string::npos);
   const std::string plot = html.substr(start, html.find("</div>", start) - start);
-  EXPECT_EQ(count(plot, "class=\"segment-marker\""), 2);
+  EXPECT_EQ(count_occurrences(plot, "class=\"segment-marker\""), 2);
   EXPECT_TRUE(contains(plot, "relative residual"));
 }
 
@@ -140,12 +135,12 @@ TEST(StageTimePlot, OneWallAndOneCpuBarPerStageThatEnded) {
   record.stages["mvs"].cpu_seconds = 110.0;
   record.stages["recon"].state = "running";
   const std::string svg = stage_time_svg(record);
-  EXPECT_EQ(count(svg, "<title>sfm, "), 2);
-  EXPECT_EQ(count(svg, "<title>mvs, "), 2);
-  EXPECT_EQ(count(svg, "<title>recon, "), 0);
+  EXPECT_EQ(count_occurrences(svg, "<title>sfm, "), 2);
+  EXPECT_EQ(count_occurrences(svg, "<title>mvs, "), 2);
+  EXPECT_EQ(count_occurrences(svg, "<title>recon, "), 0);
   EXPECT_TRUE(contains(svg, "<title>mvs, CPU time: 110</title>"));
   EXPECT_TRUE(contains(svg, ">time (s)</text>"));
-  EXPECT_GE(count(svg, "class=\"x-tick\""), 3);
+  EXPECT_GE(count_occurrences(svg, "class=\"x-tick\""), 3);
   EXPECT_EQ(stage_time_svg(RunRecord{}), "");
 }
 

@@ -19,14 +19,8 @@
 namespace hos::pipeline {
 namespace {
 namespace fs = std::filesystem;
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
-int count(const std::string& text, const std::string& part) {
-  int n = 0;
-  for (auto at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++n;
-  return n;
-}
+using hos::testing::contains;
+using hos::testing::count_occurrences;
 
 // A photo of the given size (a gradient, so that JPEG has something to encode).
 void write_photo(const fs::path& file, int width, int height) {
@@ -141,7 +135,7 @@ TEST(RunReport, FinishedRunHasEveryTableAndPlot) {
                          "id=\"plot-track-length\"", "id=\"plot-depth-coverage\"", "id=\"plot-mvs-confidence\"",
                          "id=\"plot-solver-residual\"", "id=\"plot-views-per-face\"", "id=\"plot-seam-jump\"",
                          "id=\"eval\"", "id=\"config\""}) {
-    EXPECT_EQ(count(html, id), 1) << id;
+    EXPECT_EQ(count_occurrences(html, id), 1) << id;
   }
   EXPECT_TRUE(contains(html, "The run finished."));
   // Paths as seen from the page: the same wherever the workspace is.
@@ -165,11 +159,11 @@ TEST(RunReport, FinishedRunHasEveryTableAndPlot) {
   EXPECT_TRUE(contains(html, ">1e-3</text>"));
   EXPECT_TRUE(contains(html, ">before leveling</text>"));
   EXPECT_TRUE(contains(html, ">after leveling</text>"));
-  EXPECT_EQ(count(html, "<polyline"), 1);
+  EXPECT_EQ(count_occurrences(html, "<polyline"), 1);
   // hos-eval's numbers, nested ones by their path; lists stay in the file.
   EXPECT_TRUE(contains(html, "<h3>eval/mesh.json</h3>"));
-  EXPECT_EQ(count(html, "<td>f_score</td><td>0.8125</td>"), 2);  // a headline, and in all figures
-  EXPECT_EQ(count(html, "<td>accuracy.mean</td><td>0.004</td>"), 2);
+  EXPECT_EQ(count_occurrences(html, "<td>f_score</td><td>0.8125</td>"), 2);  // a headline, and in all figures
+  EXPECT_EQ(count_occurrences(html, "<td>accuracy.mean</td><td>0.004</td>"), 2);
   EXPECT_LT(html.find("<td>f_score</td>"), html.find("<td>accuracy.mean</td>"));
   EXPECT_FALSE(contains(html, "<td>thresholds"));
   EXPECT_FALSE(contains(html, "nan"));
@@ -193,7 +187,7 @@ TEST(RunReport, PhotosAreSmallEmbeddedThumbnails) {
   // Two registered photos and the unregistered one, all embedded; the
   // skipped text file has no picture.
   const std::string prefix = "src=\"data:image/jpeg;base64,";
-  ASSERT_EQ(count(html, prefix), 3);
+  ASSERT_EQ(count_occurrences(html, prefix), 3);
   EXPECT_FALSE(contains(html, "src=\"sfm/"));
   for (auto at = html.find(prefix); at != std::string::npos; at = html.find(prefix, at + 1)) {
     const auto length = html.find('"', at + prefix.size()) - (at + prefix.size());
@@ -222,7 +216,7 @@ TEST(RunReport, PhotosInSubfoldersAreShownUnderTheirNames) {
   EXPECT_TRUE(contains(html, "<figcaption>DCIM/100APPLE/IMG_1.jpg: registered</figcaption>"));
   EXPECT_TRUE(contains(html, "src=\"data:image/jpeg;base64," + base64(std::string(jpeg.begin(), jpeg.end())) + "\""));
   EXPECT_FALSE(contains(html, "<figcaption>DCIM: "));
-  EXPECT_EQ(count(html, "src=\"data:image/jpeg;base64,"), 4);
+  EXPECT_EQ(count_occurrences(html, "src=\"data:image/jpeg;base64,"), 4);
 }
 
 TEST(RunReport, FailedRunNamesTheFailingStage) {
@@ -296,7 +290,7 @@ TEST(SvgPlot, GroupedHistogramsDrawEveryBinOfEverySeriesWithALegend) {
   const Histogram a = make_histogram({0.1, 0.6, 0.7}, 2, 0.0, 1.0);
   const Histogram b = make_histogram({0.1}, 2, 0.0, 1.0);
   const std::string svg = svg_histograms({{"first", a}, {"second", b}}, {"title", "x", ""});
-  EXPECT_EQ(count(svg, "<rect x="), 4 + 2);  // bars and legend swatches
+  EXPECT_EQ(count_occurrences(svg, "<rect x="), 4 + 2);  // bars and legend swatches
   EXPECT_TRUE(contains(svg, "<title>2</title>"));
   EXPECT_TRUE(contains(svg, ">second</text>"));
   EXPECT_FALSE(contains(svg_histogram(a, {"title", "x", ""}), ">first</text>"));
@@ -312,7 +306,7 @@ TEST(SvgPlot, CountHistogramsAreLabelledByTheirFirstAndLastCount) {
 TEST(SvgPlot, LogLinePlotLeavesOutValuesItCannotPlace) {
   const std::string svg = svg_log_line_plot({1.0, 0.0, 0.05, std::nan(""), 0.002}, {"residual", "iteration", ""});
   const auto points = svg.substr(svg.find("points=\""));
-  EXPECT_EQ(count(points.substr(0, points.find("/>")), ","), 3);
+  EXPECT_EQ(count_occurrences(points.substr(0, points.find("/>")), ","), 3);
   EXPECT_TRUE(contains(svg, ">1e0</text>"));
   EXPECT_TRUE(contains(svg, ">1e-3</text>"));
 }

@@ -23,6 +23,7 @@
 namespace hos::pipeline {
 namespace {
 namespace fs = std::filesystem;
+using hos::testing::read_text;
 using ::testing::HasSubstr;
 using ::testing::Not;
 
@@ -57,18 +58,13 @@ constexpr const char* kFakeScancel = R"(#!/bin/sh
 echo "$*" >> "$HOS_FAKE_SLURM/scancel.log"
 )";
 // A stage executable that records its arguments.
-constexpr const char* kFakeStage = R"(#!/bin/sh
+constexpr const char* kRecordingStage = R"(#!/bin/sh
 echo "$(basename "$0") $*" >> "$HOS_FAKE_SLURM/stage_calls"
 )";
 
 void write_executable(const fs::path& file, const std::string& text) {
   std::ofstream(file) << text;
   fs::permissions(file, fs::perms::owner_all);
-}
-
-std::string read_text(const fs::path& file) {
-  std::ifstream in(file);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 std::vector<std::string> lines_of(const fs::path& file) {
@@ -78,7 +74,7 @@ std::vector<std::string> lines_of(const fs::path& file) {
   return lines;
 }
 
-class CancellingReporter : public testing::MessageLog {
+class AlwaysCancellingReporter : public testing::MessageLog {
  public:
   bool cancel_requested() const override { return true; }
 };
@@ -98,7 +94,7 @@ class SlurmExecutorTest : public ::testing::Test {
     write_executable(fake_ / "scancel", kFakeScancel);
     write_executable(fake_ / "sinfo", kFakeSinfo);
     for (const char* exe : {"hos-sfm", "hos-mvs", "hos-recon", "hos-refine", "hos-texture"}) {
-      write_executable(bin_ / exe, kFakeStage);
+      write_executable(bin_ / exe, kRecordingStage);
     }
     old_path_ = std::getenv("PATH") ? std::getenv("PATH") : "";
     setenv("PATH", (fake_.string() + ":" + old_path_).c_str(), 1);
@@ -430,7 +426,7 @@ TEST_F(SlurmExecutorTest, ChangedOptionCancelsTheStagesJobsAndSubmitsThemAgain) 
 TEST_F(SlurmExecutorTest, InterruptCancelsEverySubmittedJob) {
   options_.executor_options = {"mvs_tasks=3", "poll_seconds=0"};
   set_active(kAllJobs);
-  CancellingReporter cancelling;
+  AlwaysCancellingReporter cancelling;
   EXPECT_THROW(run_pipeline(options_, cancelling), Cancelled);
   EXPECT_EQ(lines_of(fake_ / "scancel.log"),
             (std::vector<std::string>{"100 101_0 101_1 101_2 102 103 104 105_0 105_1 105_2 105_3 106"}));

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <numbers>
 
 #include "recon/recon_report.h"
 #include "recon/reconstruct.h"
@@ -15,8 +16,6 @@
 
 namespace hos::recon {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // b's vertices and faces appended to a.
 void append(TriangleMesh& a, const TriangleMesh& b) {
@@ -42,8 +41,8 @@ TEST(Debris, SmallDetachedPieceIsRemoved) {
   EXPECT_EQ(report.faces_removed, synth::icosphere(2).faces.size());
   // The speck's area: a sphere of radius 0.05 (the icosphere's chords make it
   // a few percent smaller).
-  EXPECT_NEAR(report.area_removed, 4.0 * kPi * 0.05 * 0.05, 0.1 * 4.0 * kPi * 0.05 * 0.05);
-  EXPECT_NEAR(report.area_kept, 4.0 * kPi, 0.1 * 4.0 * kPi);
+  EXPECT_NEAR(report.area_removed, 4.0 * std::numbers::pi * 0.05 * 0.05, 0.1 * 4.0 * std::numbers::pi * 0.05 * 0.05);
+  EXPECT_NEAR(report.area_kept, 4.0 * std::numbers::pi, 0.1 * 4.0 * std::numbers::pi);
   EXPECT_EQ(mesh.faces.size(), sphere_faces);
   for (const auto& v : mesh.vertices) EXPECT_LT(v.norm(), 1.01f);  // only the sphere's vertices remain
   EXPECT_EQ(testing::analyze_topology(mesh).components, 1);

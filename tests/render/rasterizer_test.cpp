@@ -9,22 +9,21 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <random>
 
 namespace hos::render {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // A latitude-longitude sphere whose poles lie on the z axis, CCW from outside.
 TriangleMesh uv_sphere(const Eigen::Vector3f& centre, float r, int rings, int segments) {
   TriangleMesh m;
   m.vertices.push_back(centre + Eigen::Vector3f(0, 0, -r));
   for (int i = 1; i < rings; ++i) {
-    const float theta = static_cast<float>(kPi) * i / rings;
+    const float theta = static_cast<float>(std::numbers::pi) * i / rings;
     for (int j = 0; j < segments; ++j) {
-      const float phi = 2 * static_cast<float>(kPi) * j / segments;
+      const float phi = 2 * static_cast<float>(std::numbers::pi) * j / segments;
       m.vertices.push_back(centre + r * Eigen::Vector3f(std::sin(theta) * std::cos(phi),
                                                         std::sin(theta) * std::sin(phi), -std::cos(theta)));
     }
@@ -72,7 +71,7 @@ TEST(RasterizerTest, SphereMaskAreaAndDepthMatchTheAnalyticProjection) {
   const RenderedView view = render_view({sphere}, kCamera, kIdentityPose);
   // Silhouette of a sphere on the optical axis: a disk of radius f r / sqrt(d^2 - r^2).
   const double rho = 400.0 * r / std::sqrt(d * d - r * r);
-  const double expected = kPi * rho * rho;
+  const double expected = std::numbers::pi * rho * rho;
   const double area = cv::countNonZero(view.mask);
   EXPECT_NEAR(area, expected, 0.01 * expected) << "rho " << rho;
   // Depth at the pixel next to the principal point: the sphere's nearest point.
@@ -168,7 +167,8 @@ TEST(RasterizerTest, LambertianShadingVertexColoursAndExposure) {
   obj.mesh.colors.assign(4, Rgb8{200, 120, 40});
   RenderOptions options;
   options.supersampling = 3;
-  options.lighting.direction_to_light = Eigen::Vector3f(std::sin(kPi / 3), 0, -std::cos(kPi / 3));
+  options.lighting.direction_to_light =
+      Eigen::Vector3f(std::sin(std::numbers::pi / 3), 0, -std::cos(std::numbers::pi / 3));
   for (const float gain : {1.0f, 1.3f}) {
     options.exposure_gain = gain;
     const RenderedView view = render_view({obj}, kCamera, kIdentityPose, options);

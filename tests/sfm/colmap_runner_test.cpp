@@ -43,7 +43,7 @@ TEST(ColmapRunner, TailIsIndented) { EXPECT_EQ(format_tail({"a", "b"}), "\n    a
 
 TEST(ColmapRunner, FullDiskNamesTheDiskAndFolderAsAnOutputError) {
   // A stand-in for COLMAP that fails the way SQLite does on a full disk.
-  testing::TempDir dir;
+  hos::testing::TempDir dir;
   const fs::path fake = dir / "colmap";
   std::ofstream(fake) << "#!/bin/sh\necho 'E1202 sqlite3.cc: SQLite error: database or disk is full'\nexit 1\n";
   ::chmod(fake.c_str(), 0755);

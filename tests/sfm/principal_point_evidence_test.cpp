@@ -14,7 +14,7 @@
 namespace hos::sfm {
 namespace {
 
-constexpr int kWidth = 640, kHeight = 480;
+constexpr int kPhotoWidth = 640, kPhotoHeight = 480;
 constexpr double kFocal = 576.0, kNoisePx = 0.3;
 
 // Twelve photos on a ring around 400 points of a unit cube; every keypoint
@@ -33,13 +33,13 @@ SparseModel ring_with_noisy_keypoints(const Eigen::Vector2d& true_principal,
   Camera camera;
   camera.id = 1;
   camera.model = CameraModel::kSimpleRadial;
-  camera.width = kWidth;
-  camera.height = kHeight;
+  camera.width = kPhotoWidth;
+  camera.height = kPhotoHeight;
   camera.params = {kFocal, true_principal.x(), true_principal.y(), 0.0};
   const Camera centred = [&] {
     Camera c = camera;
-    c.params[1] = 0.5 * kWidth;
-    c.params[2] = 0.5 * kHeight;
+    c.params[1] = 0.5 * kPhotoWidth;
+    c.params[2] = 0.5 * kPhotoHeight;
     return c;
   }();
   model.cameras[1] = centred;
@@ -114,7 +114,7 @@ TEST(ChiSquareTailEven, MatchesTabulatedQuantiles) {
 }
 
 TEST(ReprojectionFit, SumsTheKeypointNoise) {
-  const SparseModel model = ring_with_noisy_keypoints({0.5 * kWidth, 0.5 * kHeight}, 1);
+  const SparseModel model = ring_with_noisy_keypoints({0.5 * kPhotoWidth, 0.5 * kPhotoHeight}, 1);
   const ReprojectionFit fit = reprojection_fit(model, 1);
   ASSERT_GT(fit.observations, 4000);
   // Two axes of Gaussian noise per keypoint.
@@ -128,7 +128,7 @@ TEST(ReprojectionFit, SumsTheKeypointNoise) {
 TEST(PrincipalPointEvidence, NoiseAloneIsNotEvidence) {
   int supported = 0;
   for (unsigned seed = 0; seed < 100; ++seed) {
-    const SparseModel centred = ring_with_noisy_keypoints({0.5 * kWidth, 0.5 * kHeight}, seed);
+    const SparseModel centred = ring_with_noisy_keypoints({0.5 * kPhotoWidth, 0.5 * kPhotoHeight}, seed);
     const SparseModel fitted = with_fitted_principal_points(centred);
     const PrincipalPointEvidence evidence =
         principal_point_evidence(reprojection_fit(centred, 1), reprojection_fit(fitted, 1), 2);
@@ -139,7 +139,7 @@ TEST(PrincipalPointEvidence, NoiseAloneIsNotEvidence) {
 }
 
 TEST(PrincipalPointEvidence, AnOffCentrePrincipalPointIsKept) {
-  const Eigen::Vector2d truth(0.5 * kWidth + 1.0, 0.5 * kHeight - 0.5);
+  const Eigen::Vector2d truth(0.5 * kPhotoWidth + 1.0, 0.5 * kPhotoHeight - 0.5);
   const SparseModel centred = ring_with_noisy_keypoints(truth, 3);
   const SparseModel fitted = with_fitted_principal_points(centred);
   EXPECT_NEAR(fitted.cameras.at(1).principal_x(), truth.x(), 0.05);
@@ -153,7 +153,7 @@ TEST(PrincipalPointEvidence, AnOffCentrePrincipalPointIsKept) {
 // off-centre principal point improves the whole model's fit, which is no
 // evidence for the other camera, whose true principal point is the centre.
 TEST(PrincipalPointEvidence, EachCameraIsJudgedOnItsOwnPhotos) {
-  const Eigen::Vector2d centre(0.5 * kWidth, 0.5 * kHeight);
+  const Eigen::Vector2d centre(0.5 * kPhotoWidth, 0.5 * kPhotoHeight);
   const SparseModel centred = ring_with_noisy_keypoints(centre, 5, centre + Eigen::Vector2d(4.0, -3.0));
   const SparseModel fitted = with_fitted_principal_points(centred);
   EXPECT_FALSE(principal_point_evidence(reprojection_fit(centred, 1), reprojection_fit(fitted, 1), 2).supported);

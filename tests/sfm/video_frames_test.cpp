@@ -20,13 +20,13 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-constexpr int kWidth = 320;
-constexpr int kHeight = 240;
+constexpr int kFrameWidth = 320;
+constexpr int kFrameHeight = 240;
 
 // A wide textured strip; a frame is a window of it, so moving the window
 // moves every feature by the same number of pixels.
 cv::Mat texture_strip(int width) {
-  cv::Mat noise(kHeight, width, CV_8UC3);
+  cv::Mat noise(kFrameHeight, width, CV_8UC3);
   cv::RNG rng(7);
   rng.fill(noise, cv::RNG::UNIFORM, 0, 255);
   cv::Mat strip;
@@ -41,11 +41,11 @@ struct Clip {
 };
 
 std::vector<cv::Mat> render(const Clip& clip) {
-  const int widest = *std::max_element(clip.offsets.begin(), clip.offsets.end()) + kWidth;
+  const int widest = *std::max_element(clip.offsets.begin(), clip.offsets.end()) + kFrameWidth;
   const cv::Mat strip = texture_strip(widest);
   std::vector<cv::Mat> frames;
   for (std::size_t i = 0; i < clip.offsets.size(); ++i) {
-    cv::Mat frame = strip(cv::Rect(clip.offsets[i], 0, kWidth, kHeight)).clone();
+    cv::Mat frame = strip(cv::Rect(clip.offsets[i], 0, kFrameWidth, kFrameHeight)).clone();
     // Motion blur along the motion: a horizontal box filter 15 px wide.
     if (static_cast<int>(i) == clip.blurred) cv::blur(frame, frame, cv::Size(15, 1));
     frames.push_back(frame);
@@ -138,7 +138,7 @@ TEST(VideoFrameSelector, MaxFramesThinsEvenly) {
 }
 
 TEST(VideoFrameSelector, FrameSharpnessFallsWithBlur) {
-  const cv::Mat sharp = texture_strip(kWidth);
+  const cv::Mat sharp = texture_strip(kFrameWidth);
   cv::Mat gray, blurred;
   cv::cvtColor(sharp, gray, cv::COLOR_BGR2GRAY);
   cv::blur(gray, blurred, cv::Size(15, 1));
@@ -181,7 +181,8 @@ TEST(VideoFrames, VideoFilesAreRecognisedByContent) {
 
 // Writes the clip as an MJPEG AVI (OpenCV's own encoder: always there).
 fs::path write_clip(const fs::path& file, const std::vector<cv::Mat>& frames) {
-  cv::VideoWriter writer(file.string(), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 30.0, cv::Size(kWidth, kHeight));
+  cv::VideoWriter writer(file.string(), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 30.0,
+                         cv::Size(kFrameWidth, kFrameHeight));
   if (!writer.isOpened()) throw std::runtime_error("cannot write " + file.string());
   for (const cv::Mat& frame : frames) writer.write(frame);
   return file;
@@ -202,7 +203,7 @@ TEST(VideoFrames, PrepareImagesStagesTheKeptFramesOfAClipAsOneCamera) {
   EXPECT_TRUE(inputs.same_camera());
   for (const StagedImage& image : inputs.images) {
     EXPECT_EQ(image.video_clip, "walk.avi");
-    EXPECT_EQ(image.width, kWidth);
+    EXPECT_EQ(image.width, kFrameWidth);
     EXPECT_TRUE(fs::exists(dir / "staged" / image.name)) << image.name;
     EXPECT_TRUE(fs::exists(dir / "thumbs" / (image.name + ".jpg"))) << image.name;
   }
@@ -230,7 +231,7 @@ TEST(VideoFrames, AnUnreadableClipIsSkippedWithTheReason) {
   fs::create_directories(dir / "photos");
   write_bytes(dir / "photos" / "broken.mp4", std::string("\0\0\0\x18", 4) + "ftypisom" + std::string(100, '\x55'));
   for (const char* name : {"p0.jpg", "p1.jpg", "p2.jpg"}) {
-    cv::imwrite((dir / "photos" / name).string(), texture_strip(kWidth));
+    cv::imwrite((dir / "photos" / name).string(), texture_strip(kFrameWidth));
   }
   const ImageInputs inputs = prepare_images(dir / "photos", dir / "staged", SfmOptions{}, null_reporter());
   EXPECT_EQ(inputs.images.size(), 3u);

@@ -76,6 +76,14 @@ std::string read_text(const fs::path& file) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+int count_occurrences(const std::string& text, const std::string& part) {
+  int n = 0;
+  for (auto at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++n;
+  return n;
+}
+
 std::vector<int> jpeg_sampling_factors(const std::string& jpeg) {
   const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(jpeg[i]); };
   for (std::size_t i = 2; i + 9 < jpeg.size(); ++i) {

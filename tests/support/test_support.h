@@ -38,6 +38,9 @@ int run_command(const std::string& command, const std::filesystem::path& log_pat
 std::string shell_quote(const std::string& s);
 // The whole content of a text file ("" if it cannot be read).
 std::string read_text(const std::filesystem::path& file);
+// Whether text holds part, and how often (overlapping matches count).
+bool contains(const std::string& text, const std::string& part);
+int count_occurrences(const std::string& text, const std::string& part);
 // The sampling byte (horizontal << 4 | vertical) of each component in a
 // JPEG's baseline frame header: {0x11, 0x11, 0x11} for 4:4:4, {0x22, 0x11,
 // 0x11} for 4:2:0; empty without one.

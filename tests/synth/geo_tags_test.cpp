@@ -7,6 +7,7 @@
 #include <cmath>
 #include <exiv2/exiv2.hpp>
 #include <filesystem>
+#include <numbers>
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/error.h"
@@ -15,8 +16,6 @@
 
 namespace hos::synth {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 double rational_degrees(const Exiv2::Exifdatum& d) {
   return d.toFloat(0) + d.toFloat(1) / 60.0 + d.toFloat(2) / 3600.0;
@@ -58,8 +57,8 @@ TEST(GeoTags, TiltTurnsEveryCameraUpOrDown) {
   for (const auto& [id, image] : a.images) {
     const ImageRecord& turned = b.images.at(id);
     EXPECT_LT((turned.center() - image.center()).norm(), 1e-9);
-    const double pitch = std::asin(image.viewing_direction().dot(up)) * 180.0 / kPi;
-    const double turned_pitch = std::asin(turned.viewing_direction().dot(up)) * 180.0 / kPi;
+    const double pitch = std::asin(image.viewing_direction().dot(up)) * 180.0 / std::numbers::pi;
+    const double turned_pitch = std::asin(turned.viewing_direction().dot(up)) * 180.0 / std::numbers::pi;
     EXPECT_NEAR(turned_pitch - pitch, 15.0, 1e-6);
     // Still level: the x axis stays horizontal.
     EXPECT_NEAR(turned.rotation().row(0).dot(up), 0.0, 1e-9);

@@ -15,6 +15,8 @@
 namespace hos::texture {
 namespace {
 
+using testing::strip_topology;
+
 // Random convex and concave blobs: ellipses, triangles and L shapes.
 std::vector<cv::Mat> random_masks(int count, int max_size, unsigned seed) {
   std::mt19937 rng(seed);
@@ -174,17 +176,6 @@ TEST(AtlasCoverage, CountsTexelCentresInsideTriangles) {
   mesh.uvs.push_back({1.0f, 1.0f});
   mesh.indices[0].insert(mesh.indices[0].end(), {1, 4, 2});
   EXPECT_DOUBLE_EQ(atlas_coverage(mesh), 1.0);
-}
-
-// A strip of faces 0-1-2-...-9 (each shares an edge with the next).
-MeshTopology strip_topology(int n) {
-  MeshTopology t;
-  t.face_neighbors.assign(n, {-1, -1, -1});
-  for (int f = 0; f < n; ++f) {
-    if (f > 0) t.face_neighbors[f][0] = f - 1;
-    if (f + 1 < n) t.face_neighbors[f][1] = f + 1;
-  }
-  return t;
 }
 
 // Every face seen by the listed views with the given projected area each.

@@ -11,28 +11,15 @@
 #include <iostream>
 
 #include "core/error.h"
-#include "synth/shapes.h"
 #include "tests/support/test_support.h"
 #include "tests/texture/scene_fixtures.h"
 #include "texture/model_writer.h"
-#include "texture/texture_mesh.h"
 
 namespace hos::texture {
 namespace {
 
 namespace fs = std::filesystem;
-
-TexturedMesh textured_sphere(int atlas_size = 4096) {
-  const TriangleMesh mesh = synth::icosphere(3, 1.0);
-  std::vector<TextureView> views;
-  for (int i = 0; i < 6; ++i) {
-    views.push_back(testing::make_view(testing::view_name(i), 60.0 * i, 10.0, 3.5));
-    testing::render_sphere(views.back(), 1.0);
-  }
-  TextureOptions options;
-  options.atlas_size = atlas_size;
-  return texture_mesh(mesh, views, options, null_reporter()).mesh;
-}
+using testing::textured_sphere;
 
 // The validator's node_modules folder: installed once per build folder.
 fs::path validator_modules() {

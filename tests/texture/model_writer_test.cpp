@@ -17,28 +17,19 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "synth/shapes.h"
 #include "tests/support/test_support.h"
 #include "tests/texture/scene_fixtures.h"
-#include "texture/texture_mesh.h"
 
 namespace hos::texture {
 namespace {
 
 namespace fs = std::filesystem;
 
-TexturedMesh textured_sphere(int atlas_size) {
-  const TriangleMesh mesh = synth::icosphere(3, 1.0);
-  std::vector<TextureView> views;
-  for (int i = 0; i < 6; ++i) {
-    views.push_back(testing::make_view(testing::view_name(i), 60.0 * i, 10.0, 3.5));
-    testing::render_sphere(views.back(), 1.0);
-  }
-  TextureOptions options;
-  options.atlas_size = atlas_size;
-  TexturedMesh out = texture_mesh(mesh, views, options, null_reporter()).mesh;
+// The textured sphere with a root matrix the OBJ and PLY positions must carry.
+TexturedMesh shifted_sphere(int atlas_size) {
+  TexturedMesh out = testing::textured_sphere(atlas_size);
   out.root_matrix = Eigen::Matrix4d::Identity();
-  out.root_matrix(1, 3) = 2.5;  // a shift the OBJ and PLY positions must carry
+  out.root_matrix(1, 3) = 2.5;
   return out;
 }
 
@@ -202,7 +193,7 @@ void expect_same_model(const ReadModel& read, const TexturedMesh& mesh, const st
 
 TEST(ModelWriter, ObjAndPlyReadBackWithTheirTextures) {
   hos::testing::TempDir dir("hos-model-writer");
-  const TexturedMesh mesh = textured_sphere(128);  // several pages
+  const TexturedMesh mesh = shifted_sphere(128);  // several pages
   ASSERT_GT(mesh.atlases.size(), 1u);
   GltfWriteOptions options;
   write_model(dir / "out.obj", mesh, options);
@@ -226,7 +217,7 @@ TEST(ModelWriter, ObjAndPlyReadBackWithTheirTextures) {
 
 TEST(ModelWriter, GltfWithFilesPassesKhronosValidator) {
   hos::testing::TempDir dir("hos-model-writer-gltf");
-  const TexturedMesh mesh = textured_sphere(4096);
+  const TexturedMesh mesh = shifted_sphere(4096);
   write_model(dir / "scene.gltf", mesh, GltfWriteOptions{});
   EXPECT_TRUE(fs::exists(dir / "scene.bin"));
   EXPECT_TRUE(fs::exists(dir / "scene_atlas0.jpg"));
@@ -246,7 +237,7 @@ TEST(ModelWriter, GltfWithFilesPassesKhronosValidator) {
 
 TEST(ModelWriter, GlbConvertsToObjWithTheSameAtlasBytes) {
   hos::testing::TempDir dir("hos-model-convert");
-  const TexturedMesh mesh = textured_sphere(4096);
+  const TexturedMesh mesh = shifted_sphere(4096);
   write_model(dir / "model.glb", mesh, GltfWriteOptions{});
   const StoredModel stored = read_glb_model(dir / "model.glb");
   ASSERT_EQ(stored.images.size(), mesh.atlases.size());
@@ -261,7 +252,7 @@ TEST(ModelWriter, GlbConvertsToObjWithTheSameAtlasBytes) {
 // GltfWriter.EachCompressionReadsBackWithinItsBounds').
 TEST(ModelWriter, MeshoptGlbConvertsToObj) {
   hos::testing::TempDir dir("hos-model-convert");
-  const TexturedMesh mesh = textured_sphere(128);
+  const TexturedMesh mesh = shifted_sphere(128);
   GltfWriteOptions options;
   options.mesh_compression = "meshopt";
   write_model(dir / "model.glb", mesh, options);
@@ -277,7 +268,7 @@ TEST(ModelWriter, MeshoptGlbConvertsToObj) {
 // geographic origin of the root frame.
 TEST(ModelWriter, GlbConvertsToGltfWithItsPlacement) {
   hos::testing::TempDir dir("hos-model-convert");
-  TexturedMesh mesh = textured_sphere(4096);
+  TexturedMesh mesh = shifted_sphere(4096);
   mesh.metric = true;
   mesh.geo_origin = GeoPosition{47.5, 8.25, 412.0};
   write_model(dir / "model.glb", mesh, GltfWriteOptions{});
@@ -298,7 +289,7 @@ TEST(ModelWriter, UnknownExtensionIsAConfigError) {
   hos::testing::TempDir dir("hos-model-ext");
   EXPECT_TRUE(model_format_of("a.GLTF").has_value());
   EXPECT_FALSE(model_format_of("a.stl").has_value());
-  EXPECT_THROW(write_model(dir / "out.stl", textured_sphere(4096), GltfWriteOptions{}), ConfigError);
+  EXPECT_THROW(write_model(dir / "out.stl", shifted_sphere(4096), GltfWriteOptions{}), ConfigError);
 }
 
 }  // namespace

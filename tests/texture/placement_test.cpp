@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <numbers>
 #include <random>
 
 #include "core/error.h"
@@ -25,16 +26,15 @@
 namespace hos::texture {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 const Eigen::Vector3d kSceneUp(0, -1, 0);
 
 double angle_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180.0 / kPi;
+  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180.0 / std::numbers::pi;
 }
 
 // The angle of the rotation between two rotation matrices.
 double rotation_angle_deg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
-  return Eigen::AngleAxisd(a.transpose() * b).angle() * 180.0 / kPi;
+  return Eigen::AngleAxisd(a.transpose() * b).angle() * 180.0 / std::numbers::pi;
 }
 
 struct SynthScene {
@@ -113,7 +113,7 @@ TEST(UpDirection, GravityFromTiltedCamerasWithinOneDegree) {
 TEST(UpDirection, RandomRollAveragesOut) {
   SynthScene s = make_synth_scene(12.0);
   std::mt19937 rng(3);
-  std::normal_distribution<double> roll(0.0, 2.0 * kPi / 180.0);
+  std::normal_distribution<double> roll(0.0, 2.0 * std::numbers::pi / 180.0);
   for (CameraPose& c : s.cameras) {
     c.cam_from_world = Eigen::AngleAxisd(roll(rng), Eigen::Vector3d::UnitZ()).toRotationMatrix() * c.cam_from_world;
   }
@@ -126,7 +126,7 @@ TEST(UpDirection, NadirCamerasWithVariedHeadingsUseGravity) {
   std::vector<CameraPose> cameras;
   cameras.reserve(12);
   for (int i = 0; i < 12; ++i) {
-    const double heading = 2 * kPi * i / 12.0 + 0.3;
+    const double heading = 2 * std::numbers::pi * i / 12.0 + 0.3;
     const int row = i / 4;  // a 4 x 3 grid of positions
     cameras.push_back(camera_at(Eigen::Vector3d(i % 4, -10.0, row), -kSceneUp,
                                 Eigen::Vector3d(std::cos(heading), 0, std::sin(heading))));

@@ -8,6 +8,8 @@
 #include <stdexcept>
 
 #include "core/colmap_io.h"
+#include "synth/shapes.h"
+#include "texture/texture_mesh.h"
 
 namespace hos::texture::testing {
 
@@ -190,6 +192,28 @@ void render_textured(const TexturedMesh& mesh, const TextureView& view, cv::Mat&
       }
     }
   }
+}
+
+TexturedMesh textured_sphere(int atlas_size) {
+  const TriangleMesh mesh = synth::icosphere(3, 1.0);
+  std::vector<TextureView> views;
+  for (int i = 0; i < 6; ++i) {
+    views.push_back(make_view(view_name(i), 60.0 * i, 10.0, 3.5));
+    render_sphere(views.back(), 1.0);
+  }
+  TextureOptions options;
+  options.atlas_size = atlas_size;
+  return texture_mesh(mesh, views, options, null_reporter()).mesh;
+}
+
+MeshTopology strip_topology(int n) {
+  MeshTopology t;
+  t.face_neighbors.assign(n, {-1, -1, -1});
+  for (int i = 0; i < n; ++i) {
+    if (i > 0) t.face_neighbors[i][0] = i - 1;
+    if (i + 1 < n) t.face_neighbors[i][1] = i + 1;
+  }
+  return t;
 }
 
 }  // namespace hos::texture::testing

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/types.h"
+#include "texture/mesh_topology.h"
 #include "texture/texture_view.h"
 #include "texture/textured_mesh.h"
 
@@ -66,5 +67,12 @@ std::vector<TexturePoint> texture_points(const TexturedMesh& mesh);
 // z-buffer, unlit) into a BGR image of the view's size; mask is 255 where the
 // mesh covers the pixel centre. Test-only stand-in for a glTF viewer.
 void render_textured(const TexturedMesh& mesh, const TextureView& view, cv::Mat& image, cv::Mat& mask);
+
+// The unit icosphere (subdivision 3) textured from six views around it
+// (make_view at 60-degree steps, 10 degrees up, distance 3.5).
+TexturedMesh textured_sphere(int atlas_size = 4096);
+
+// A strip of n faces, face i adjacent to i-1 and i+1.
+MeshTopology strip_topology(int n);
 
 }  // namespace hos::texture::testing

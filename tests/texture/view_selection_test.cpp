@@ -2,19 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/texture/scene_fixtures.h"
+
 namespace hos::texture {
 namespace {
 
-// A strip of n faces, face i adjacent to i-1 and i+1.
-MeshTopology strip_topology(int n) {
-  MeshTopology t;
-  t.face_neighbors.assign(n, {-1, -1, -1});
-  for (int i = 0; i < n; ++i) {
-    if (i > 0) t.face_neighbors[i][0] = i - 1;
-    if (i + 1 < n) t.face_neighbors[i][1] = i + 1;
-  }
-  return t;
-}
+using testing::strip_topology;
 
 FaceViewSample sample(int view, float quality) {
   FaceViewSample s;
