@@ -21,6 +21,15 @@ if [ ! -f "$build/compile_commands.json" ]; then
   echo "tidy: $build/compile_commands.json is missing; run scripts/build.sh first" >&2
   exit 2
 fi
+# A unity build's compile commands name its batches, not the sources: the
+# commands come from a file-by-file configuration of the same build type
+# (configured under the build folder, nothing is built there).
+commands="$build"
+if grep -q '^HOS_UNITY_BUILD:BOOL=ON' "$build/CMakeCache.txt"; then
+  commands="$build/tidy-commands"
+  build_type="$(sed -n 's/^CMAKE_BUILD_TYPE:STRING=//p' "$build/CMakeCache.txt")"
+  cmake -S "$root" -B "$commands" -DCMAKE_BUILD_TYPE="${build_type:-Release}" -DHOS_UNITY_BUILD=OFF > /dev/null
+fi
 # Our folders only (those holding tracked C++ sources): not the build tree's
 # generated files nor system headers.
 folders="$(cd "$root" && git ls-files '*.cpp' '*.h' | sed -n 's#/.*##p' | sort -u | paste -sd '|')"
@@ -44,5 +53,5 @@ elif [ $# -gt 0 ]; then
   files="^$root/($folders)/(.*/)?($1)"
   shift
 fi
-"$runner" -clang-tidy-binary "$tidy" -p "$build" -j "$jobs" -quiet \
+"$runner" -clang-tidy-binary "$tidy" -p "$commands" -j "$jobs" -quiet \
   -header-filter="^$root/($folders)/" "$files" "$@"
