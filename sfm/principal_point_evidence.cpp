@@ -2,26 +2,28 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 #include <vector>
 
 namespace hos::sfm {
 
-ReprojectionFit reprojection_fit(const SparseModel& model, int camera_id) {
-  ReprojectionFit fit;
+std::map<int, ReprojectionFit> reprojection_fits(const SparseModel& model) {
+  std::map<int, ReprojectionFit> fits;
   for (const auto& [id, point] : model.points) {
     for (const TrackElement& element : point.track) {
       const auto image = model.images.find(element.image_id);
-      if (image == model.images.end() || image->second.camera_id != camera_id) continue;
+      if (image == model.images.end()) continue;
       const ImageRecord& record = image->second;
       if (element.keypoint_index < 0 || element.keypoint_index >= static_cast<int>(record.keypoints.size())) continue;
       const auto pixel = model.camera_of(record).project(record.cam_from_world(point.xyz));
       if (!pixel) continue;
+      ReprojectionFit& fit = fits[record.camera_id];
       fit.sum_squared_px += (*pixel - record.keypoints[element.keypoint_index].xy).squaredNorm();
       ++fit.observations;
     }
   }
-  return fit;
+  return fits;
 }
 
 double chi_square_tail_even(double x, int degrees_of_freedom) {

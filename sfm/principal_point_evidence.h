@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 
 #include "core/sparse_model.h"
 
@@ -19,7 +20,9 @@ struct ReprojectionFit {
   double sum_squared_px = 0.0;    // over both image axes
   std::int64_t observations = 0;  // keypoints with a 3D point in front of their camera
 };
-ReprojectionFit reprojection_fit(const SparseModel& model, int camera_id);
+// Each camera's fit (by camera id; a camera without such keypoints has none),
+// in one pass over the model's points.
+std::map<int, ReprojectionFit> reprojection_fits(const SparseModel& model);
 
 // The chance probability below which an improvement counts as evidence: one
 // set of photos in a thousand keeps a principal point that noise moved.

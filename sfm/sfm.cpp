@@ -454,10 +454,16 @@ void keep_centres_without_evidence(const SparseModel& centred,
                                    const SparseModel& estimated,
                                    Reporter& reporter,
                                    std::vector<CameraPrincipalPoint>& cameras) {
+  const std::map<int, ReprojectionFit> fits_centred = reprojection_fits(centred);
+  const std::map<int, ReprojectionFit> fits_estimated = reprojection_fits(estimated);
+  const auto fit_of = [](const std::map<int, ReprojectionFit>& fits, int camera_id) {
+    const auto fit = fits.find(camera_id);
+    return fit != fits.end() ? fit->second : ReprojectionFit{};
+  };
   for (auto& c : cameras) {
     if (!is_candidate(c)) continue;
-    const ReprojectionFit before = reprojection_fit(centred, c.camera_id);
-    const ReprojectionFit after = reprojection_fit(estimated, c.camera_id);
+    const ReprojectionFit before = fit_of(fits_centred, c.camera_id);
+    const ReprojectionFit after = fit_of(fits_estimated, c.camera_id);
     const PrincipalPointEvidence evidence = principal_point_evidence(before, after, 2);
     reporter.debug(format_message("sfm: camera ", c.camera_id, " with its principal point free: squared reprojection ",
                                   "error ", before.sum_squared_px, " -> ", after.sum_squared_px, " px^2 over ",

@@ -115,7 +115,7 @@ TEST(ChiSquareTailEven, MatchesTabulatedQuantiles) {
 
 TEST(ReprojectionFit, SumsTheKeypointNoise) {
   const SparseModel model = ring_with_noisy_keypoints({0.5 * kPhotoWidth, 0.5 * kPhotoHeight}, 1);
-  const ReprojectionFit fit = reprojection_fit(model, 1);
+  const ReprojectionFit fit = reprojection_fits(model).at(1);
   ASSERT_GT(fit.observations, 4000);
   // Two axes of Gaussian noise per keypoint.
   EXPECT_NEAR(fit.sum_squared_px / (2.0 * fit.observations), kNoisePx * kNoisePx, 0.05 * kNoisePx * kNoisePx);
@@ -131,7 +131,7 @@ TEST(PrincipalPointEvidence, NoiseAloneIsNotEvidence) {
     const SparseModel centred = ring_with_noisy_keypoints({0.5 * kPhotoWidth, 0.5 * kPhotoHeight}, seed);
     const SparseModel fitted = with_fitted_principal_points(centred);
     const PrincipalPointEvidence evidence =
-        principal_point_evidence(reprojection_fit(centred, 1), reprojection_fit(fitted, 1), 2);
+        principal_point_evidence(reprojection_fits(centred).at(1), reprojection_fits(fitted).at(1), 2);
     EXPECT_GT(evidence.chance, 0.0);
     supported += evidence.supported;
   }
@@ -145,7 +145,7 @@ TEST(PrincipalPointEvidence, AnOffCentrePrincipalPointIsKept) {
   EXPECT_NEAR(fitted.cameras.at(1).principal_x(), truth.x(), 0.05);
   EXPECT_NEAR(fitted.cameras.at(1).principal_y(), truth.y(), 0.05);
   const PrincipalPointEvidence evidence =
-      principal_point_evidence(reprojection_fit(centred, 1), reprojection_fit(fitted, 1), 2);
+      principal_point_evidence(reprojection_fits(centred).at(1), reprojection_fits(fitted).at(1), 2);
   EXPECT_TRUE(evidence.supported) << "chance " << evidence.chance;
 }
 
@@ -156,11 +156,12 @@ TEST(PrincipalPointEvidence, EachCameraIsJudgedOnItsOwnPhotos) {
   const Eigen::Vector2d centre(0.5 * kPhotoWidth, 0.5 * kPhotoHeight);
   const SparseModel centred = ring_with_noisy_keypoints(centre, 5, centre + Eigen::Vector2d(4.0, -3.0));
   const SparseModel fitted = with_fitted_principal_points(centred);
-  EXPECT_FALSE(principal_point_evidence(reprojection_fit(centred, 1), reprojection_fit(fitted, 1), 2).supported);
-  EXPECT_TRUE(principal_point_evidence(reprojection_fit(centred, 2), reprojection_fit(fitted, 2), 2).supported);
+  EXPECT_FALSE(
+      principal_point_evidence(reprojection_fits(centred).at(1), reprojection_fits(fitted).at(1), 2).supported);
+  EXPECT_TRUE(principal_point_evidence(reprojection_fits(centred).at(2), reprojection_fits(fitted).at(2), 2).supported);
   // Both cameras' keypoints together would have passed for both.
   auto both = [](const SparseModel& m) {
-    const ReprojectionFit a = reprojection_fit(m, 1), b = reprojection_fit(m, 2);
+    const ReprojectionFit a = reprojection_fits(m).at(1), b = reprojection_fits(m).at(2);
     return ReprojectionFit{a.sum_squared_px + b.sum_squared_px, a.observations + b.observations};
   };
   EXPECT_TRUE(principal_point_evidence(both(centred), both(fitted), 4).supported);
