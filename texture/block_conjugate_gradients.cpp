@@ -1,29 +1,28 @@
 #include "texture/block_conjugate_gradients.h"
 
-#include <array>
 #include <limits>
 
 namespace hos::texture {
 namespace {
 
-// Y = A X for a symmetric A: its columns are its rows. One pass over the
-// matrix serves the three channels.
-void multiply_symmetric(const Eigen::SparseMatrix<double>& A, const Eigen::MatrixX3d& X, Eigen::MatrixX3d& Y) {
-  const double *x0 = X.col(0).data(), *x1 = X.col(1).data(), *x2 = X.col(2).data();
-  double *y0 = Y.col(0).data(), *y1 = Y.col(1).data(), *y2 = Y.col(2).data();
+// The three columns side by side: a row's three values share a cache line,
+// so the matrix product's gather reads each neighbour once.
+using Rows3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
+// AP = A P for a symmetric A (its columns are its rows: one pass over the
+// matrix serves the three columns); returns each column's dot product of P
+// with AP, which the step length needs.
+Eigen::Array3d multiply_symmetric(const Eigen::SparseMatrix<double>& A, const Rows3& P, Rows3& AP) {
+  Eigen::Array3d dots = Eigen::Array3d::Zero();
   for (int j = 0; j < static_cast<int>(A.outerSize()); ++j) {
-    double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+    Eigen::Array3d sum = Eigen::Array3d::Zero();
     for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) {
-      const double v = it.value();
-      const Eigen::Index i = it.index();
-      s0 += v * x0[i];
-      s1 += v * x1[i];
-      s2 += v * x2[i];
+      sum += it.value() * P.row(it.index()).transpose().array();
     }
-    y0[j] = s0;
-    y1[j] = s1;
-    y2[j] = s2;
+    AP.row(j) = sum.transpose();
+    dots += P.row(j).transpose().array() * sum;
   }
+  return dots;
 }
 
 }  // namespace
@@ -35,31 +34,38 @@ int block_conjugate_gradients(const Eigen::SparseMatrix<double>& A,
                               Eigen::MatrixX3d& X) {
   const Eigen::Index n = B.rows();
   const Eigen::VectorXd inverse_diagonal = A.diagonal().unaryExpr([](double d) { return d != 0.0 ? 1.0 / d : 1.0; });
-  X.setZero(n, 3);
-  Eigen::MatrixX3d R = B, Z = inverse_diagonal.asDiagonal() * R, P = Z, AP(n, 3);
-  Eigen::RowVector3d threshold = tolerance * tolerance * B.colwise().squaredNorm();
+  const double* d = inverse_diagonal.data();
+  Rows3 x = Rows3::Zero(n, 3), r = B, p = inverse_diagonal.asDiagonal() * B, ap(n, 3);
+  Eigen::Array3d threshold = tolerance * tolerance * B.colwise().squaredNorm().transpose().array();
   threshold = threshold.cwiseMax(std::numeric_limits<double>::min());
-  Eigen::RowVector3d rz = (R.cwiseProduct(Z)).colwise().sum();
-  std::array<bool, 3> active{};
-  for (int c = 0; c < 3; ++c) active[c] = R.col(c).squaredNorm() >= threshold[c];
+  Eigen::Array3d rz = r.cwiseProduct(p).colwise().sum().transpose().array();
+  // A column takes steps while it is active (alpha its step length, beta
+  // the weight of its previous direction); a converged one keeps its x.
+  Eigen::Array<bool, 3, 1> active = r.colwise().squaredNorm().transpose().array() >= threshold;
   int iterations = 0;
-  for (; iterations < max_iterations && (active[0] || active[1] || active[2]); ++iterations) {
-    multiply_symmetric(A, P, AP);
-    for (int c = 0; c < 3; ++c) {
-      if (!active[c]) continue;
-      const double alpha = rz[c] / P.col(c).dot(AP.col(c));
-      X.col(c) += alpha * P.col(c);
-      R.col(c) -= alpha * AP.col(c);
-      if (R.col(c).squaredNorm() < threshold[c]) {
-        active[c] = false;
-        continue;
+  for (; iterations < max_iterations && active.any(); ++iterations) {
+    const Eigen::Array3d p_ap = multiply_symmetric(A, p, ap).max(std::numeric_limits<double>::min());
+    const Eigen::Array3d alpha = active.select(rz / p_ap, 0.0);
+    // x += alpha p, r -= alpha ap, and r.r and r.z (z = inverse_diagonal r),
+    // the three columns in one pass.
+    Eigen::Array3d rr = Eigen::Array3d::Zero(), rz_new = Eigen::Array3d::Zero();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      for (int c = 0; c < 3; ++c) {
+        x(i, c) += alpha[c] * p(i, c);
+        r(i, c) -= alpha[c] * ap(i, c);
+        rr[c] += r(i, c) * r(i, c);
+        rz_new[c] += r(i, c) * (d[i] * r(i, c));
       }
-      Z.col(c) = inverse_diagonal.cwiseProduct(R.col(c));
-      const double rz_new = R.col(c).dot(Z.col(c));
-      P.col(c) = Z.col(c) + (rz_new / rz[c]) * P.col(c);
-      rz[c] = rz_new;
     }
+    active = active && rr >= threshold;
+    // p = z + beta p for the columns still active (zero for the others).
+    const Eigen::Array3d z_weight = active.cast<double>(), beta = active.select(rz_new / rz, 0.0);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      for (int c = 0; c < 3; ++c) p(i, c) = z_weight[c] * d[i] * r(i, c) + beta[c] * p(i, c);
+    }
+    rz = active.select(rz_new, rz);
   }
+  X = x;
   return iterations;
 }
 

@@ -150,6 +150,8 @@ SeamLeveling level_seams(const TriangleMesh& mesh,
   if (options.global_leveling && result.num_seam_vertices > 0) {
     reporter.throw_if_cancelled();
     result.solver_iterations = solve_offsets(leveling_matrix(copies, charts, first, options), copies, f, g);
+    reporter.debug(format_message("seam leveling: ", n, " chart vertices, ", result.solver_iterations,
+                                  " conjugate-gradient steps"));
   }
 
   // Colour jump between chart copies, before and after leveling.
