@@ -194,16 +194,19 @@ void render_textured(const TexturedMesh& mesh, const TextureView& view, cv::Mat&
   }
 }
 
-TexturedMesh textured_sphere(int atlas_size) {
-  const TriangleMesh mesh = synth::icosphere(3, 1.0);
+std::vector<TextureView> six_views_of_sphere(double elevation_deg) {
   std::vector<TextureView> views;
   for (int i = 0; i < 6; ++i) {
-    views.push_back(make_view(view_name(i), 60.0 * i, 10.0, 3.5));
+    views.push_back(make_view(view_name(i), 60.0 * i, elevation_deg, 3.5));
     render_sphere(views.back(), 1.0);
   }
+  return views;
+}
+
+TexturedMesh textured_sphere(int atlas_size) {
   TextureOptions options;
   options.atlas_size = atlas_size;
-  return texture_mesh(mesh, views, options, null_reporter()).mesh;
+  return texture_mesh(synth::icosphere(3, 1.0), six_views_of_sphere(10.0), options, null_reporter()).mesh;
 }
 
 MeshTopology strip_topology(int n) {

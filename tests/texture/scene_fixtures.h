@@ -68,8 +68,11 @@ std::vector<TexturePoint> texture_points(const TexturedMesh& mesh);
 // mesh covers the pixel centre. Test-only stand-in for a glTF viewer.
 void render_textured(const TexturedMesh& mesh, const TextureView& view, cv::Mat& image, cv::Mat& mask);
 
-// The unit icosphere (subdivision 3) textured from six views around it
-// (make_view at 60-degree steps, 10 degrees up, distance 3.5).
+// Six photos of the unit sphere (render_sphere), from make_view at 60-degree
+// steps of azimuth, elevation_deg up, at distance 3.5.
+std::vector<TextureView> six_views_of_sphere(double elevation_deg);
+
+// The unit icosphere (subdivision 3) textured from six_views_of_sphere(10).
 TexturedMesh textured_sphere(int atlas_size = 4096);
 
 // A strip of n faces, face i adjacent to i-1 and i+1.

@@ -21,6 +21,7 @@ namespace {
 using testing::make_view;
 using testing::render_sphere;
 using testing::sample_atlas;
+using testing::six_views_of_sphere;
 using testing::sphere_albedo;
 using testing::texture_points;
 using testing::view_name;
@@ -274,12 +275,7 @@ TEST(TextureMesh, MaskedPixelsNeverColourTheTexture) {
 TEST(TextureMesh, UnseenFacesTakeNeighbourColours) {
   const TriangleMesh mesh = synth::icosphere(3, kRadius);
   // All cameras high above: the bottom of the sphere is seen by none.
-  std::vector<TextureView> views;
-  for (int i = 0; i < 6; ++i) {
-    views.push_back(make_view(view_name(i), 60.0 * i, 55.0, 3.5));
-    render_sphere(views.back(), kRadius);
-  }
-  const TextureResult result = texture_mesh(mesh, views, TextureOptions{}, null_reporter());
+  const TextureResult result = texture_mesh(mesh, six_views_of_sphere(55.0), TextureOptions{}, null_reporter());
   ASSERT_GT(result.stats.num_unseen_faces, 0);
   int flat = 0;
   for (const auto& p : texture_points(result.mesh)) {

@@ -17,6 +17,7 @@ namespace {
 using testing::make_view;
 using testing::render_sphere;
 using testing::sample_atlas;
+using testing::six_views_of_sphere;
 using testing::texture_points;
 using testing::view_name;
 
@@ -30,15 +31,9 @@ constexpr float kDarkestAlbedo = 51.0f;
 // reconstruction's surface may by a voxel, so those faces' pixels reach
 // into the background.
 TextureResult texture_sphere_seen_from_above(UnseenFaces mode) {
-  const TriangleMesh mesh = synth::icosphere(4, 1.02f);
-  std::vector<TextureView> views;
-  for (int i = 0; i < 6; ++i) {
-    views.push_back(make_view(view_name(i), 60.0 * i, 40.0, 3.5));
-    render_sphere(views.back(), 1.0);
-  }
   TextureOptions options;
   options.unseen = mode;
-  return texture_mesh(mesh, views, options, null_reporter());
+  return texture_mesh(synth::icosphere(4, 1.02f), six_views_of_sphere(40.0), options, null_reporter());
 }
 
 // The colour of every unseen face's flat patch.
