@@ -1,4 +1,3 @@
-
 // The test that keeps a principal point only when the photos support it.
 #include "sfm/principal_point_evidence.h"
 
