@@ -1,6 +1,7 @@
 #include "texture/block_conjugate_gradients.h"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
@@ -59,8 +60,9 @@ TEST(BlockConjugateGradients, ConvergesToTheExactSolution) {
 
 // Each column takes Eigen's steps: the same solution at a loose tolerance
 // (where the stopping point matters) and as many matrix products.
+// 8100 rows: more than one block of rows.
 TEST(BlockConjugateGradients, TakesTheStepsOfEigensSolverColumnByColumn) {
-  const Eigen::SparseMatrix<double> A = random_laplacian(30, 3);
+  const Eigen::SparseMatrix<double> A = random_laplacian(90, 3);
   Eigen::MatrixX3d B = random_right_hand_sides(A.rows(), 4);
   B.col(1) *= 1e3;  // the stopping rule is relative to each column
   Eigen::MatrixX3d X;
@@ -89,6 +91,23 @@ TEST(BlockConjugateGradients, AZeroColumnStaysZeroWhileTheOthersIterate) {
   EXPECT_TRUE(X.allFinite());
   EXPECT_EQ(X.col(2).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_GT(X.col(0).norm(), 0.0);
+}
+
+// The blocks of rows sum their parts of the dot products in a fixed order:
+// the same bits with one thread as with three.
+TEST(BlockConjugateGradients, SameSolutionWithAnyNumberOfThreads) {
+  const Eigen::SparseMatrix<double> A = random_laplacian(100, 7);
+  const Eigen::MatrixX3d B = random_right_hand_sides(A.rows(), 8);
+  const int threads = omp_get_max_threads();
+  Eigen::MatrixX3d serial, parallel;
+  omp_set_num_threads(1);
+  const int serial_iterations = block_conjugate_gradients(A, B, 1e-3, 1000, serial);
+  omp_set_num_threads(std::max(threads, 3));
+  const int parallel_iterations = block_conjugate_gradients(A, B, 1e-3, 1000, parallel);
+  omp_set_num_threads(threads);
+  EXPECT_GT(serial_iterations, 10);
+  EXPECT_EQ(serial_iterations, parallel_iterations);
+  EXPECT_TRUE(serial == parallel);
 }
 
 }  // namespace
