@@ -185,14 +185,37 @@ struct DecodedPhoto {
   ExifBlock exif;       // the whole block, for the staged copy
   ExifInfo info;        // what the stage uses of it
   int orientation = 1;  // the turn still to apply (HEIF: already applied by the decoder)
+  cv::Mat alpha_mask;   // of a photo transparent in places (sfm/photo_masks.h's mask_from_alpha), else empty
 };
+
+// The colour of a decoded PNG or TIFF as three channels; its alpha channel,
+// if any, becomes photo.alpha_mask.
+void split_alpha(cv::Mat decoded, DecodedPhoto& photo) {
+  if (decoded.channels() == 4) {
+    cv::Mat alpha;
+    cv::extractChannel(decoded, alpha, 3);
+    photo.alpha_mask = mask_from_alpha(alpha);
+    cv::cvtColor(decoded, photo.image, cv::COLOR_BGRA2BGR);
+  } else if (decoded.channels() == 1) {
+    cv::cvtColor(decoded, photo.image, cv::COLOR_GRAY2BGR);
+  } else {
+    photo.image = std::move(decoded);
+  }
+}
 
 // Decodes bytes of a format OpenCV reads (JPEG, PNG, TIFF, BMP).
 bool decode_with_opencv(const std::vector<std::uint8_t>& bytes, DecodedPhoto& photo) {
   // Orientation is applied when staging, from our own EXIF reading, so the
-  // decoder must not apply it a second time.
+  // decoder must not apply it a second time. PNG and TIFF may carry an
+  // alpha channel (a renderer's transparent background).
+  const bool may_have_alpha = photo.format == PhotoFormat::kPng || photo.format == PhotoFormat::kTiff;
   try {
-    photo.image = cv::imdecode(bytes, cv::IMREAD_COLOR | cv::IMREAD_ANYDEPTH | cv::IMREAD_IGNORE_ORIENTATION);
+    if (may_have_alpha) {
+      split_alpha(cv::imdecode(bytes, cv::IMREAD_UNCHANGED | cv::IMREAD_IGNORE_ORIENTATION), photo);
+    }
+    if (photo.image.channels() != 3) {
+      photo.image = cv::imdecode(bytes, cv::IMREAD_COLOR | cv::IMREAD_ANYDEPTH | cv::IMREAD_IGNORE_ORIENTATION);
+    }
   } catch (const cv::Exception&) {
     photo.image.release();
   }
@@ -322,7 +345,9 @@ StagedImage stage_photo(const fs::path& file,
   staged.camera_model = photo.info.camera_model;
   cv::Mat image = std::move(photo.image);
   StagedCopyChanges changes;
-  staged.rewritten = photo.format == PhotoFormat::kHeif;
+  // A photo with transparent pixels is staged without its alpha channel, which
+  // COLMAP would read in different ways; its mask says what is transparent.
+  staged.rewritten = photo.format == PhotoFormat::kHeif || !photo.alpha_mask.empty();
   if (image.depth() != CV_8U) {
     image = to_8_bits(image);
     staged.rewritten = true;
@@ -346,6 +371,9 @@ StagedImage stage_photo(const fs::path& file,
     // Checked before anything is written: a bad mask fails the stage.
     write_mask(stage_mask(*mask, file, transform), mask_file(staged_mask_folder(staging_dir), staged.name));
     staged.masked = true;
+  } else if (!photo.alpha_mask.empty()) {
+    write_mask(transform_mask(photo.alpha_mask, transform), mask_file(staged_mask_folder(staging_dir), staged.name));
+    staged.masked = staged.masked_by_alpha = true;
   }
   changes.write_zero_altitude = staged.gps_altitude_missing;
   if (!thumbnail_dir.empty()) {
@@ -404,12 +432,19 @@ void report_masks(const fs::path& mask_folder,
                   const std::set<std::string>& photo_names,
                   Reporter& reporter,
                   const ImageInputs& inputs) {
-  const int masked = inputs.masked_photos();
+  const int by_alpha = static_cast<int>(std::count_if(inputs.images.begin(), inputs.images.end(),
+                                                      [](const StagedImage& i) { return i.masked_by_alpha; }));
+  const int masked = inputs.masked_photos() - by_alpha;  // by a mask file
   const int photos = static_cast<int>(std::count_if(inputs.images.begin(), inputs.images.end(),
                                                     [](const StagedImage& i) { return i.video_clip.empty(); }));
+  if (by_alpha > 0) {
+    reporter.info(format_message("masks: ", by_alpha, " of ", photos,
+                                 " photos are transparent in places; their alpha channel masks those pixels "
+                                 "(no features, depths or texture there)"));
+  }
   if (!mask_folder.empty()) {
     reporter.info(format_message("masks: ", masked, " of ", photos, " photos have a mask in ", mask_folder.string(),
-                                 masked < photos ? " (the others are used whole)" : ""));
+                                 masked + by_alpha < photos ? " (the others are used whole)" : ""));
     if (masks_beside > 0) {
       reporter.warn(format_message("masks: ", masks_beside,
                                    " PHOTO.png file(s) beside the photos are ignored: "

@@ -45,6 +45,8 @@ struct StagedImage {
   // A mask was staged for it (sfm/photo_masks.h) as
   // staged_mask_folder(staging_dir)/NAME.png.
   bool masked = false;
+  // That mask is the photo's alpha channel (no mask file was given for it).
+  bool masked_by_alpha = false;
 };
 
 struct ImageInputs {

@@ -44,7 +44,22 @@ cv::Mat stage_mask(const fs::path& mask_path, const fs::path& photo, const Photo
                                                                                       t.stored_width, " upright)")
                                                                      : std::string()));
   }
-  if (stored) mask = apply_exif_orientation(mask, t.orientation);
+  if (stored) return transform_mask(mask, t);
+  return transform_mask(mask, PhotoTransform{mask.cols, mask.rows, 1, t.staged_width, t.staged_height});
+}
+
+cv::Mat mask_from_alpha(const cv::Mat& alpha) {
+  double half_opaque = 128.0;
+  if (alpha.depth() == CV_16U) half_opaque = 32768.0;
+  if (alpha.depth() == CV_32F || alpha.depth() == CV_64F) half_opaque = 0.5;
+  static_assert(kUsable == 255 && kMaskedOut == 0, "the comparison's values are the mask's");
+  cv::Mat mask = alpha >= half_opaque;
+  if (cv::countNonZero(mask) == static_cast<int>(mask.total())) return {};
+  return mask;
+}
+
+cv::Mat transform_mask(cv::Mat mask, const PhotoTransform& t) {
+  mask = apply_exif_orientation(mask, t.orientation);
   if (mask.cols != t.staged_width || mask.rows != t.staged_height) {
     cv::Mat small;
     cv::resize(mask, small, cv::Size(t.staged_width, t.staged_height), 0.0, 0.0, cv::INTER_NEAREST);

@@ -52,6 +52,15 @@ struct PhotoTransform {
   int staged_height = 0;
 };
 
+// The mask of a photo's alpha channel (of its stored pixels, any depth):
+// pixels at least half opaque are usable, the rest masked, as a renderer's
+// transparent background is no surface. Empty when every pixel is usable.
+cv::Mat mask_from_alpha(const cv::Mat& alpha);
+
+// A mask of the photo's stored size given the photo's transform (the EXIF
+// turn, then a nearest-neighbour resize to the staged size).
+cv::Mat transform_mask(cv::Mat mask, const PhotoTransform& transform);
+
 // Reads the mask file and gives it the photo's transform (the EXIF turn,
 // then a nearest-neighbour resize to the staged size). Throws InputError
 // naming the mask when it cannot be read or its size fits neither the

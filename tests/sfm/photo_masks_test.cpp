@@ -9,6 +9,7 @@
 #include <fstream>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <vector>
 
 #include "core/error.h"
 #include "core/image_mask.h"
@@ -97,6 +98,51 @@ TEST(PhotoMasks, UprightMaskOfATurnedPhotoIsTakenAsDrawnUpright) {
   ASSERT_EQ(staged.size(), cv::Size(120, 160));
   EXPECT_EQ(staged.at<unsigned char>(5, 5), kMaskedOut);
   EXPECT_EQ(staged.at<unsigned char>(5, 115), kUsable);
+}
+
+// A renderer's RGBA photos: the transparent pixels (alpha below half) are
+// masked, the staged copy has no alpha channel, an opaque RGBA photo gets no
+// mask, and a mask file beside a photo wins over its alpha.
+TEST(PhotoMasks, AlphaChannelMasksTheTransparentPixels) {
+  hos::testing::TempDir dir;
+  const fs::path photos = dir / "photos";
+  write_photos(photos, 2, 160, 120);
+  const auto rgba = [](const cv::Mat& alpha) {
+    std::vector<cv::Mat> channels;
+    cv::split(testing::gradient_image(alpha.cols, alpha.rows), channels);
+    channels.push_back(alpha);
+    cv::Mat out;
+    cv::merge(channels, out);
+    return out;
+  };
+  cv::Mat alpha(120, 160, CV_8U, cv::Scalar(255));
+  alpha(cv::Rect(0, 0, 80, 60)).setTo(127);   // just under half opaque
+  alpha(cv::Rect(80, 0, 80, 60)).setTo(128);  // half opaque: kept
+  cv::imwrite((photos / "cut.png").string(), rgba(alpha));
+  cv::Mat opaque16;
+  rgba(cv::Mat(120, 160, CV_8U, cv::Scalar(255))).convertTo(opaque16, CV_16U, 257.0);
+  cv::imwrite((photos / "opaque.png").string(), opaque16);
+  cv::imwrite((photos / "own.png").string(), rgba(cv::Mat(120, 160, CV_8U, cv::Scalar(0))));
+  cv::imwrite((photos / "own.png.png").string(), top_left_masked(160, 120));
+  hos::testing::MessageLog log;
+  const ImageInputs inputs = prepare_images(photos, dir / "ws" / "images", SfmOptions{}, log);
+  ASSERT_EQ(inputs.images.size(), 5u);
+  EXPECT_EQ(inputs.masked_photos(), 2);
+  EXPECT_THAT(log.all(), HasSubstr("masks: 1 of 5 photos are transparent in places"));
+  EXPECT_THAT(log.all(), HasSubstr("masks: 1 of 5 photos have a mask (PHOTO.png beside PHOTO)"));
+
+  const cv::Mat cut = read_grey(dir / "ws" / "masks" / "cut.png.png");
+  ASSERT_EQ(cut.size(), cv::Size(160, 120));
+  EXPECT_EQ(cv::countNonZero(cut == kMaskedOut), 80 * 60);
+  EXPECT_EQ(cut.at<unsigned char>(5, 5), kMaskedOut);
+  EXPECT_EQ(cut.at<unsigned char>(5, 155), kUsable);
+  const cv::Mat staged = cv::imread((dir / "ws" / "images" / "cut.png").string(), cv::IMREAD_UNCHANGED);
+  EXPECT_EQ(staged.channels(), 3);
+  EXPECT_FALSE(fs::exists(dir / "ws" / "masks" / "opaque.png.png"));
+  // The mask file, not the (all transparent) alpha.
+  EXPECT_EQ(cv::countNonZero(read_grey(dir / "ws" / "masks" / "own.png.png") == kMaskedOut), 80 * 60);
+  for (const StagedImage& image : inputs.images)
+    EXPECT_EQ(image.masked_by_alpha, image.name == "cut.png") << image.name;
 }
 
 TEST(PhotoMasks, MaskOfTheWrongSizeOrUnreadableNamesTheFileAndTheReason) {
