@@ -101,15 +101,17 @@ struct Connectivity {
       : rings(vertex_rings(mesh)), solver(rings, options) {}
 };
 
-// The vertices a level's rounds search: about options.search_spacing pixels
-// of the level apart in the view that resolves them finest.
+// The vertices a level's rounds search: about options.search_spacing
+// (finest level) or options.coarse_search_spacing (coarser levels) pixels of
+// the level apart in the view that resolves them finest.
 std::vector<int> vertices_to_search(const TriangleMesh& mesh,
                                     const VertexRings& rings,
                                     const std::vector<RefineView>& views,
                                     int level,
                                     const RefineOptions& options) {
   std::vector<float> radius = pixel_footprints(mesh, vertex_normals(mesh), views, options.max_incidence_deg);
-  const float pixels = static_cast<float>(options.search_spacing * static_cast<double>(1 << level));
+  const double spacing = level > 0 ? options.coarse_search_spacing : options.search_spacing;
+  const float pixels = static_cast<float>(spacing * static_cast<double>(1 << level));
   for (float& r : radius) r = std::isfinite(r) ? r * pixels : 0.0f;
   return spaced_vertices(mesh, rings, radius);
 }

@@ -31,8 +31,10 @@ void register_options(OptionSet& set, RefineOptions& o) {
   set.add("min_patch_coverage", o.min_patch_coverage,
           "fraction of the patch's samples that must lie on the surface the reference view sees", 0.1, 1.0);
   set.add("search_spacing", o.search_spacing,
-          "search vertices about this many pixels of the level apart, the rest take their targets (0 = all)", 0.0,
-          100.0);
+          "search vertices about this many pixels of the finest level apart, the rest take their targets (0 = all)",
+          0.0, 100.0);
+  set.add("coarse_search_spacing", o.coarse_search_spacing,
+          "the same at the coarser levels, in pixels of each level (0 = every vertex)", 0.0, 100.0);
   set.add("max_views", o.max_views, "views compared with the reference view per vertex", 1, 64);
   set.add("min_angle_deg", o.min_angle_deg, "smallest angle between reference and compared view", 0.0, 89.0);
   set.add("max_angle_deg", o.max_angle_deg, "largest angle between reference and compared view", 1.0, 90.0);

@@ -48,13 +48,18 @@ struct RefineOptions {
   // parts (narrower than the patch) are refined too, where the recon mesh is
   // least accurate (docs/refine.md).
   double min_patch_coverage = 0.6;
-  // Vertices about this many pixels of the level apart are searched, the
-  // others take the nearest searched ones' targets (a patch is
+  // Vertices about this many pixels of the finest level apart are searched,
+  // the others take the nearest searched ones' targets (a patch is
   // patch_size * sample_pixels wide, so its neighbours' searches largely
-  // repeat it); 0 searches every vertex. Off by default: at 4 or 8 the
-  // refine CPU falls to 0.5-0.6x but fountain-P11's held-out PSNR by
-  // 0.12-0.18 dB (docs/refine.md).
+  // repeat it); 0 searches every vertex. Off by default: the finest level
+  // is where the held-out PSNR is won (spacing every level at 4 or 8 cost
+  // fountain-P11 0.12-0.18 dB, docs/refine.md).
   double search_spacing = 0.0;
+  // The same at the coarser levels (level > 0), whose rounds only bring the
+  // surface near enough for the finest level's search, which sees every
+  // vertex: at 4, refine's CPU on the Strecha sets falls to 0.6-0.7x at the
+  // same held-out PSNR (docs/refine.md).
+  double coarse_search_spacing = 4.0;
   int max_views = 4;           // views compared with the reference per vertex
   double min_angle_deg = 4.0;  // baseline between reference and compared view at the vertex
   double max_angle_deg = 60.0;

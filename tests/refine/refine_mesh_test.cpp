@@ -90,13 +90,15 @@ TEST(RefineMesh, SmoothedRockComesBackTowardsTheTruth) {
   EXPECT_LT(std::abs(volume_after - 1.0), 0.5 * std::abs(volume_before - 1.0));
 }
 
-// Searching vertices a few pixels apart and filling in the rest against
-// searching every vertex: as close to the truth, from fewer searches.
-TEST(RefineMesh, SpacedSearchComesAsCloseToTheTruthAsSearchingEveryVertex) {
+// The default searches vertices a few pixels apart at the coarser levels
+// and every vertex at the finest, filling in the rest: as close to the
+// truth as searching every vertex at every level, from fewer searches.
+TEST(RefineMesh, SpacedSearchAtTheCoarseLevelsComesAsCloseToTheTruthAsSearchingEveryVertex) {
   RefineOptions every, spaced;
   every.min_level_size = spaced.min_level_size = 100;
-  every.search_spacing = 0.0;
-  spaced.search_spacing = 4.0;
+  every.search_spacing = every.coarse_search_spacing = 0.0;
+  ASSERT_EQ(spaced.search_spacing, 0.0);
+  ASSERT_GT(spaced.coarse_search_spacing, 0.0);
   testing::RockScene scene = testing::make_rock_scene(16, every.levels);
   const TriangleMesh input = testing::smoothed(scene.truth, 40);
   const RefineResult with_every = refine_mesh(input, scene.views, every, null_reporter());
@@ -108,8 +110,11 @@ TEST(RefineMesh, SpacedSearchComesAsCloseToTheTruthAsSearchingEveryVertex) {
   for (double f : with_spaced.stats.round_searched) std::cout << " " << f;
   std::cout << "\n";
   for (double f : with_every.stats.round_searched) EXPECT_EQ(f, 1.0);
-  // The coarsest level searches a small part of the vertices.
+  // The coarsest level searches a small part of the vertices, the finest
+  // level (its last round) all of them.
+  ASSERT_GT(with_spaced.stats.round_searched.size(), 2u);
   EXPECT_LT(with_spaced.stats.round_searched.front(), 0.4);
+  EXPECT_EQ(with_spaced.stats.round_searched.back(), 1.0);
   EXPECT_GT(b.primary().f_score, a.primary().f_score - 0.02);
   EXPECT_LT(b.chamfer, 1.1 * a.chamfer);
 }
