@@ -188,9 +188,9 @@ struct DecodedPhoto {
   cv::Mat alpha_mask;   // of a photo transparent in places (sfm/photo_masks.h's mask_from_alpha), else empty
 };
 
-// The colour of a decoded PNG or TIFF as three channels; its alpha channel,
-// if any, becomes photo.alpha_mask.
-void split_alpha(cv::Mat decoded, DecodedPhoto& photo) {
+// A PNG or TIFF decoded as stored: its colour as three channels, its alpha
+// channel, if any, as photo.alpha_mask. False for another channel count.
+bool split_alpha(cv::Mat decoded, DecodedPhoto& photo) {
   if (decoded.channels() == 4) {
     cv::Mat alpha;
     cv::extractChannel(decoded, alpha, 3);
@@ -198,9 +198,12 @@ void split_alpha(cv::Mat decoded, DecodedPhoto& photo) {
     cv::cvtColor(decoded, photo.image, cv::COLOR_BGRA2BGR);
   } else if (decoded.channels() == 1) {
     cv::cvtColor(decoded, photo.image, cv::COLOR_GRAY2BGR);
-  } else {
+  } else if (decoded.channels() == 3) {
     photo.image = std::move(decoded);
+  } else {
+    return false;
   }
+  return true;
 }
 
 // Decodes bytes of a format OpenCV reads (JPEG, PNG, TIFF, BMP).
@@ -210,10 +213,8 @@ bool decode_with_opencv(const std::vector<std::uint8_t>& bytes, DecodedPhoto& ph
   // alpha channel (a renderer's transparent background).
   const bool may_have_alpha = photo.format == PhotoFormat::kPng || photo.format == PhotoFormat::kTiff;
   try {
-    if (may_have_alpha) {
-      split_alpha(cv::imdecode(bytes, cv::IMREAD_UNCHANGED | cv::IMREAD_IGNORE_ORIENTATION), photo);
-    }
-    if (photo.image.channels() != 3) {
+    if (!may_have_alpha ||
+        !split_alpha(cv::imdecode(bytes, cv::IMREAD_UNCHANGED | cv::IMREAD_IGNORE_ORIENTATION), photo)) {
       photo.image = cv::imdecode(bytes, cv::IMREAD_COLOR | cv::IMREAD_ANYDEPTH | cv::IMREAD_IGNORE_ORIENTATION);
     }
   } catch (const cv::Exception&) {

@@ -44,8 +44,9 @@ cv::Mat stage_mask(const fs::path& mask_path, const fs::path& photo, const Photo
                                                                                       t.stored_width, " upright)")
                                                                      : std::string()));
   }
-  if (stored) return transform_mask(mask, t);
-  return transform_mask(mask, PhotoTransform{mask.cols, mask.rows, 1, t.staged_width, t.staged_height});
+  PhotoTransform as_drawn = t;
+  if (!stored) as_drawn.orientation = 1;  // drawn upright: no turn left to apply
+  return transform_mask(mask, as_drawn);
 }
 
 cv::Mat mask_from_alpha(const cv::Mat& alpha) {

@@ -59,8 +59,8 @@ TEST(BlockConjugateGradients, ConvergesToTheExactSolution) {
 }
 
 // Each column takes Eigen's steps: the same solution at a loose tolerance
-// (where the stopping point matters) and as many matrix products.
-// 8100 rows: more than one block of rows.
+// (where the stopping point matters) and as many matrix products, on 8100
+// rows (more than one block of rows).
 TEST(BlockConjugateGradients, TakesTheStepsOfEigensSolverColumnByColumn) {
   const Eigen::SparseMatrix<double> A = random_laplacian(90, 3);
   Eigen::MatrixX3d B = random_right_hand_sides(A.rows(), 4);
