@@ -21,6 +21,10 @@ void register_options(OptionSet& set, MvsOptions& o) {
           "longest image side of the full PatchMatch level (levels double up to max_image_size)", 64, 16384);
   set.add("num_source_views", o.num_source_views, "source views per reference view", 1, 32);
   set.add("best_k", o.best_k, "photo-consistency: mean of the best K source views", 1, 32);
+  set.add("unseen_view_cost", o.unseen_view_cost,
+          "the cost (1 - NCC) a source view counts with where the window leaves its frame or falls on its mask "
+          "(1 = no correlation; 2 = the worst match: a surface needs best_k sources that see it)",
+          0.0, 2.0);
   set.add("pixel_source_views", o.pixel_source_views,
           "sweeps after the first score a pixel's candidates on the sources that score its plane best, this "
           "many (0 = every source; at least best_k)",

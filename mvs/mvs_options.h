@@ -22,6 +22,11 @@ struct MvsOptions {
   int coarse_image_size = 640;  // longest side of the full PatchMatch level; >= max_image_size: one level
   int num_source_views = 5;     // source views per reference view
   int best_k = 2;               // photo-consistency: mean of the best K source costs (occlusions)
+  // The cost (1 - NCC) a source view counts with where it does not see the
+  // window (outside its frame, behind it, on its mask): 1, no correlation,
+  // lets a surface that only one source sees match; 2, the worst match,
+  // needs best_k sources that see it (docs/benchmarks-mvs.md).
+  double unseen_view_cost = 1.0;
   // Per-pixel view selection: after the coarse level's first sweep and
   // before each finer sweep, a pixel's candidates are scored on the sources
   // that score its current plane best, this many of them (0 = every source).

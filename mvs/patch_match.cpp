@@ -485,10 +485,11 @@ class PatchMatcher {
   }
 
   // 1 - NCC of the reference window at pixel i = (x, y) against source s
-  // through homography H (mvs/window_ncc.h); 2 if any part of the warped
-  // window leaves the image or lies behind the camera.
+  // through homography H (mvs/window_ncc.h); kWindowUnseen if any part of
+  // the warped window leaves the image, lies behind the camera or falls on
+  // the source's mask.
   HOS_INLINED_INTO_CLONES float view_cost(int x, int y, std::size_t i, int s, const Eigen::Matrix3f& H) const {
-    if (masked_in_source(x, y, *sources_[s], H)) return 2.0f;
+    if (masked_in_source(x, y, *sources_[s], H)) return kWindowUnseen;
     const std::size_t k = offsets_.size();
     NccReference reference;
     reference.x = x + 0.5f;
@@ -514,13 +515,18 @@ class PatchMatcher {
     const int nsrc = static_cast<int>(std::min<std::size_t>(sources_.size(), 32));
     for (int s = 0; s < nsrc; ++s) {
       const Eigen::Matrix3f H = relative_[s].A + relative_[s].b * m.transpose();
-      out[s] = view_cost(x, y, i, s, H) + (has_priors_ ? geometric_cost(s, x_ref.cast<float>(), x, y) : 0.0f);
+      // A source that does not see the window ranks last.
+      out[s] = std::min(view_cost(x, y, i, s, H), 2.0f) +
+               (has_priors_ ? geometric_cost(s, x_ref.cast<float>(), x, y) : 0.0f);
     }
     return true;
   }
 
   // Cost of plane at pixel (x, y): the mean of the best K source views,
-  // each scored by its 1 - NCC plus (finer levels) its geometric vote.
+  // each scored by its 1 - NCC plus (finer levels) its geometric vote. A
+  // source that does not see the window counts as options.unseen_view_cost,
+  // so a surface near the edge of the sources' frames, which fewer than K
+  // of them see, can still match; a plane no source sees cannot.
   // Stops early, returning a lower bound >= to_beat, once the views still to
   // be scored (each at best 0) cannot bring the cost below it.
   HOS_CPU_CLONES Cost cost(int x, int y, const Plane& plane, float to_beat = 3.0f) const {
@@ -541,11 +547,17 @@ class PatchMatcher {
     // alone) in ascending order of the former, and the photometric ones
     // ascending on their own for the early-exit bound.
     float sorted[32], sorted_photo[32], photo_only[32];
+    int seen = 0;
     for (int s = 0; s < nsrc; ++s) {
       const int v = std::countr_zero(views);
       views &= views - 1;
       const Eigen::Matrix3f H = relative_[v].A + relative_[v].b * m.transpose();
-      const float photo = view_cost(x, y, i, v, H);
+      float photo = view_cost(x, y, i, v, H);
+      if (photo == kWindowUnseen) {
+        photo = unseen_view_cost_;
+      } else {
+        ++seen;
+      }
       const float c = photo + (has_priors_ ? geometric_cost(v, x_ref.cast<float>(), x, y) : 0.0f);
       int j = s;
       for (; j > 0 && sorted[j - 1] > c; --j) {
@@ -568,6 +580,7 @@ class PatchMatcher {
         if (lower >= to_beat) return {lower, lower};
       }
     }
+    if (seen == 0) return {};
     float sum = 0, photo_sum = 0;
     for (int s = 0; s < best; ++s) {
       sum += sorted[s];
@@ -668,6 +681,7 @@ class PatchMatcher {
   std::vector<float> offset_x_, offset_y_;  // offsets_, padded to kNccLanes
   NccWindow window_;
   WindowNccFunction window_ncc_ = best_window_ncc();
+  float unseen_view_cost_ = static_cast<float>(options_.unseen_view_cost);
   std::vector<QuadImage> source_quads_;  // per source view
   std::vector<Relative> relative_;
   std::vector<std::vector<Eigen::Vector2i>> propagation_areas_;

@@ -70,9 +70,9 @@ float window_ncc_portable(const NccWindow& window, const NccReference& ref, cons
   for (const float oy : {window.low, window.high}) {
     for (const float ox : {window.low, window.high}) {
       const float mz = cz + ox * h[6] + oy * h[7];
-      if (!(mz > 1e-6f)) return 2.0f;
+      if (!(mz > 1e-6f)) return kWindowUnseen;
       const float u = (cx + ox * h[0] + oy * h[1]) / mz - 0.5f, v = (cy + ox * h[3] + oy * h[4]) / mz - 0.5f;
-      if (!(u >= 0 && v >= 0 && u < W && v < Hh)) return 2.0f;
+      if (!(u >= 0 && v >= 0 && u < W && v < Hh)) return kWindowUnseen;
     }
   }
   const int max_x = src.width - 2, max_y = src.height - 2;
@@ -146,7 +146,7 @@ __attribute__((target("avx2,fma"))) float window_ncc_avx2(const NccWindow& windo
     _mm256_store_ps(us + b * kNccLanes, u);
     _mm256_store_ps(vs + b * kNccLanes, v);
   }
-  if (_mm256_movemask_ps(inside) != 0xFF) return 2.0f;
+  if (_mm256_movemask_ps(inside) != 0xFF) return kWindowUnseen;
   const __m256i max_x = _mm256_set1_epi32(src.width - 2), max_y = _mm256_set1_epi32(src.height - 2);
   const __m256i width = _mm256_set1_epi32(src.width), low_byte = _mm256_set1_epi32(0xFF);
   const __m256 to_unit = _mm256_set1_ps(1.0f / 255.0f), shift = _mm256_set1_ps(ref.centre_value);

@@ -51,10 +51,14 @@ struct NccReference {
   float variance = 0;
 };
 
+// What the kernels return when a sample of the warped window leaves the
+// source image or lies behind its camera: the source does not see the
+// window, which says nothing about the plane (unlike a poor match).
+constexpr float kWindowUnseen = 4.0f;
+
 // 1 - NCC of the reference window against src through the homography h
-// (row-major 3x3, pixel-centre coordinates in and out), in [0, 2]; 2 if any
-// sample of the warped window leaves the image or lies behind the camera,
-// or either window is flat.
+// (row-major 3x3, pixel-centre coordinates in and out), in [0, 2]; 2 if
+// either window is flat; kWindowUnseen if the source does not see it.
 using WindowNccFunction = float (*)(const NccWindow&, const NccReference&, const float* h, const QuadImage& src);
 
 // Plain C++, for any CPU.

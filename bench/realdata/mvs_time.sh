@@ -26,7 +26,8 @@ run_one() {
   shift
   timed "$undistorted" "$bin/hos-mvs" --workspace "$undistorted" --output "$tmp/points.ply" --progress none \
     --log "$tmp/mvs.log" "$@"
-  "$bin/hos-mvs" "$@" --print-config | awk '/^ *max_image_size:/ { print $2; exit }'
+  # awk reads to the end: leaving early would end hos-mvs by SIGPIPE (and the run under pipefail).
+  "$bin/hos-mvs" "$@" --print-config | awk '/^ *max_image_size:/ && !found { print $2; found = 1 }'
 }
 
 echo "| WORK | build | run | wall s | CPU s | views | finest level MP | s per view per MP (wall / CPU) | load avg |"

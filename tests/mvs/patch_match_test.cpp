@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <opencv2/imgproc.hpp>
 
 namespace hos::mvs {
@@ -15,9 +16,9 @@ constexpr double kFocal = 200.0;
 constexpr double kPlaneDepth = 4.0;
 constexpr int kDisparity = 8;  // pixels; the source camera sits kDisparity * kPlaneDepth / kFocal along +x
 
-// A smooth random texture, larger than a view by the disparity.
-cv::Mat texture() {
-  cv::Mat noise(kHeight, kWidth + kDisparity, CV_32F);
+// A smooth random texture, wider than a view by extra columns.
+cv::Mat texture(int extra = kDisparity) {
+  cv::Mat noise(kHeight, kWidth + extra, CV_32F);
   cv::RNG rng(7);
   rng.fill(noise, cv::RNG::UNIFORM, 0.0, 1.0);
   cv::GaussianBlur(noise, noise, cv::Size(0, 0), 1.2);
@@ -103,6 +104,44 @@ TEST(PatchMatch, RandomPlanesLetAFinerLevelFindWhatTheCoarseOneMissed) {
   const double without = recovered(0), with = recovered(6);
   EXPECT_GE(with, 0.6);
   EXPECT_GE(with, without + 0.3);
+}
+
+// The left half of the reference view is seen by one of its two sources
+// only (the other's frame ends at the middle). With the best two of two
+// sources averaged, the source that does not see a window counts as
+// mvs.unseen_view_cost: at 2 (the worst match) that half cannot reach
+// max_cost; at 1 its depth is found, while the right half, which both
+// sources see, is found either way.
+TEST(PatchMatch, ASurfaceOnlyOneSourceSeesMatchesWhenAnUnseenViewCostsLess) {
+  const int half = kWidth / 2;
+  const cv::Mat tex = texture(half);
+  const MvsView ref = plane_view(tex, 0, 0.0);
+  const MvsView near = plane_view(tex, kDisparity, kDisparity * kPlaneDepth / kFocal);
+  const MvsView far = plane_view(tex, half, half * kPlaneDepth / kFocal);  // sees the ref's columns >= half
+  const auto correct_shares = [&](double unseen_view_cost) {
+    MvsOptions options;
+    options.best_k = 2;
+    options.unseen_view_cost = unseen_view_cost;
+    const DepthMap map = to_depth_map(
+        match_planes(ref, {&near, &far}, kPlaneDepth / 2, kPlaneDepth * 2, {}, options, null_reporter()), ref, options);
+    int left = 0, right = 0, total = 0;
+    for (int y = 10; y < kHeight - 10; ++y) {
+      for (int x = 10; x < half - 10; ++x) {
+        ++total;
+        left += std::abs(map.depth.at<float>(y, x) - kPlaneDepth) <= 0.005 * kPlaneDepth;
+        right += std::abs(map.depth.at<float>(y, x + half) - kPlaneDepth) <= 0.005 * kPlaneDepth;
+      }
+    }
+    return std::pair{double(left) / total, double(right) / total};
+  };
+  const auto [left_worst, right_worst] = correct_shares(2.0);
+  const auto [left, right] = correct_shares(1.0);
+  std::cout << "one-source half matched: " << left_worst << " at 2, " << left
+            << " at 1; both-source half: " << right_worst << ", " << right << "\n";
+  EXPECT_LE(left_worst, 0.05);
+  EXPECT_GE(left, 0.8);
+  EXPECT_GE(right_worst, 0.8);
+  EXPECT_GE(right, 0.8);
 }
 
 }  // namespace
