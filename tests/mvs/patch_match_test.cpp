@@ -144,5 +144,35 @@ TEST(PatchMatch, ASurfaceOnlyOneSourceSeesMatchesWhenAnUnseenViewCostsLess) {
   EXPECT_GE(right, 0.8);
 }
 
+// A plane no source sees is not scored, whatever an unseen view costs: with
+// one source, which sees only the reference's right half, and
+// unseen_view_cost 0, a plane that pushes the window out of the source's
+// frame must not be a free match. Chance matches inside the frame may give
+// the left half wrong depths, but none whose window the source cannot see.
+TEST(PatchMatch, APlaneNoSourceSeesIsNotScoredEvenWhenUnseenViewsCostNothing) {
+  const int half = kWidth / 2;
+  const double baseline = half * kPlaneDepth / kFocal;
+  const cv::Mat tex = texture(half);
+  const MvsView ref = plane_view(tex, 0, 0.0);
+  const MvsView far = plane_view(tex, half, baseline);  // sees the ref's columns >= half at the plane's depth
+  MvsOptions options;
+  options.best_k = 1;
+  options.unseen_view_cost = 0.0;
+  const DepthMap map = to_depth_map(
+      match_planes(ref, {&far}, kPlaneDepth / 2, kPlaneDepth * 2, {}, options, null_reporter()), ref, options);
+  int with_depth = 0, unseen = 0;
+  for (int y = 10; y < kHeight - 10; ++y) {
+    for (int x = 10; x < half; ++x) {
+      const float depth = map.depth.at<float>(y, x);
+      if (!(depth > 0)) continue;
+      ++with_depth;
+      // The pixel's column in the source at that depth, well off its frame.
+      unseen += x + 0.5 - kFocal * baseline / depth < -10.0;
+    }
+  }
+  std::cout << "left half: " << with_depth << " depths, " << unseen << " of them unseen by the source\n";
+  EXPECT_EQ(unseen, 0);
+}
+
 }  // namespace
 }  // namespace hos::mvs
