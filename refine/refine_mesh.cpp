@@ -156,7 +156,8 @@ RefineResult refine_mesh(const TriangleMesh& input,
     std::vector<char> is_searched(mesh.vertices.size(), 0);
     for (int v : searched) is_searched[v] = 1;
     double previous_score = -2.0;
-    for (int round = 0; round < options.iterations; ++round) {
+    const int rounds = level > 0 ? options.iterations : std::max(options.iterations, options.min_rounds - stats.rounds);
+    for (int round = 0; round < rounds; ++round) {
       if (elapsed() > options.max_seconds) {
         stats.out_of_time = true;
         break;

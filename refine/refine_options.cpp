@@ -21,6 +21,8 @@ void register_options(OptionSet& set, RefineOptions& o) {
   set.add("min_level_size", o.min_level_size, "levels smaller than this (longest side, pixels) are not used", 16,
           100000);
   set.add("iterations", o.iterations, "refinement rounds per level", 0, 100);
+  set.add("min_rounds", o.min_rounds,
+          "at least this many rounds in all (the finest level adds them when fewer levels are usable)", 0, 100);
   set.add("edge_pixels", o.edge_pixels, "split edges longer than this many pixels of the level (0 = keep the faces)",
           0.0, 1000.0);
   set.add("max_faces", o.max_faces, "face budget of the subdivision", 1000, 100000000);

@@ -28,7 +28,13 @@ struct RefineOptions {
   int levels = 3;
   // Levels whose photos are smaller than this on the longest side are not used.
   int min_level_size = 600;
-  int iterations = 2;  // refinement rounds per level (each: visibility, search, solve)
+  // Refinement rounds (each: visibility, search, solve) per level, and at
+  // least min_rounds in all: a round moves a vertex about half way to the
+  // surface its patch sees, and coarse levels supply the first rounds, so
+  // the finest level adds rounds only when fewer levels are usable (small
+  // photos).
+  int iterations = 1;
+  int min_rounds = 2;
   // Before each level, edges longer than this many pixels of the level (in
   // the view that resolves them finest) are split, so the mesh can take the
   // detail the photos show; 0 keeps the input's faces.

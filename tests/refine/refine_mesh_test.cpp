@@ -10,6 +10,7 @@
 #include <cmath>
 #include <iostream>
 #include <limits>
+#include <vector>
 
 #include "core/error.h"
 #include "eval/mesh_sanity.h"
@@ -59,7 +60,8 @@ TEST(RefineMesh, SmoothedRockComesBackTowardsTheTruth) {
   for (double score : result.stats.round_scores) std::cout << " " << score;
   std::cout << "\n";
   EXPECT_GT(after.primary().f_score, before.primary().f_score + 0.1);
-  // Coarse to fine, every level used, and within a level the photos agree better round by round.
+  // Coarse to fine, every level used (and within a level, if it runs more
+  // than one round, the photos agree better round by round).
   const RefineStats& stats = result.stats;
   ASSERT_EQ(stats.round_levels.size(), stats.round_scores.size());
   EXPECT_EQ(stats.round_levels.front(), options.levels - 1);
@@ -117,6 +119,25 @@ TEST(RefineMesh, SpacedSearchAtTheCoarseLevelsComesAsCloseToTheTruthAsSearchingE
   EXPECT_EQ(with_spaced.stats.round_searched.back(), 1.0);
   EXPECT_GT(b.primary().f_score, a.primary().f_score - 0.02);
   EXPECT_LT(b.chamfer, 1.1 * a.chamfer);
+}
+
+// One round per level, and the finest level makes up min_rounds in all: with
+// three levels the coarser two supply the first rounds; with one level (small
+// photos) it runs both, and the second agrees better with the photos.
+TEST(RefineMesh, OneRoundPerLevelAndTheFinestMakesUpTheMinimumRounds) {
+  RefineOptions three_levels, one_level;
+  three_levels.min_level_size = 100;
+  one_level.levels = 1;
+  ASSERT_EQ(three_levels.iterations, 1);
+  ASSERT_EQ(three_levels.min_rounds, 2);
+  testing::RockScene scene = testing::make_rock_scene(16, three_levels.levels);
+  const TriangleMesh input = testing::smoothed(scene.truth, 40);
+  const RefineStats three = refine_mesh(input, scene.views, three_levels, null_reporter()).stats;
+  const RefineStats one = refine_mesh(input, scene.views, one_level, null_reporter()).stats;
+  EXPECT_EQ(three.round_levels, (std::vector<int>{2, 1, 0}));
+  EXPECT_EQ(one.round_levels, (std::vector<int>{0, 0}));
+  ASSERT_EQ(one.round_scores.size(), 2u);
+  EXPECT_GT(one.round_scores[1], one.round_scores[0]);
 }
 
 TEST(RefineMesh, MeshWithoutFacesIsBadInputNamingTheFile) {
