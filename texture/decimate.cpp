@@ -5,15 +5,57 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
 namespace hos::texture {
 
-TriangleMesh decimate_mesh(const TriangleMesh& mesh, std::size_t max_faces, DecimationStats* stats) {
+std::vector<SamplingCamera> sampling_cameras(const std::vector<TextureView>& views) {
+  std::vector<SamplingCamera> out;
+  out.reserve(views.size());
+  for (const TextureView& v : views) out.push_back({v.camera, v.pose});
+  return out;
+}
+
+std::vector<SamplingCamera> sampling_cameras(const SparseModel& model) {
+  std::vector<SamplingCamera> out;
+  for (const auto& [id, image] : model.images) {
+    SamplingCamera c{model.camera_of(image), image};
+    c.pose.keypoints.clear();
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+double finest_pixel_size(const TriangleMesh& mesh, const std::vector<SamplingCamera>& cameras, double quantile) {
+  constexpr std::size_t kMaxSamples = 200000;
+  const std::size_t step = std::max<std::size_t>(1, mesh.vertices.size() / kMaxSamples);
+  std::vector<double> sizes;
+  for (std::size_t v = 0; v < mesh.vertices.size(); v += step) {
+    const Eigen::Vector3d x = mesh.vertices[v].cast<double>();
+    double finest = std::numeric_limits<double>::infinity();
+    for (const SamplingCamera& c : cameras) {
+      const Eigen::Vector3d in_cam = c.pose.cam_from_world(x);
+      const auto pixel = c.camera.project(in_cam);
+      if (!pixel || pixel->x() < 0 || pixel->y() < 0 || pixel->x() > c.camera.width || pixel->y() > c.camera.height) {
+        continue;
+      }
+      finest = std::min(finest, in_cam.z() / std::max(c.camera.focal_x(), c.camera.focal_y()));
+    }
+    if (std::isfinite(finest)) sizes.push_back(finest);
+  }
+  if (sizes.empty()) return 0.0;
+  const auto nth = sizes.begin() + static_cast<std::ptrdiff_t>(std::clamp(quantile, 0.0, 1.0) * (sizes.size() - 1));
+  std::nth_element(sizes.begin(), nth, sizes.end());
+  return *nth;
+}
+
+TriangleMesh decimate_mesh(const TriangleMesh& mesh, std::size_t max_faces, double max_error, DecimationStats* stats) {
   DecimationStats local;
   local.faces_before = mesh.faces.size();
-  if (mesh.faces.size() <= max_faces) {
+  const bool over_budget = max_faces > 0 && mesh.faces.size() > max_faces;
+  if (!over_budget && max_error <= 0.0) {
     local.faces_after = mesh.faces.size();
     if (stats) *stats = local;
     return mesh;
@@ -26,19 +68,27 @@ TriangleMesh decimate_mesh(const TriangleMesh& mesh, std::size_t max_faces, Deci
   std::vector<float> positions;
   positions.reserve(3 * mesh.vertices.size());
   for (const auto& v : mesh.vertices) positions.insert(positions.end(), {v.x(), v.y(), v.z()});
-  std::vector<std::uint32_t> simplified(indices.size());
-  // A large target error lets the face budget decide.
-  const std::size_t count =
-      meshopt_simplify(simplified.data(), indices.data(), indices.size(), positions.data(), mesh.vertices.size(),
-                       3 * sizeof(float), 3 * max_faces, 1.0f, 0, &local.relative_error);
-  simplified.resize(count);
+  // meshoptimizer's error is relative to the mesh extent.
+  const float extent = meshopt_simplifyScale(positions.data(), mesh.vertices.size(), 3 * sizeof(float));
+  const float target_error = extent > 0.0f ? static_cast<float>(max_error / extent) : 0.0f;
+  // One simplifier pass over indices, in place.
+  const auto simplify = [&](std::size_t target_indices, float error) {
+    std::vector<std::uint32_t> simplified(indices.size());
+    simplified.resize(meshopt_simplify(simplified.data(), indices.data(), indices.size(), positions.data(),
+                                       mesh.vertices.size(), 3 * sizeof(float), target_indices, error, 0,
+                                       &local.relative_error));
+    indices = std::move(simplified);
+  };
+  if (max_error > 0.0) simplify(0, target_error);
+  // The budget wins over the bound: a large error lets it decide.
+  if (max_faces > 0 && indices.size() > 3 * max_faces) simplify(3 * max_faces, 1.0f);
 
   TriangleMesh out;
   std::vector<int> remap(mesh.vertices.size(), -1);
-  for (std::size_t i = 0; i < simplified.size(); i += 3) {
+  for (std::size_t i = 0; i < indices.size(); i += 3) {
     Eigen::Vector3i face;
     for (int c = 0; c < 3; ++c) {
-      const std::uint32_t v = simplified[i + c];
+      const std::uint32_t v = indices[i + c];
       if (remap[v] < 0) {
         remap[v] = static_cast<int>(out.vertices.size());
         out.vertices.push_back(mesh.vertices[v]);
@@ -52,6 +102,10 @@ TriangleMesh decimate_mesh(const TriangleMesh& mesh, std::size_t max_faces, Deci
   local.faces_after = out.faces.size();
   if (stats) *stats = local;
   return out;
+}
+
+TriangleMesh decimate_mesh(const TriangleMesh& mesh, std::size_t max_faces, DecimationStats* stats) {
+  return decimate_mesh(mesh, max_faces, 0.0, stats);
 }
 
 namespace {

@@ -1,10 +1,16 @@
 // Decimation with quadric error metrics (meshoptimizer's meshopt_simplify,
-// which keeps the mesh boundary in place): optionally of the mesh before
-// texturing, and of a textured model into its preview (a level of detail
+// which keeps the mesh boundary in place): of the mesh before texturing
+// (where the surface moves by a fraction of a photo pixel, or to a face
+// budget), and of a textured model into its preview (a level of detail
 // light enough for a web page).
 #pragma once
 
+#include <vector>
+
+#include "core/camera.h"
+#include "core/sparse_model.h"
 #include "core/types.h"
+#include "texture/texture_view.h"
 #include "texture/textured_mesh.h"
 
 namespace hos::texture {
@@ -15,8 +21,32 @@ struct DecimationStats {
   float relative_error = 0.0f;  // meshoptimizer's error, relative to the mesh extent
 };
 
-// Returns the mesh unchanged if it has at most max_faces faces. Vertex
-// colours and normals are carried over for the vertices that remain.
+// What the error bound needs of a registered photo: its pinhole camera and
+// pose (keypoints dropped).
+struct SamplingCamera {
+  Camera camera;
+  ImageRecord pose;
+};
+std::vector<SamplingCamera> sampling_cameras(const std::vector<TextureView>& views);
+std::vector<SamplingCamera> sampling_cameras(const SparseModel& model);
+
+// The size of a photo pixel on the surface where the photos sample it most
+// finely (scene units): at each vertex the smallest depth / focal length
+// over the photos it lies in front of and inside the frame of, and of these
+// the given quantile over the vertices (at most 200000 of them, evenly
+// spaced). A global bound, so the quantile is low: the closest parts decide.
+// 0 when no vertex lies in a photo.
+double finest_pixel_size(const TriangleMesh& mesh, const std::vector<SamplingCamera>& cameras, double quantile = 0.05);
+
+// At most max_faces faces (0 = no budget) and, where max_error > 0, only the
+// collapses whose quadric error is at most max_error (scene units). Returns
+// the mesh unchanged when neither asks for anything. Vertex colours and
+// normals are carried over for the vertices that remain.
+TriangleMesh decimate_mesh(const TriangleMesh& mesh,
+                           std::size_t max_faces,
+                           double max_error,
+                           DecimationStats* stats = nullptr);
+// To a face budget only.
 TriangleMesh decimate_mesh(const TriangleMesh& mesh, std::size_t max_faces, DecimationStats* stats = nullptr);
 
 // The textured model on one atlas page of at most max_atlas_size texels per

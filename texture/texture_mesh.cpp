@@ -67,6 +67,7 @@ struct PreparedMesh {
 // Checks the mesh and decimates it; what every mode (whole, parts, join)
 // does alike, so their meshes are the same.
 void prepare_mesh(const TriangleMesh& input_mesh,
+                  const std::vector<SamplingCamera>& cameras,
                   const TextureOptions& options,
                   Reporter& reporter,
                   PreparedMesh& prepared,
@@ -86,12 +87,17 @@ void prepare_mesh(const TriangleMesh& input_mesh,
   for (const auto& v : input_mesh.vertices) {
     if (!v.allFinite()) throw NumericalError("texture", "the mesh has a non-finite vertex");
   }
-  if (options.max_faces > 0 && input_mesh.faces.size() > static_cast<std::size_t>(options.max_faces)) {
+  const bool over_budget =
+      options.max_faces > 0 && input_mesh.faces.size() > static_cast<std::size_t>(options.max_faces);
+  if (over_budget || options.decimation_error_px > 0.0) {
     reporter.begin("decimate", 0);
+    const double pixel = options.decimation_error_px > 0.0 ? finest_pixel_size(input_mesh, cameras) : 0.0;
     DecimationStats ds;
-    prepared.decimated = decimate_mesh(input_mesh, options.max_faces, &ds);
+    prepared.decimated = decimate_mesh(input_mesh, static_cast<std::size_t>(options.max_faces),
+                                       options.decimation_error_px * pixel, &ds);
     reporter.end();
-    reporter.info(format_message("decimated ", ds.faces_before, " -> ", ds.faces_after, " faces"));
+    reporter.info(format_message("decimated ", ds.faces_before, " -> ", ds.faces_after, " faces (error at most ",
+                                 options.decimation_error_px, " px of ", pixel, " scene units)"));
     timer.lap("decimate");
   }
   prepared.mesh = prepared.decimated.faces.empty() ? &input_mesh : &prepared.decimated;
@@ -241,7 +247,7 @@ TextureResult texture_run(const TriangleMesh& input_mesh,
   result.stats.num_views = static_cast<int>(views.size());
   if (views.empty()) throw StageError("texture", "no registered images to texture from");
   PreparedMesh prepared;
-  prepare_mesh(input_mesh, options, reporter, prepared, result.stats, timer);
+  prepare_mesh(input_mesh, sampling_cameras(views), options, reporter, prepared, result.stats, timer);
   FaceViewCandidates candidates = find_candidates(prepared);
   timer.lap(candidates_step);
   texture_from_candidates(prepared, std::move(candidates), views, options, placement, reporter, result, timer);
@@ -281,7 +287,7 @@ int compute_view_data(const TriangleMesh& input_mesh,
   TextureStats stats;
   StepTimer timer(stats);
   PreparedMesh prepared;
-  prepare_mesh(input_mesh, options, reporter, prepared, stats, timer);
+  prepare_mesh(input_mesh, sampling_cameras(workspace.model), options, reporter, prepared, stats, timer);
   const std::vector<TextureView> views = load_texture_views(workspace, reporter, range);
   const int first = std::max(range.first, 0);
   std::filesystem::create_directories(folder);

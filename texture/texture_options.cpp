@@ -16,6 +16,10 @@ void TextureOptions::validate() const {
 
 void register_options(OptionSet& set, TextureOptions& o) {
   set.add_zero_or("max_faces", o.max_faces, "decimate to at most this many faces first; 0 = keep", 4, 2000000000);
+  set.add("decimation_error_px", o.decimation_error_px,
+          "decimate first where the surface moves by at most this many of the finest photo pixels on it "
+          "(meshoptimizer's quadric error; 0 = keep every face)",
+          0.0, 100.0);
   set.add("max_view_angle_deg", o.max_view_angle_deg,
           "largest angle between face normal and viewing ray for a view to count", 1.0, 89.9);
   set.add("depth_tolerance", o.depth_tolerance, "relative depth tolerance of the occlusion test", 0.0, 1.0);

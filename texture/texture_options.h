@@ -15,9 +15,14 @@ enum class UnseenFaces {
 };
 
 struct TextureOptions {
-  // Decimate the mesh to at most this many faces before texturing (quadric
-  // error metrics, meshoptimizer); 0 keeps the mesh as it is.
+  // Decimate the mesh before texturing (quadric error metrics,
+  // meshoptimizer): to at most max_faces faces (0 = no budget), and where the
+  // surface moves by at most decimation_error_px times the finest photo
+  // pixel on it (decimate.h's finest_pixel_size; 0 = no error-bounded
+  // decimation). Refine leaves edges a few pixels long everywhere; flat
+  // parts need far fewer faces to look the same.
   int max_faces = 0;
+  double decimation_error_px = 0.5;
 
   // Visibility: a face is seen by a view if it faces the camera within
   // max_view_angle_deg and its centroid and three inner points pass the
