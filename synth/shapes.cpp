@@ -7,6 +7,24 @@
 
 namespace hos::synth {
 
+TriangleMesh grid_mesh(int n, float spacing, const std::function<float(float, float)>& height) {
+  TriangleMesh mesh;
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const float x = static_cast<float>(i) * spacing, y = static_cast<float>(j) * spacing;
+      mesh.vertices.emplace_back(x, y, height ? height(x, y) : 0.0f);
+    }
+  }
+  for (int j = 0; j + 1 < n; ++j) {
+    for (int i = 0; i + 1 < n; ++i) {
+      const int a = j * n + i, b = a + 1, c = a + n, d = c + 1;
+      mesh.faces.emplace_back(a, b, d);
+      mesh.faces.emplace_back(a, d, c);
+    }
+  }
+  return mesh;
+}
+
 TriangleMesh icosphere(int subdivisions, float radius, const Eigen::Vector3f& centre) {
   TriangleMesh m;
   const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 
 #include "core/types.h"
 
@@ -13,6 +14,11 @@ namespace hos::synth {
 // vertices on the sphere of the given radius and centre, faces
 // counter-clockwise seen from outside.
 TriangleMesh icosphere(int subdivisions, float radius = 1.0f, const Eigen::Vector3f& centre = Eigen::Vector3f::Zero());
+
+// The height field z = height(x, y) (0 without one) on an n x n grid of
+// vertices `spacing` apart from the origin along +x and +y, two faces per
+// square, counter-clockwise seen from +z.
+TriangleMesh grid_mesh(int n, float spacing, const std::function<float(float, float)>& height = {});
 
 // n points on the surfaces below, with Gaussian noise of standard deviation
 // `noise` along the normal; exact outward normals.

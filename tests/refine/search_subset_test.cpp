@@ -7,25 +7,13 @@
 #include <cmath>
 
 #include "refine/mesh_geometry.h"
+#include "synth/shapes.h"
 
 namespace hos::refine {
 namespace {
 
 // side x side vertices one unit apart in the plane z = 0, two faces a cell.
-TriangleMesh grid(int side) {
-  TriangleMesh mesh;
-  for (int y = 0; y < side; ++y) {
-    for (int x = 0; x < side; ++x) mesh.vertices.emplace_back(static_cast<float>(x), static_cast<float>(y), 0.0f);
-  }
-  for (int y = 0; y + 1 < side; ++y) {
-    for (int x = 0; x + 1 < side; ++x) {
-      const int a = y * side + x, b = a + 1, c = a + side, d = c + 1;
-      mesh.faces.emplace_back(a, b, d);
-      mesh.faces.emplace_back(a, d, c);
-    }
-  }
-  return mesh;
-}
+TriangleMesh grid(int side) { return synth::grid_mesh(side, 1.0f); }
 
 TEST(SearchSubset, SpacedVerticesCoverTheGridAndKeepApart) {
   const TriangleMesh mesh = grid(40);
