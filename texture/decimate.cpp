@@ -104,10 +104,6 @@ TriangleMesh decimate_mesh(const TriangleMesh& mesh, std::size_t max_faces, doub
   return out;
 }
 
-TriangleMesh decimate_mesh(const TriangleMesh& mesh, std::size_t max_faces, DecimationStats* stats) {
-  return decimate_mesh(mesh, max_faces, 0.0, stats);
-}
-
 namespace {
 
 // The pages tiled into one image (a grid of equal cells, as square as the

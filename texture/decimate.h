@@ -46,8 +46,6 @@ TriangleMesh decimate_mesh(const TriangleMesh& mesh,
                            std::size_t max_faces,
                            double max_error,
                            DecimationStats* stats = nullptr);
-// To a face budget only.
-TriangleMesh decimate_mesh(const TriangleMesh& mesh, std::size_t max_faces, DecimationStats* stats = nullptr);
 
 // The textured model on one atlas page of at most max_atlas_size texels per
 // side (the pages tiled into a grid, scaled down with area averaging, UVs

@@ -15,7 +15,7 @@ namespace {
 TEST(Decimate, ReachesTheBudgetAndKeepsTheShape) {
   const TriangleMesh sphere = synth::icosphere(5, 1.0);  // 20480 faces
   DecimationStats stats;
-  const TriangleMesh small = decimate_mesh(sphere, 2000, &stats);
+  const TriangleMesh small = decimate_mesh(sphere, 2000, 0.0, &stats);
   EXPECT_LE(small.faces.size(), 2000u);
   EXPECT_GT(small.faces.size(), 1000u);
   EXPECT_EQ(stats.faces_before, sphere.faces.size());
@@ -116,7 +116,7 @@ TEST(Decimate, FinestPixelSizeIsTheNearestDepthOverTheFocalLength) {
 
 TEST(Decimate, SmallMeshIsReturnedUnchanged) {
   const TriangleMesh sphere = synth::icosphere(2, 1.0);
-  const TriangleMesh same = decimate_mesh(sphere, 100000);
+  const TriangleMesh same = decimate_mesh(sphere, 100000, 0.0);
   EXPECT_EQ(same.faces, sphere.faces);
   EXPECT_EQ(same.vertices.size(), sphere.vertices.size());
 }
