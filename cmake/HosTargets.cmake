@@ -37,12 +37,16 @@ function(hos_optional_executable name source)
 endfunction()
 
 # hos_test(name SOURCES ... DEPS ... [LABELS ...] [SLOW_TESTS Suite.Case ...]
-#          [TIMEOUT s]): one gtest binary per module; every TEST becomes its own
-# ctest entry so `ctest -R Suite.Case` works. LABELS label every test of the
-# binary; SLOW_TESTS (gtest filter patterns) label those tests `slow`, so
-# `ctest -LE slow` runs the fast ones.
+#          [ONE_PROCESS Suite.Case ...] [TIMEOUT s]): one gtest binary per
+# module; every TEST becomes its own ctest entry so `ctest -R Suite.Case`
+# works. LABELS label every test of the binary; SLOW_TESTS (gtest filter
+# patterns) label those tests `slow`, so `ctest -LE slow` runs the fast ones.
+# ONE_PROCESS (test names) run as one ctest entry, labelled `slow` and named
+# by all of them joined with '+' (so `ctest -R Suite.Case` still finds each):
+# tests that share one expensive result (a function-local static) compute it
+# once instead of once per process.
 function(hos_test name)
-  cmake_parse_arguments(ARG "" "TIMEOUT" "SOURCES;DEPS;LABELS;SLOW_TESTS" ${ARGN})
+  cmake_parse_arguments(ARG "" "TIMEOUT" "SOURCES;DEPS;LABELS;SLOW_TESTS;ONE_PROCESS" ${ARGN})
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 600)
   endif()
@@ -60,18 +64,35 @@ function(hos_test name)
   if(ARG_LABELS)
     list(APPEND fast_properties LABELS "${ARG_LABELS}")
   endif()
+  # The ONE_PROCESS tests: one entry, left out of the per-test discovery.
+  set(fast_filter "")
+  if(ARG_ONE_PROCESS)
+    list(JOIN ARG_ONE_PROCESS ":" one_process_filter)
+    list(JOIN ARG_ONE_PROCESS "+" one_process_name)
+    add_test(NAME ${one_process_name} COMMAND ${name} --gtest_filter=${one_process_filter}
+             WORKING_DIRECTORY ${PROJECT_BINARY_DIR})
+    set_tests_properties(${one_process_name} PROPERTIES ${test_properties} LABELS slow)
+    set(fast_filter "-${one_process_filter}")
+  endif()
   if(NOT ARG_SLOW_TESTS)
     gtest_discover_tests(${name}
       WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
+      TEST_FILTER "${fast_filter}"
       PROPERTIES ${fast_properties}
       DISCOVERY_TIMEOUT 60)
     return()
   endif()
   # Discovered twice: the slow tests with the label, the others without.
   list(JOIN ARG_SLOW_TESTS ":" slow_filter)
+  if(ARG_ONE_PROCESS)
+    set(fast_filter "-${slow_filter}:${one_process_filter}")
+    set(slow_filter "${slow_filter}-${one_process_filter}")
+  else()
+    set(fast_filter "-${slow_filter}")
+  endif()
   gtest_discover_tests(${name}
     WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
-    TEST_FILTER "-${slow_filter}"
+    TEST_FILTER "${fast_filter}"
     PROPERTIES ${fast_properties}
     DISCOVERY_TIMEOUT 60)
   gtest_discover_tests(${name}
