@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstddef>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -74,17 +75,15 @@ eval::ThresholdScore score(const TriangleMesh& result, const TriangleMesh& truth
   return eval::compare_surfaces(result, truth, options, null_reporter()).scores[0];
 }
 
-// Every object's surface but `except`'s, as one mesh.
-TriangleMesh objects_but(const synth::Scene& scene, const std::string& except) {
-  TriangleMesh others;
-  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    if (scene.names[i] == except) continue;
-    const TriangleMesh& mesh = scene.objects[i].mesh;
-    const int offset = static_cast<int>(others.vertices.size());
-    others.vertices.insert(others.vertices.end(), mesh.vertices.begin(), mesh.vertices.end());
-    for (const Eigen::Vector3i& f : mesh.faces) others.faces.push_back(f.array() + offset);
+// The scene's objects but the one named `except`, as one mesh.
+TriangleMesh objects_but(synth::Scene scene, const std::string& except) {
+  for (std::size_t i = scene.names.size(); i-- > 0;) {
+    if (scene.names[i] != except) continue;
+    scene.objects.erase(scene.objects.begin() + static_cast<std::ptrdiff_t>(i));
+    scene.names.erase(scene.names.begin() + static_cast<std::ptrdiff_t>(i));
+    scene.is_ground.erase(scene.is_ground.begin() + static_cast<std::ptrdiff_t>(i));
   }
-  return others;
+  return synth::merged_mesh(scene, false);
 }
 
 // The vertices of the pieces of mesh that reach into box.
