@@ -1,8 +1,9 @@
 // hos-phone-capture-bench: one synthetic capture given to hos-pipeline
 // twice, as plain upright JPEGs and as a phone gives them (in a subfolder,
-// every other photo stored sideways with an EXIF rotation, two as HEIC, one
-// rendered at twice the size, all with EXIF focal length and GPS), and the PSNR of
-// both models re-rendered from held-out views. Prints a markdown table.
+// every other photo stored sideways with an EXIF rotation, two as HEIC), both
+// with EXIF focal length and GPS and one photo rendered at twice the size
+// (--no-large-photo: none), and the PSNR of both models re-rendered from
+// held-out views. Prints a markdown table.
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <fstream>
@@ -61,15 +62,23 @@ PhoneExif phone_exif(const BenchOptions& o, const Camera& camera, const ImageRec
   return exif;
 }
 
+cv::Mat read_photo(const fs::path& folder, const std::string& name) {
+  const cv::Mat photo = cv::imread((folder / name).string(), cv::IMREAD_COLOR);
+  if (photo.empty()) throw InputError((folder / name).string(), "cannot read");
+  return photo;
+}
+
 // Writes the plain and the phone copy of every view; returns the phone
-// photos' staged names (what hos-sfm calls them) by the view's name.
+// photos' staged names (what hos-sfm calls them) by the view's name. With
+// large_photo, view 3 is rendered at twice the size (another camera's
+// photo) in both copies: the plain copy holds the same photos, upright.
 std::map<std::string, std::string> write_captures(const BenchOptions& o, const SparseModel& truth) {
   const fs::path images = o.output / "scene" / "images";
   std::map<std::string, std::string> view_of_staged;
   int index = 0;
   for (const auto& [id, view] : truth.images) {
-    const cv::Mat photo = cv::imread((images / view.name).string(), cv::IMREAD_COLOR);
-    if (photo.empty()) throw InputError((images / view.name).string(), "cannot read");
+    const bool large_photo = index == 3 && o.large_photo;
+    const cv::Mat photo = read_photo(large_photo ? o.output / "scene-large" / "images" : images, view.name);
     PhoneExif exif = phone_exif(o, truth.camera_of(view), view);
     write_bytes(o.output / "plain" / view.name, sfm::testing::jpeg_with_phone_exif(photo, exif));
     cv::Mat sideways;
@@ -82,12 +91,8 @@ std::map<std::string, std::string> write_captures(const BenchOptions& o, const S
       if (heic.empty()) throw StageError("phone-capture-bench", "libheif has no HEVC encoder here");
       write_bytes(o.output / "phone" / (stem + ".HEIC"), heic);
       staged = stem + ".HEIC.jpg";
-    } else if (index == 3 && o.large_photo) {
-      // The same view rendered at twice the size (another camera's photo).
-      const fs::path large_file = o.output / "scene-large" / "images" / view.name;
-      const cv::Mat large = cv::imread(large_file.string(), cv::IMREAD_COLOR);
-      if (large.empty()) throw InputError(large_file.string(), "cannot read");
-      write_bytes(o.output / "phone" / (stem + ".JPG"), sfm::testing::jpeg_with_phone_exif(large, exif));
+    } else if (large_photo) {
+      write_bytes(o.output / "phone" / (stem + ".JPG"), sfm::testing::jpeg_with_phone_exif(photo, exif));
       staged = stem + ".JPG";
     } else {
       exif.orientation = index % 2 == 0 ? 6 : 1;
