@@ -63,7 +63,7 @@ PhoneExif phone_exif(const BenchOptions& o, const Camera& camera, const ImageRec
 }
 
 cv::Mat read_photo(const fs::path& folder, const std::string& name) {
-  const cv::Mat photo = cv::imread((folder / name).string(), cv::IMREAD_COLOR);
+  cv::Mat photo = cv::imread((folder / name).string(), cv::IMREAD_COLOR);
   if (photo.empty()) throw InputError((folder / name).string(), "cannot read");
   return photo;
 }
