@@ -91,9 +91,6 @@ std::map<std::string, std::string> write_captures(const BenchOptions& o, const S
       if (heic.empty()) throw StageError("phone-capture-bench", "libheif has no HEVC encoder here");
       write_bytes(o.output / "phone" / (stem + ".HEIC"), heic);
       staged = stem + ".HEIC.jpg";
-    } else if (large_photo) {
-      write_bytes(o.output / "phone" / (stem + ".JPG"), sfm::testing::jpeg_with_phone_exif(photo, exif));
-      staged = stem + ".JPG";
     } else {
       exif.orientation = index % 2 == 0 ? 6 : 1;
       write_bytes(o.output / "phone" / (stem + ".JPG"),
