@@ -33,6 +33,21 @@ struct Fit {
 template <int Dim>
 using Points = Eigen::Matrix<double, Dim, Eigen::Dynamic>;
 
+// The rotation R maximising trace(R^T C): U diag(1, .., det) V^T (Umeyama
+// 1991, Eqs. 39-40). In 2D it is the rotation by atan2(C10 - C01, C00 +
+// C11), in closed form; the 3x3 SVD is fixed-size (a dynamic-size SVD costs
+// each build about 15 CPU seconds of template instantiation).
+Eigen::Matrix2d nearest_rotation(const Eigen::Matrix2d& c) {
+  return Eigen::Rotation2Dd(std::atan2(c(1, 0) - c(0, 1), c(0, 0) + c(1, 1))).toRotationMatrix();
+}
+
+Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& c) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(c, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Vector3d sign = Eigen::Vector3d::Ones();
+  if (svd.matrixU().determinant() * svd.matrixV().determinant() < 0) sign.z() = -1.0;
+  return svd.matrixU() * sign.asDiagonal() * svd.matrixV().transpose();
+}
+
 // Umeyama's least-squares similarity taking the chosen columns of from onto
 // to (Umeyama 1991, Eqs. 40-42).
 template <int Dim>
@@ -53,13 +68,10 @@ std::optional<Fit<Dim>> fit_similarity(const Points<Dim>& from, const Points<Dim
   covariance /= n;
   variance /= n;
   if (!(variance > 1e-24)) return std::nullopt;
-  // Dynamic sizes: GCC 12 warns falsely inside Eigen's fixed 2x2 SVD.
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(Eigen::MatrixXd(covariance), Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::VectorXd sign = Eigen::VectorXd::Ones(Dim);
-  if (svd.matrixU().determinant() * svd.matrixV().determinant() < 0) sign[Dim - 1] = -1.0;
   Fit<Dim> fit;
-  fit.rotation = Matrix(svd.matrixU() * sign.asDiagonal() * svd.matrixV().transpose());
-  fit.scale = svd.singularValues().dot(sign) / variance;
+  fit.rotation = nearest_rotation(covariance);
+  // Eq. 42: trace(D S) / variance, where trace(D S) = trace(R^T C).
+  fit.scale = (fit.rotation.transpose() * covariance).trace() / variance;
   fit.translation = mean_to - fit.scale * (fit.rotation * mean_from);
   if (!(fit.scale > 1e-12) || !fit.rotation.allFinite() || !fit.translation.allFinite()) return std::nullopt;
   return fit;
