@@ -7,11 +7,12 @@ function(hos_warnings target)
   endif()
 endfunction()
 
-# hos_test_code(target): test code is compiled with -O1 instead of the build
-# type's -O3. The work the tests check runs in the libraries (still -O3);
-# the tests' own code is assertions and fixtures, where -O3 spends about 40%
-# more compile time than -O1 for no gain (docs/developing.md).
-function(hos_test_code target)
+# hos_light_code(target): code that does little work of its own (tests, the
+# programs' command lines, the bench drivers) compiles with -O1 instead of
+# the build type's -O3. The work runs in the libraries, still at -O3; for
+# this code -O3 costs about 40% more compile time than -O1 for no gain
+# (docs/developing.md).
+function(hos_light_code target)
   if(CMAKE_BUILD_TYPE STREQUAL "Release")
     target_compile_options(${target} PRIVATE -O1)
   endif()
@@ -32,6 +33,7 @@ function(hos_executable name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS})
   hos_warnings(${name})
+  hos_light_code(${name})
   set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bin)
 endfunction()
 
@@ -63,7 +65,7 @@ function(hos_test name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} hos_test_support GTest::gmock GTest::gtest_main)
   hos_warnings(${name})
-  hos_test_code(${name})
+  hos_light_code(${name})
   include(GoogleTest)
   # gtest_discover_tests splits every ';' of PROPERTIES again (even escaped
   # ones), so ENVIRONMENT holds a single variable: HOS_BIN_DIR is not needed
@@ -71,16 +73,9 @@ function(hos_test name)
   # ./bin. LABELS is only passed when given: an empty value would make the
   # next keyword its value.
   set(test_properties TIMEOUT ${ARG_TIMEOUT} ENVIRONMENT "HOS_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
-  # Without the timings of an earlier run (a fresh clone, CI) ctest starts
-  # the tests in descending COST: the slow ones first, so the many short
-  # ones fill both cores at the end instead of one long test running alone.
-  set(slow_properties ${test_properties} LABELS slow COST 100)
   set(fast_properties ${test_properties})
   if(ARG_LABELS)
     list(APPEND fast_properties LABELS "${ARG_LABELS}")
-    if("slow" IN_LIST ARG_LABELS)
-      list(APPEND fast_properties COST 100)
-    endif()
   endif()
   # The ONE_PROCESS tests: one entry, left out of the per-test discovery.
   set(fast_filter "")
@@ -89,7 +84,7 @@ function(hos_test name)
     list(JOIN ARG_ONE_PROCESS "+" one_process_name)
     add_test(NAME ${one_process_name} COMMAND ${name} --gtest_filter=${one_process_filter}
              WORKING_DIRECTORY ${PROJECT_BINARY_DIR})
-    set_tests_properties(${one_process_name} PROPERTIES ${slow_properties})
+    set_tests_properties(${one_process_name} PROPERTIES ${test_properties} LABELS slow)
     set(fast_filter "-${one_process_filter}")
   endif()
   if(NOT ARG_SLOW_TESTS)
@@ -116,6 +111,6 @@ function(hos_test name)
   gtest_discover_tests(${name}
     WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
     TEST_FILTER "${slow_filter}"
-    PROPERTIES ${slow_properties}
+    PROPERTIES ${test_properties} LABELS slow
     DISCOVERY_TIMEOUT 60)
 endfunction()
