@@ -1,11 +1,11 @@
 #include "eval/alignment.h"
 
 #include <Eigen/Geometry>
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
+#include "core/nearest_rotation.h"
 
 namespace hos::eval {
 namespace {
@@ -59,14 +59,10 @@ Similarity3 umeyama(const std::vector<Eigen::Vector3d>& src, const std::vector<E
   if (!(var_src > 1e-300) || !cov.allFinite()) {
     throw NumericalError("eval", "umeyama: source points are all the same (or not finite)");
   }
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(cov, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Vector3d d = Eigen::Vector3d::Ones();
-  // Eq. 39/43: a reflection is replaced by the nearest rotation.
-  if (svd.matrixU().determinant() * svd.matrixV().determinant() < 0.0) d(2) = -1.0;
   Similarity3 s;
-  s.R = svd.matrixU() * d.asDiagonal() * svd.matrixV().transpose();
-  s.scale = svd.singularValues().dot(d) / var_src;  // Eq. 42
-  s.t = mu_dst - s.scale * (s.R * mu_src);          // Eq. 41
+  s.R = nearest_rotation(cov);                          // Eqs. 39-40 and 43
+  s.scale = (s.R.transpose() * cov).trace() / var_src;  // Eq. 42: trace(D S) = trace(R^T Sigma_xy)
+  s.t = mu_dst - s.scale * (s.R * mu_src);              // Eq. 41
   if (!(s.scale > 0.0) || !std::isfinite(s.scale)) {
     throw NumericalError("eval", "umeyama: degenerate configuration (collinear points?)");
   }

@@ -1,7 +1,6 @@
 #include "texture/geo_alignment.h"
 
 #include <Eigen/Geometry>
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -12,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/json_report.h"
+#include "core/nearest_rotation.h"
 #include "core/photo_gps_json.h"
 #include "core/reporter.h"
 #include "core/statistics.h"
@@ -32,21 +32,6 @@ struct Fit {
 
 template <int Dim>
 using Points = Eigen::Matrix<double, Dim, Eigen::Dynamic>;
-
-// The rotation R maximising trace(R^T C): U diag(1, .., det) V^T (Umeyama
-// 1991, Eqs. 39-40). In 2D it is the rotation by atan2(C10 - C01, C00 +
-// C11), in closed form; the 3x3 SVD is fixed-size (a dynamic-size SVD costs
-// each build about 15 CPU seconds of template instantiation).
-Eigen::Matrix2d nearest_rotation(const Eigen::Matrix2d& c) {
-  return Eigen::Rotation2Dd(std::atan2(c(1, 0) - c(0, 1), c(0, 0) + c(1, 1))).toRotationMatrix();
-}
-
-Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& c) {
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(c, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Vector3d sign = Eigen::Vector3d::Ones();
-  if (svd.matrixU().determinant() * svd.matrixV().determinant() < 0) sign.z() = -1.0;
-  return svd.matrixU() * sign.asDiagonal() * svd.matrixV().transpose();
-}
 
 // Umeyama's least-squares similarity taking the chosen columns of from onto
 // to (Umeyama 1991, Eqs. 40-42).
