@@ -25,12 +25,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <string>
 #include <vector>
 
+#include "bench/mvs/dmap_file.h"
 #include "core/colmap_io.h"
 #include "core/error.h"
 #include "core/ply_io.h"
@@ -116,23 +118,13 @@ void mark_depth_maps(CoverageGrid& grid,
   for (const auto& [id, image] : model.images) {
     std::fill(grid.covered.begin(), grid.covered.end(), std::uint8_t{0});
     const std::string file = folder + "/" + image.name + ".dmap";
-    std::ifstream in(file, std::ios::binary);
-    if (!in) continue;
-    char tag[8];
-    std::int32_t size[2];
-    in.read(tag, sizeof(tag));
-    in.read(reinterpret_cast<char*>(size), sizeof(size));
-    std::vector<float> depth(static_cast<std::size_t>(size[0]) * size[1]);
-    in.read(reinterpret_cast<char*>(depth.data()), static_cast<std::streamsize>(depth.size() * sizeof(float)));
-    if (!in) throw hos::InputError(file, "truncated depth map");
-    const hos::Camera& camera = model.camera_of(image);
-    Eigen::Matrix3d K = camera.calibration_matrix();
-    K.row(0) *= static_cast<double>(size[0]) / camera.width;
-    K.row(1) *= static_cast<double>(size[1]) / camera.height;
+    if (!std::filesystem::exists(file)) continue;
+    const hos::bench::DepthMapFile map = hos::bench::read_dmap(file);
+    const Eigen::Matrix3d K = hos::bench::depth_map_calibration(model.camera_of(image), map);
     const Eigen::Matrix3d K_inv = K.inverse(), Rt = image.rotation().transpose();
-    for (int y = 0; y < size[1]; ++y) {
-      for (int x = 0; x < size[0]; ++x) {
-        const float d = depth[static_cast<std::size_t>(y) * size[0] + x];
+    for (int y = 0; y < map.height; ++y) {
+      for (int x = 0; x < map.width; ++x) {
+        const float d = map.depth[static_cast<std::size_t>(y) * map.width + x];
         if (!(d > 0)) continue;
         const Eigen::Vector3d c = K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1.0) * d;
         grid.mark(Rt * (c - image.cam_from_world_translation));

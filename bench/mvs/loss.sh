@@ -9,7 +9,10 @@
 #   recon      hos-recon's mesh of those points (screening, trimming)
 #   refine     hos-refine's mesh
 # The drop from one row to the next is the share the stage loses; 1 - depth is
-# the share no view matched.
+# the share no view matched. A second table (hos-mvs-depth-loss) sorts every
+# training view's pixels of the true surface by the angle at which the view
+# sees it: no depth (textureless or unmatched), a wrong depth, or a right one,
+# and of those the ones a fused point lands on.
 #   bench/mvs/loss.sh [--views 24] [--width 640] [--height 480] [--scene default] [--hanging-object]
 #                     [--ground-plane] [--bin DIR] [--keep DIR] [--set stage.key=value]...
 # --bin: folder of the hos-* binaries to measure (default this build's); hos-synth and hos-eval come from
@@ -28,7 +31,7 @@ while [ $# -gt 0 ]; do
     --bin) run_bin="$2"; shift 2 ;;
     --keep) keep="$2"; shift 2 ;;
     --set) sets+=(--set "$2"); shift 2 ;;
-    *) sed -n '13,17p' "$0" | sed 's/^# *//' >&2; exit 2 ;;
+    *) sed -n '16,19p' "$0" | sed 's/^# *//' >&2; exit 2 ;;
   esac
 done
 run_bin="${run_bin:-$bin}"
@@ -116,3 +119,7 @@ for stage, label in [("depth_points", "depth maps (every pixel)"), ("points", "f
     print(f"| {label} | {r:.3f} | {t[0.01]['recall']:.3f} | {previous - r:.3f} |")
     previous = r
 PY
+echo
+echo "Training views' pixels of the true surface, by incidence angle (shares of each row's pixels):"
+"$bin/hos-mvs-depth-loss" --model "$work/scene/sparse" --depth-maps "$work/depth" --truth "$work/scene/gt_mesh.ply" \
+  --points "$work/points.ply"
