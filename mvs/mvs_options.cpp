@@ -49,6 +49,11 @@ void register_options(OptionSet& set, MvsOptions& o) {
           "smallest triangulation angle of a source view, and between views counted as agreeing in "
           "fusion",
           0.0, 60.0);
+  set.add("source_view_angle_falloff_deg", o.source_view_angle_falloff_deg,
+          "source views: a shared sparse point's weight falls off as a Gaussian of this width beyond 5x "
+          "min_triangulation_angle_deg, so neighbours win over wide baselines that see the surface "
+          "foreshortened differently (0 = no falloff)",
+          0.0, 90.0);
   set.add("planar_prior", o.planar_prior,
           "before the coarse level's last sweep, unconfident pixels also try the plane of the triangle of "
           "confident pixels they lie in");

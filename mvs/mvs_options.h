@@ -54,6 +54,7 @@ struct MvsOptions {
   // Source views below this angle are not chosen; in fusion, agreeing views
   // closer than this to one already counted are no further evidence.
   double min_triangulation_angle_deg = 3.0;
+  double source_view_angle_falloff_deg = 15.0;  // shared points at wider angles count less
   // Planar prior (mvs/planar_prior.h): before the coarse level's last sweep,
   // pixels whose cost is above planar_prior_confident_cost also try the
   // plane of the triangle of confident pixels (cost at most that) they lie in.

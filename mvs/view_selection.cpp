@@ -35,12 +35,18 @@ double pair_score(const PairScores& scores, int a, int b) {
 
 std::vector<std::vector<int>> select_source_views(const SparseModel& model, const MvsOptions& options) {
   const double min_angle = options.min_triangulation_angle_deg * M_PI / 180.0;
+  const double good_angle = 5.0 * std::max(min_angle, 1e-3);
+  const double falloff = options.source_view_angle_falloff_deg * M_PI / 180.0;
   const PairScores scores = score_image_pairs(model, [&](int a, int b, const Eigen::Vector3d& x) {
     const Eigen::Vector3d ca = model.images.at(a).center(), cb = model.images.at(b).center();
     const Eigen::Vector3d ra = (ca - x).normalized(), rb = (cb - x).normalized();
     const double angle = std::acos(std::clamp(ra.dot(rb), -1.0, 1.0));
     if (angle < min_angle) return 0.0;
-    return std::min(1.0, angle / (5.0 * std::max(min_angle, 1e-3)));
+    if (angle <= good_angle || falloff <= 0.0) return std::min(1.0, angle / good_angle);
+    // Wider: the views see a surface at ever more different angles, so its
+    // windows match worse (a ground seen at grazing angles most of all).
+    const double excess = (angle - good_angle) / falloff;
+    return std::exp(-0.5 * excess * excess);
   });
   std::vector<std::vector<int>> sources;
   for (const auto& [ref_id, ref] : model.images) {

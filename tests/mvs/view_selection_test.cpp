@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <set>
 
@@ -48,6 +49,39 @@ TEST(ViewSelection, ViewWithoutBaselineGetsNoSources) {
   const auto sources = select_source_views(model, MvsOptions{});
   EXPECT_TRUE(sources[0].empty());
   EXPECT_TRUE(sources[1].empty());
+}
+
+// Points at the origin seen by a reference view 5 units away, a neighbour
+// 10 degrees round and a view 60 degrees round that shares more points: the
+// neighbour is the better source (it sees the surface at nearly the same
+// angle), unless the falloff is off, when the shared points alone decide.
+TEST(ViewSelection, NeighbourBeatsAWideBaselineThatSharesMorePoints) {
+  SparseModel model;
+  model.cameras[1] = Camera::pinhole(1, 100, 100, 100, 100, 50, 50);
+  for (const auto& [id, degrees] : {std::pair{1, 0.0}, {2, 10.0}, {3, 60.0}}) {
+    const double a = degrees * M_PI / 180.0;
+    ImageRecord image;
+    image.id = id;
+    image.camera_id = 1;
+    image.name = std::to_string(id);
+    // Looking at the origin from 5 units away, on a circle about the y axis.
+    image.cam_from_world_rotation = Eigen::Quaterniond(Eigen::AngleAxisd(-a, Eigen::Vector3d::UnitY()));
+    image.cam_from_world_translation = Eigen::Vector3d(0, 0, 5);
+    model.images[id] = image;
+  }
+  ASSERT_NEAR(model.images.at(3).center().norm(), 5.0, 1e-9);
+  for (int k = 0; k < 50; ++k) {
+    Point3D p;
+    p.id = k;
+    p.xyz = Eigen::Vector3d(0.001 * k, 0, 0);
+    p.track = {{1, 0}, {k < 20 ? 2 : 3, 0}};  // 20 shared with the neighbour, 30 with the wide view
+    model.points[k] = p;
+  }
+  MvsOptions options;
+  options.num_source_views = 1;
+  EXPECT_EQ(select_source_views(model, options)[0], std::vector<int>{2});
+  options.source_view_angle_falloff_deg = 0.0;
+  EXPECT_EQ(select_source_views(model, options)[0], std::vector<int>{3});
 }
 
 TEST(ViewSelection, FusionChecksEveryOtherViewUpToItsLimit) {
