@@ -24,7 +24,9 @@
 #include <iomanip>
 #include <iostream>
 #include <limits>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench/mvs/dmap_file.h"
@@ -49,8 +51,9 @@ int incidence_bin(double degrees) {
 
 using Counts = std::array<std::array<long, kOutcomes + 1>, kBins>;  // last column: pixels of the bin
 
-// Each pixel's outcome, kOutcomes where the true mesh is not seen; for the
-// into pixels when not null.
+// Adds the view's pixels of the true surface to counts and, when pixels is
+// not null, writes each pixel's outcome there (kOutcomes where no true
+// surface is seen).
 void count_view(const hos::SparseModel& model,
                 const hos::ImageRecord& image,
                 const hos::bench::DepthMapFile& map,
@@ -71,17 +74,21 @@ void count_view(const hos::SparseModel& model,
                            static_cast<float>(c.z()));
   }
   const hos::render::DepthBuffer buffer = hos::render::rasterize_depth(truth, projected, map.width, map.height);
-  // The distance of x from the plane of the true face seen at pixel (px, py)
-  // (what hos-eval measures, on a surface flat at the tolerance's scale);
-  // infinite where no face is seen.
-  const auto distance_to_truth = [&](int px, int py, const Eigen::Vector3d& x) {
+  // The plane of the true face seen at pixel (px, py): a corner and the unit
+  // normal; nullopt where no face is seen.
+  const auto true_plane = [&](int px, int py) -> std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> {
     const int face = buffer.face_id.at<int>(py, px);
-    if (face < 0) return std::numeric_limits<double>::infinity();
+    if (face < 0) return std::nullopt;
     const Eigen::Vector3i& f = truth.faces[static_cast<std::size_t>(face)];
     const Eigen::Vector3d a = truth.vertices[f[0]].cast<double>();
-    const Eigen::Vector3d normal =
-        (truth.vertices[f[1]].cast<double>() - a).cross(truth.vertices[f[2]].cast<double>() - a).normalized();
-    return std::abs(normal.dot(x - a));
+    return std::pair{
+        a, (truth.vertices[f[1]].cast<double>() - a).cross(truth.vertices[f[2]].cast<double>() - a).normalized()};
+  };
+  // The distance of x from that plane (what hos-eval measures, on a surface
+  // flat at the tolerance's scale); infinite where no face is seen.
+  const auto distance_to_truth = [&](int px, int py, const Eigen::Vector3d& x) {
+    const auto plane = true_plane(px, py);
+    return plane ? std::abs(plane->second.dot(x - plane->first)) : std::numeric_limits<double>::infinity();
   };
   // Pixels a fused point lands on within the tolerance (and their neighbours).
   std::vector<std::uint8_t> fused(map.depth.size(), 0);
@@ -104,12 +111,9 @@ void count_view(const hos::SparseModel& model,
   }
   for (int y = 0; y < map.height; ++y) {
     for (int x = 0; x < map.width; ++x) {
-      const int face = buffer.face_id.at<int>(y, x);
-      if (face < 0) continue;
-      const Eigen::Vector3i& f = truth.faces[static_cast<std::size_t>(face)];
-      const Eigen::Vector3d a = truth.vertices[f[0]].cast<double>(), b = truth.vertices[f[1]].cast<double>(),
-                            c = truth.vertices[f[2]].cast<double>();
-      const Eigen::Vector3d normal = (b - a).cross(c - a).normalized();
+      const auto plane = true_plane(x, y);
+      if (!plane) continue;
+      const Eigen::Vector3d& normal = plane->second;
       const Eigen::Vector3d ray_cam = K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1.0);
       const double truth_depth = buffer.depth.at<float>(y, x);
       const Eigen::Vector3d point = R.transpose() * (ray_cam * truth_depth - t);
