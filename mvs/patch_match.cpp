@@ -32,10 +32,6 @@ struct Plane {
   Eigen::Vector3f normal = Eigen::Vector3f(0, 0, -1);  // reference camera frame
 };
 
-// Cost of a textureless pixel in a PlaneMap (no plane can be scored there;
-// 2 is the worst cost of a scored one).
-constexpr float kTextureless = 3.0f;
-
 // A plane's cost: the photometric part (mean 1 - NCC of the best K views)
 // and the one planes compete on, which adds the neighbours' geometric vote
 // capped at the detail restoration margin (so a plane whose photometric
@@ -103,7 +99,7 @@ class PatchMatcher {
     photo_.assign(std::size_t(w) * h, 2.0f);
     changed_.assign(std::size_t(w) * h, -1);
     settled_.assign(std::size_t(w) * h, 0);
-    inherited_.assign(std::size_t(w) * h, kTextureless);
+    inherited_.assign(std::size_t(w) * h, kTexturelessCost);
     const int nsrc = static_cast<int>(std::min<std::size_t>(sources.size(), 32));
     views_.assign(std::size_t(w) * h, nsrc == 32 ? ~0u : (1u << nsrc) - 1u);
     reselect_.assign(std::size_t(w) * h, 1);
@@ -698,7 +694,7 @@ class PatchMatcher {
   std::vector<char> reselect_;
   // Finer levels: the coarser pixel's cost. A window flat at this level
   // whose coarser pixel matched (its window spans twice the scene and saw
-  // texture) keeps the upsampled plane and that cost; kTextureless elsewhere.
+  // texture) keeps the upsampled plane and that cost; kTexturelessCost elsewhere.
   std::vector<float> inherited_;
   std::vector<PriorFrame> priors_;
   bool has_priors_ = false;
@@ -831,7 +827,7 @@ DepthMap to_depth_map(const PlaneMap& planes, const MvsView& ref, const MvsOptio
     for (int x = 0; x < w; ++x) {
       if (masked(ref, x, y)) continue;  // no depth from a masked pixel
       const float c = planes.cost.at<float>(y, x);
-      if (c == kTextureless) {
+      if (c == kTexturelessCost) {
         ++s.textureless_pixels;
         continue;
       }

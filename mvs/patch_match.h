@@ -45,7 +45,12 @@ MvsView load_view(const UndistortedWorkspace& workspace, const ImageRecord& imag
 
 // Every pixel's plane at one level, reliable or not (a finer level starts
 // from it): depth along the camera z axis, normal in the reference camera's
-// frame, photometric cost (aggregated 1 - NCC; 2 where textureless).
+// frame, photometric cost (aggregated 1 - NCC; kTexturelessCost where
+// textureless).
+// The cost of a pixel too flat to be scored (2 is the worst cost of a
+// scored one); depth maps keep it, so their readers can tell such pixels.
+constexpr float kTexturelessCost = 3.0f;
+
 struct PlaneMap {
   cv::Mat depth;                                    // CV_32F
   cv::Mat normal;                                   // CV_32FC3

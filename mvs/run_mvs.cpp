@@ -2,19 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
-#include <fstream>
 #include <functional>
 #include <opencv2/imgcodecs.hpp>
 #include <set>
 
-#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/stopwatch.h"
+#include "mvs/depth_map_file.h"
 #include "mvs/fusion.h"
 #include "mvs/fusion_store.h"
 #include "mvs/patch_match.h"
-#include "mvs/raw_mat_io.h"
 #include "mvs/view_selection.h"
 
 #ifdef _OPENMP
@@ -125,26 +122,6 @@ ViewSet load_view_set(const UndistortedWorkspace& workspace, const ViewPlan& pla
   return set;
 }
 
-// The .dmap file: a tag, width and height, then the depth, normal and cost
-// rows as raw floats, so a map read back is the map written, bit for bit.
-constexpr char kDepthMapTag[8] = {'H', 'O', 'S', 'D', 'M', 'A', 'P', '1'};
-
-std::filesystem::path depth_map_file(const std::filesystem::path& folder, const std::string& name) {
-  return folder / (name + ".dmap");
-}
-
-void write_depth_map_file(const std::filesystem::path& file, const DepthMap& map) {
-  std::filesystem::create_directories(file.parent_path());
-  write_atomically(file, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp, std::ios::binary);
-    const std::int32_t size[2] = {map.depth.cols, map.depth.rows};
-    out.write(kDepthMapTag, sizeof(kDepthMapTag));
-    out.write(reinterpret_cast<const char*>(size), sizeof(size));
-    for (const cv::Mat* m : {&map.depth, &map.normal, &map.cost}) write_raw_mat(out, *m);
-    if (!out) throw OutputError(file.string(), "the depth map");
-  });
-}
-
 // A view's maps in folder: TIFFs to look at, the .dmap file to fuse again.
 void write_depth_map(const std::filesystem::path& folder, const std::string& name, const DepthMap& map) {
   const std::string stem = (folder / name).string();
@@ -154,23 +131,15 @@ void write_depth_map(const std::filesystem::path& folder, const std::string& nam
   write_depth_map_file(depth_map_file(folder, name), map);
 }
 
-DepthMap read_depth_map_file(const std::filesystem::path& file, int width, int height) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file.string(), "missing depth map; compute it with hos-mvs --views first");
-  char tag[sizeof(kDepthMapTag)] = {};
-  std::int32_t size[2] = {0, 0};
-  in.read(tag, sizeof(tag));
-  in.read(reinterpret_cast<char*>(size), sizeof(size));
-  if (!in || !std::equal(tag, tag + sizeof(tag), kDepthMapTag)) throw InputError(file.string(), "not a depth map");
-  if (size[0] != width || size[1] != height) {
-    throw InputError(file.string(), "depth map of " + std::to_string(size[0]) + "x" + std::to_string(size[1]) +
-                                        " pixels, the view is " + std::to_string(width) + "x" + std::to_string(height) +
+// The view's map from folder, which must be of the view's matching size.
+DepthMap read_view_depth_map(const std::filesystem::path& folder, const MvsView& view, const std::string& name) {
+  const std::filesystem::path file = depth_map_file(folder, name);
+  DepthMap map = read_depth_map_file(file);
+  if (map.depth.cols != view.width() || map.depth.rows != view.height()) {
+    throw InputError(file.string(), "depth map of " + std::to_string(map.depth.cols) + "x" +
+                                        std::to_string(map.depth.rows) + " pixels, the view is " +
+                                        std::to_string(view.width()) + "x" + std::to_string(view.height()) +
                                         " (computed with other options?)");
-  }
-  DepthMap map{cv::Mat(height, width, CV_32F), cv::Mat(height, width, CV_32FC3), cv::Mat(height, width, CV_32F)};
-  for (cv::Mat* m : {&map.depth, &map.normal, &map.cost}) read_raw_mat(in, *m);
-  if (!in || in.peek() != std::ifstream::traits_type::eof()) {
-    throw InputError(file.string(), "truncated or damaged depth map");
   }
   return map;
 }
@@ -424,7 +393,7 @@ MvsResult fuse_depth_map_folder(const UndistortedWorkspace& workspace,
     reporter.advance();
     if (view.skipped) continue;
     const MvsView ref = load_view(workspace, *view.image, plan.sizes.back());
-    fusion.add(i, ref, read_depth_map_file(depth_map_file(folder, view.image->name), ref.width(), ref.height()));
+    fusion.add(i, ref, read_view_depth_map(folder, ref, view.image->name));
   }
   reporter.end();
   fuse_views(fusion, plan, options, reporter, result);

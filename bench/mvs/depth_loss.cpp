@@ -29,10 +29,11 @@
 #include <utility>
 #include <vector>
 
-#include "bench/mvs/dmap_file.h"
+#include "bench/mvs/depth_map_calibration.h"
 #include "core/colmap_io.h"
 #include "core/error.h"
 #include "core/ply_io.h"
+#include "mvs/depth_map_file.h"
 #include "render/depth_buffer.h"
 
 namespace {
@@ -56,13 +57,14 @@ using Counts = std::array<std::array<long, kOutcomes + 1>, kBins>;  // last colu
 // surface is seen).
 void count_view(const hos::SparseModel& model,
                 const hos::ImageRecord& image,
-                const hos::bench::DepthMapFile& map,
+                const hos::mvs::DepthMap& map,
                 const hos::TriangleMesh& truth,
                 const hos::PointCloud* points,
                 double tolerance,
                 Counts& counts,
                 std::vector<Outcome>* pixels) {
   const Eigen::Matrix3d K = hos::bench::depth_map_calibration(model.camera_of(image), map);
+  const int width = map.depth.cols, height = map.depth.rows;
   const Eigen::Matrix3d R = image.rotation(), K_inv = K.inverse();
   const Eigen::Vector3d t = image.cam_from_world_translation, centre = image.center();
   std::vector<Eigen::Vector3f> projected;
@@ -73,7 +75,7 @@ void count_view(const hos::SparseModel& model,
     projected.emplace_back(static_cast<float>(p.x() / p.z()), static_cast<float>(p.y() / p.z()),
                            static_cast<float>(c.z()));
   }
-  const hos::render::DepthBuffer buffer = hos::render::rasterize_depth(truth, projected, map.width, map.height);
+  const hos::render::DepthBuffer buffer = hos::render::rasterize_depth(truth, projected, width, height);
   // The plane of the true face seen at pixel (px, py): a corner and the unit
   // normal; nullopt where no face is seen.
   const auto true_plane = [&](int px, int py) -> std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> {
@@ -91,26 +93,26 @@ void count_view(const hos::SparseModel& model,
     return plane ? std::abs(plane->second.dot(x - plane->first)) : std::numeric_limits<double>::infinity();
   };
   // Pixels a fused point lands on within the tolerance (and their neighbours).
-  std::vector<std::uint8_t> fused(map.depth.size(), 0);
+  std::vector<std::uint8_t> fused(map.depth.total(), 0);
   if (points) {
     for (const Eigen::Vector3f& p : points->positions) {
       const Eigen::Vector3d c = R * p.cast<double>() + t;
       if (c.z() <= 0) continue;
       const Eigen::Vector3d uv = K * c / c.z();
       const int x = static_cast<int>(std::floor(uv.x())), y = static_cast<int>(std::floor(uv.y()));
-      if (x < 0 || y < 0 || x >= map.width || y >= map.height) continue;
+      if (x < 0 || y < 0 || x >= width || y >= height) continue;
       if (!(distance_to_truth(x, y, p.cast<double>()) <= tolerance)) continue;
       for (int dy = -1; dy <= 1; ++dy) {
         for (int dx = -1; dx <= 1; ++dx) {
-          if (x + dx >= 0 && y + dy >= 0 && x + dx < map.width && y + dy < map.height) {
-            fused[static_cast<std::size_t>(y + dy) * map.width + x + dx] = 1;
+          if (x + dx >= 0 && y + dy >= 0 && x + dx < width && y + dy < height) {
+            fused[static_cast<std::size_t>(y + dy) * width + x + dx] = 1;
           }
         }
       }
     }
   }
-  for (int y = 0; y < map.height; ++y) {
-    for (int x = 0; x < map.width; ++x) {
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
       const auto plane = true_plane(x, y);
       if (!plane) continue;
       const Eigen::Vector3d& normal = plane->second;
@@ -119,12 +121,12 @@ void count_view(const hos::SparseModel& model,
       const Eigen::Vector3d point = R.transpose() * (ray_cam * truth_depth - t);
       const double cos_incidence = std::abs(normal.dot((centre - point).normalized()));
       const int bin = incidence_bin(std::acos(std::min(1.0, cos_incidence)) * 180.0 / M_PI);
-      const std::size_t i = static_cast<std::size_t>(y) * map.width + x;
+      const std::size_t i = static_cast<std::size_t>(y) * width + x;
       ++counts[bin][kOutcomes];
-      const float d = map.depth[i];
+      const float d = map.depth.at<float>(y, x);
       Outcome outcome = kFused;
       if (!(d > 0)) {
-        outcome = map.cost[i] == hos::bench::kTexturelessCost ? kTexturelessPixel : kUnmatched;
+        outcome = map.cost.at<float>(y, x) == hos::mvs::kTexturelessCost ? kTexturelessPixel : kUnmatched;
       } else if (!(distance_to_truth(x, y, R.transpose() * (ray_cam * d - t)) <= tolerance)) {
         outcome = kWrong;
       } else {
@@ -198,12 +200,12 @@ int main(int argc, char** argv) {
     if (!points_file.empty()) points = hos::read_point_cloud_ply(points_file);
     Counts counts{};
     for (const auto& [id, image] : model.images) {
-      const hos::bench::DepthMapFile map = hos::bench::read_dmap(depth_maps + "/" + image.name + ".dmap");
+      const hos::mvs::DepthMap map = hos::mvs::read_depth_map_file(hos::mvs::depth_map_file(depth_maps, image.name));
       const bool drawn = !map_file.empty() && image.name == map_view;
-      std::vector<Outcome> pixels(drawn ? map.depth.size() : 0, kOutcomes);
+      std::vector<Outcome> pixels(drawn ? map.depth.total() : 0, kOutcomes);
       count_view(model, image, map, truth, points_file.empty() ? nullptr : &points, tolerance, counts,
                  drawn ? &pixels : nullptr);
-      if (drawn) write_map(map_file, pixels, map.width, map.height);
+      if (drawn) write_map(map_file, pixels, map.depth.cols, map.depth.rows);
     }
     print_table(counts);
   } catch (const std::exception& e) {

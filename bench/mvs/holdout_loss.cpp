@@ -32,10 +32,11 @@
 #include <string>
 #include <vector>
 
-#include "bench/mvs/dmap_file.h"
+#include "bench/mvs/depth_map_calibration.h"
 #include "core/colmap_io.h"
 #include "core/error.h"
 #include "core/ply_io.h"
+#include "mvs/depth_map_file.h"
 
 namespace {
 
@@ -117,14 +118,14 @@ void mark_depth_maps(CoverageGrid& grid,
   std::vector<int> views(grid.covered.size(), 0);
   for (const auto& [id, image] : model.images) {
     std::fill(grid.covered.begin(), grid.covered.end(), std::uint8_t{0});
-    const std::string file = folder + "/" + image.name + ".dmap";
+    const std::filesystem::path file = hos::mvs::depth_map_file(folder, image.name);
     if (!std::filesystem::exists(file)) continue;
-    const hos::bench::DepthMapFile map = hos::bench::read_dmap(file);
+    const hos::mvs::DepthMap map = hos::mvs::read_depth_map_file(file);
     const Eigen::Matrix3d K = hos::bench::depth_map_calibration(model.camera_of(image), map);
     const Eigen::Matrix3d K_inv = K.inverse(), Rt = image.rotation().transpose();
-    for (int y = 0; y < map.height; ++y) {
-      for (int x = 0; x < map.width; ++x) {
-        const float d = map.depth[static_cast<std::size_t>(y) * map.width + x];
+    for (int y = 0; y < map.depth.rows; ++y) {
+      for (int x = 0; x < map.depth.cols; ++x) {
+        const float d = map.depth.at<float>(y, x);
         if (!(d > 0)) continue;
         const Eigen::Vector3d c = K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1.0) * d;
         grid.mark(Rt * (c - image.cam_from_world_translation));
