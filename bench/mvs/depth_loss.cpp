@@ -9,12 +9,17 @@
 //                 tolerance of the true surface (in the pixel or its 8
 //                 neighbours)
 // as shares of the pixels of each incidence range (the angle between the
-// true face's normal and the ray to the camera). Distances are to the plane
-// of the true face the pixel sees; the tolerance is a fraction of the true
-// mesh's bounding-box diagonal, as hos-eval's thresholds.
+// true face's normal and the ray to the camera). Pixels near a silhouette
+// (within --edge-radius pixels, the matching window's radius, of a pixel
+// that sees no surface or a surface off this pixel's true plane by more
+// than the tolerance) form a row of their own: there the window straddles
+// two surfaces, and the objects' rims, seen at grazing angles by
+// definition, would otherwise fill the grazing rows. Distances are to the
+// plane of the true face the pixel sees; the tolerance is a fraction of the
+// true mesh's bounding-box diagonal, as hos-eval's thresholds.
 //
 //   hos-mvs-depth-loss --model DIR --depth-maps DIR --truth gt_mesh.ply [--points points.ply]
-//                      [--tolerance 0.005] [--map-view NAME --map FILE.ppm]
+//                      [--tolerance 0.005] [--edge-radius 4] [--map-view NAME --map FILE.ppm]
 #include <CLI/CLI.hpp>
 #include <Eigen/Geometry>
 #include <array>
@@ -50,7 +55,10 @@ int incidence_bin(double degrees) {
   return kBins - 1;
 }
 
-using Counts = std::array<std::array<long, kOutcomes + 1>, kBins>;  // last column: pixels of the bin
+// Rows: the incidence bins away from silhouettes, then the pixels near one;
+// last column: the row's pixels.
+constexpr int kNearSilhouette = kBins;
+using Counts = std::array<std::array<long, kOutcomes + 1>, kBins + 1>;
 
 // Adds the view's pixels of the true surface to counts and, when pixels is
 // not null, writes each pixel's outcome there (kOutcomes where no true
@@ -61,6 +69,7 @@ void count_view(const hos::SparseModel& model,
                 const hos::TriangleMesh& truth,
                 const hos::PointCloud* points,
                 double tolerance,
+                int edge_radius,
                 Counts& counts,
                 std::vector<Outcome>* pixels) {
   const Eigen::Matrix3d K = hos::bench::depth_map_calibration(model.camera_of(image), map);
@@ -111,16 +120,36 @@ void count_view(const hos::SparseModel& model,
       }
     }
   }
+  // The true surface's point at each pixel (NaN where none is seen).
+  std::vector<Eigen::Vector3d> true_points(map.depth.total(), Eigen::Vector3d::Constant(std::nan("")));
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      if (buffer.face_id.at<int>(y, x) < 0) continue;
+      const Eigen::Vector3d ray_cam = K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1.0);
+      true_points[static_cast<std::size_t>(y) * width + x] =
+          R.transpose() * (ray_cam * static_cast<double>(buffer.depth.at<float>(y, x)) - t);
+    }
+  }
+  const auto near_silhouette = [&](int x, int y, const Eigen::Vector3d& point, const Eigen::Vector3d& normal) {
+    for (int ny = std::max(0, y - edge_radius); ny <= std::min(height - 1, y + edge_radius); ++ny) {
+      for (int nx = std::max(0, x - edge_radius); nx <= std::min(width - 1, x + edge_radius); ++nx) {
+        const Eigen::Vector3d& q = true_points[static_cast<std::size_t>(ny) * width + nx];
+        if (!(std::abs(normal.dot(q - point)) <= tolerance)) return true;  // NaN: no surface
+      }
+    }
+    return false;
+  };
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       const auto plane = true_plane(x, y);
       if (!plane) continue;
       const Eigen::Vector3d& normal = plane->second;
       const Eigen::Vector3d ray_cam = K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1.0);
-      const double truth_depth = buffer.depth.at<float>(y, x);
-      const Eigen::Vector3d point = R.transpose() * (ray_cam * truth_depth - t);
+      const Eigen::Vector3d& point = true_points[static_cast<std::size_t>(y) * width + x];
       const double cos_incidence = std::abs(normal.dot((centre - point).normalized()));
-      const int bin = incidence_bin(std::acos(std::min(1.0, cos_incidence)) * 180.0 / M_PI);
+      const int bin = near_silhouette(x, y, point, normal)
+                          ? kNearSilhouette
+                          : incidence_bin(std::acos(std::min(1.0, cos_incidence)) * 180.0 / M_PI);
       const std::size_t i = static_cast<std::size_t>(y) * width + x;
       ++counts[bin][kOutcomes];
       const float d = map.depth.at<float>(y, x);
@@ -172,6 +201,7 @@ void print_table(const Counts& counts) {
                   std::to_string(static_cast<int>(kIncidenceEdgesDeg[b + 1])),
               counts[b], all[kOutcomes]);
   }
+  print_row("near a silhouette", counts[kNearSilhouette], all[kOutcomes]);
   print_row("all", all, all[kOutcomes]);
 }
 
@@ -186,6 +216,9 @@ int main(int argc, char** argv) {
   app.add_option("--truth", truth_file, "the true mesh (hos-synth's gt_mesh.ply)")->required();
   app.add_option("--points", points_file, "fused points (hos-mvs --output)");
   app.add_option("--tolerance", tolerance_fraction, "as a fraction of the true mesh's bounding-box diagonal");
+  int edge_radius = 4;
+  app.add_option("--edge-radius", edge_radius, "pixels near a silhouette: within this radius (mvs.window_radius)")
+      ->check(CLI::Range(0, 32));
   std::string map_view, map_file;
   app.add_option("--map-view", map_view, "the view --map draws");
   app.add_option("--map", map_file, "a PPM of --map-view's pixels by outcome");
@@ -203,7 +236,7 @@ int main(int argc, char** argv) {
       const hos::mvs::DepthMap map = hos::mvs::read_depth_map_file(hos::mvs::depth_map_file(depth_maps, image.name));
       const bool drawn = !map_file.empty() && image.name == map_view;
       std::vector<Outcome> pixels(drawn ? map.depth.total() : 0, kOutcomes);
-      count_view(model, image, map, truth, points_file.empty() ? nullptr : &points, tolerance, counts,
+      count_view(model, image, map, truth, points_file.empty() ? nullptr : &points, tolerance, edge_radius, counts,
                  drawn ? &pixels : nullptr);
       if (drawn) write_map(map_file, pixels, map.depth.cols, map.depth.rows);
     }

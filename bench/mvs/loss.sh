@@ -11,8 +11,9 @@
 # The drop from one row to the next is the share the stage loses; 1 - depth is
 # the share no view matched. A second table (hos-mvs-depth-loss) sorts every
 # training view's pixels of the true surface by the angle at which the view
-# sees it: no depth (textureless or unmatched), a wrong depth, or a right one,
-# and of those the ones a fused point lands on.
+# sees it (pixels near a silhouette in a row of their own): no depth
+# (textureless or unmatched), a wrong depth, or a right one, and of those the
+# ones a fused point lands on.
 #   bench/mvs/loss.sh [--views 24] [--width 640] [--height 480] [--scene default] [--hanging-object]
 #                     [--ground-plane] [--bin DIR] [--keep DIR] [--set stage.key=value]...
 # --bin: folder of the hos-* binaries to measure (default this build's); hos-synth and hos-eval come from
