@@ -60,110 +60,143 @@ int incidence_bin(double degrees) {
 constexpr int kNearSilhouette = kBins;
 using Counts = std::array<std::array<long, kOutcomes + 1>, kBins + 1>;
 
+// The true surface as one view's depth map sees it: per pixel the face
+// (rendered at the map's size), its plane and the point on it.
+class ViewTruth {
+ public:
+  ViewTruth(const hos::SparseModel& model,
+            const hos::ImageRecord& image,
+            const hos::mvs::DepthMap& map,
+            const hos::TriangleMesh& truth)
+      : truth_(truth),
+        width_(map.depth.cols),
+        height_(map.depth.rows),
+        K_(hos::bench::depth_map_calibration(model.camera_of(image), map)),
+        K_inv_(K_.inverse()),
+        R_(image.rotation()),
+        t_(image.cam_from_world_translation),
+        centre_(image.center()) {
+    std::vector<Eigen::Vector3f> projected;
+    projected.reserve(truth.vertices.size());
+    for (const Eigen::Vector3f& v : truth.vertices) {
+      const Eigen::Vector3d c = R_ * v.cast<double>() + t_;
+      const Eigen::Vector3d p = K_ * c;
+      projected.emplace_back(static_cast<float>(p.x() / p.z()), static_cast<float>(p.y() / p.z()),
+                             static_cast<float>(c.z()));
+    }
+    buffer_ = hos::render::rasterize_depth(truth, projected, width_, height_);
+    points_.assign(static_cast<std::size_t>(width_) * height_, Eigen::Vector3d::Constant(std::nan("")));
+    for (int y = 0; y < height_; ++y) {
+      for (int x = 0; x < width_; ++x) {
+        if (buffer_.face_id.at<int>(y, x) >= 0) points_[index(x, y)] = on_ray(x, y, buffer_.depth.at<float>(y, x));
+      }
+    }
+  }
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * width_ + x; }
+
+  // The world point at depth d on pixel (x, y)'s ray.
+  Eigen::Vector3d on_ray(int x, int y, double d) const {
+    return R_.transpose() * (K_inv_ * Eigen::Vector3d(x + 0.5, y + 0.5, 1.0) * d - t_);
+  }
+
+  // The unit normal of the true face seen at (x, y); nullopt where none is.
+  std::optional<Eigen::Vector3d> normal(int x, int y) const {
+    const int face = buffer_.face_id.at<int>(y, x);
+    if (face < 0) return std::nullopt;
+    const Eigen::Vector3i& f = truth_.faces[static_cast<std::size_t>(face)];
+    const Eigen::Vector3d a = truth_.vertices[f[0]].cast<double>();
+    return (truth_.vertices[f[1]].cast<double>() - a).cross(truth_.vertices[f[2]].cast<double>() - a).normalized();
+  }
+
+  // The distance of p from the plane of the true face seen at (x, y) (what
+  // hos-eval measures, on a surface flat at the tolerance's scale); NaN
+  // where no face is seen.
+  double distance(int x, int y, const Eigen::Vector3d& p) const {
+    const auto n = normal(x, y);
+    return n ? std::abs(n->dot(p - points_[index(x, y)])) : std::nan("");
+  }
+
+  // The angle (degrees) between the true face's normal at (x, y) and the
+  // ray to the camera.
+  double incidence_deg(int x, int y, const Eigen::Vector3d& normal) const {
+    const double c = std::abs(normal.dot((centre_ - points_[index(x, y)]).normalized()));
+    return std::acos(std::min(1.0, c)) * 180.0 / M_PI;
+  }
+
+  // True where a pixel within radius sees no surface, or a point off the
+  // plane of the face seen at (x, y) by more than tolerance.
+  bool near_silhouette(int x, int y, const Eigen::Vector3d& normal, int radius, double tolerance) const {
+    const Eigen::Vector3d& p = points_[index(x, y)];
+    for (int ny = std::max(0, y - radius); ny <= std::min(height_ - 1, y + radius); ++ny) {
+      for (int nx = std::max(0, x - radius); nx <= std::min(width_ - 1, x + radius); ++nx) {
+        if (!(std::abs(normal.dot(points_[index(nx, ny)] - p)) <= tolerance)) return true;  // NaN: none
+      }
+    }
+    return false;
+  }
+
+  // Pixels a fused point lands on within the tolerance of the truth, and
+  // their 8 neighbours.
+  std::vector<std::uint8_t> fused_pixels(const hos::PointCloud& cloud, double tolerance) const {
+    std::vector<std::uint8_t> fused(points_.size(), 0);
+    for (const Eigen::Vector3f& p : cloud.positions) {
+      const Eigen::Vector3d c = R_ * p.cast<double>() + t_;
+      if (c.z() <= 0) continue;
+      const Eigen::Vector3d uv = K_ * c / c.z();
+      const int x = static_cast<int>(std::floor(uv.x())), y = static_cast<int>(std::floor(uv.y()));
+      if (x < 0 || y < 0 || x >= width_ || y >= height_ || !(distance(x, y, p.cast<double>()) <= tolerance)) {
+        continue;
+      }
+      for (int ny = std::max(0, y - 1); ny <= std::min(height_ - 1, y + 1); ++ny) {
+        for (int nx = std::max(0, x - 1); nx <= std::min(width_ - 1, x + 1); ++nx) fused[index(nx, ny)] = 1;
+      }
+    }
+    return fused;
+  }
+
+ private:
+  const hos::TriangleMesh& truth_;
+  int width_, height_;
+  Eigen::Matrix3d K_, K_inv_, R_;
+  Eigen::Vector3d t_, centre_;
+  hos::render::DepthBuffer buffer_;
+  std::vector<Eigen::Vector3d> points_;  // NaN where no face is seen
+};
+
 // Adds the view's pixels of the true surface to counts and, when pixels is
 // not null, writes each pixel's outcome there (kOutcomes where no true
 // surface is seen).
-void count_view(const hos::SparseModel& model,
-                const hos::ImageRecord& image,
+void count_view(const ViewTruth& view,
                 const hos::mvs::DepthMap& map,
-                const hos::TriangleMesh& truth,
                 const hos::PointCloud* points,
                 double tolerance,
                 int edge_radius,
                 Counts& counts,
                 std::vector<Outcome>* pixels) {
-  const Eigen::Matrix3d K = hos::bench::depth_map_calibration(model.camera_of(image), map);
-  const int width = map.depth.cols, height = map.depth.rows;
-  const Eigen::Matrix3d R = image.rotation(), K_inv = K.inverse();
-  const Eigen::Vector3d t = image.cam_from_world_translation, centre = image.center();
-  std::vector<Eigen::Vector3f> projected;
-  projected.reserve(truth.vertices.size());
-  for (const Eigen::Vector3f& v : truth.vertices) {
-    const Eigen::Vector3d c = R * v.cast<double>() + t;
-    const Eigen::Vector3d p = K * c;
-    projected.emplace_back(static_cast<float>(p.x() / p.z()), static_cast<float>(p.y() / p.z()),
-                           static_cast<float>(c.z()));
-  }
-  const hos::render::DepthBuffer buffer = hos::render::rasterize_depth(truth, projected, width, height);
-  // The plane of the true face seen at pixel (px, py): a corner and the unit
-  // normal; nullopt where no face is seen.
-  const auto true_plane = [&](int px, int py) -> std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> {
-    const int face = buffer.face_id.at<int>(py, px);
-    if (face < 0) return std::nullopt;
-    const Eigen::Vector3i& f = truth.faces[static_cast<std::size_t>(face)];
-    const Eigen::Vector3d a = truth.vertices[f[0]].cast<double>();
-    return std::pair{
-        a, (truth.vertices[f[1]].cast<double>() - a).cross(truth.vertices[f[2]].cast<double>() - a).normalized()};
-  };
-  // The distance of x from that plane (what hos-eval measures, on a surface
-  // flat at the tolerance's scale); infinite where no face is seen.
-  const auto distance_to_truth = [&](int px, int py, const Eigen::Vector3d& x) {
-    const auto plane = true_plane(px, py);
-    return plane ? std::abs(plane->second.dot(x - plane->first)) : std::numeric_limits<double>::infinity();
-  };
-  // Pixels a fused point lands on within the tolerance (and their neighbours).
-  std::vector<std::uint8_t> fused(map.depth.total(), 0);
-  if (points) {
-    for (const Eigen::Vector3f& p : points->positions) {
-      const Eigen::Vector3d c = R * p.cast<double>() + t;
-      if (c.z() <= 0) continue;
-      const Eigen::Vector3d uv = K * c / c.z();
-      const int x = static_cast<int>(std::floor(uv.x())), y = static_cast<int>(std::floor(uv.y()));
-      if (x < 0 || y < 0 || x >= width || y >= height) continue;
-      if (!(distance_to_truth(x, y, p.cast<double>()) <= tolerance)) continue;
-      for (int dy = -1; dy <= 1; ++dy) {
-        for (int dx = -1; dx <= 1; ++dx) {
-          if (x + dx >= 0 && y + dy >= 0 && x + dx < width && y + dy < height) {
-            fused[static_cast<std::size_t>(y + dy) * width + x + dx] = 1;
-          }
-        }
-      }
-    }
-  }
-  // The true surface's point at each pixel (NaN where none is seen).
-  std::vector<Eigen::Vector3d> true_points(map.depth.total(), Eigen::Vector3d::Constant(std::nan("")));
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      if (buffer.face_id.at<int>(y, x) < 0) continue;
-      const Eigen::Vector3d ray_cam = K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1.0);
-      true_points[static_cast<std::size_t>(y) * width + x] =
-          R.transpose() * (ray_cam * static_cast<double>(buffer.depth.at<float>(y, x)) - t);
-    }
-  }
-  const auto near_silhouette = [&](int x, int y, const Eigen::Vector3d& point, const Eigen::Vector3d& normal) {
-    for (int ny = std::max(0, y - edge_radius); ny <= std::min(height - 1, y + edge_radius); ++ny) {
-      for (int nx = std::max(0, x - edge_radius); nx <= std::min(width - 1, x + edge_radius); ++nx) {
-        const Eigen::Vector3d& q = true_points[static_cast<std::size_t>(ny) * width + nx];
-        if (!(std::abs(normal.dot(q - point)) <= tolerance)) return true;  // NaN: no surface
-      }
-    }
-    return false;
-  };
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      const auto plane = true_plane(x, y);
-      if (!plane) continue;
-      const Eigen::Vector3d& normal = plane->second;
-      const Eigen::Vector3d ray_cam = K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1.0);
-      const Eigen::Vector3d& point = true_points[static_cast<std::size_t>(y) * width + x];
-      const double cos_incidence = std::abs(normal.dot((centre - point).normalized()));
-      const int bin = near_silhouette(x, y, point, normal)
+  const std::vector<std::uint8_t> fused = view.fused_pixels(points ? *points : hos::PointCloud{}, tolerance);
+  for (int y = 0; y < view.height(); ++y) {
+    for (int x = 0; x < view.width(); ++x) {
+      const auto normal = view.normal(x, y);
+      if (!normal) continue;
+      const int bin = view.near_silhouette(x, y, *normal, edge_radius, tolerance)
                           ? kNearSilhouette
-                          : incidence_bin(std::acos(std::min(1.0, cos_incidence)) * 180.0 / M_PI);
-      const std::size_t i = static_cast<std::size_t>(y) * width + x;
+                          : incidence_bin(view.incidence_deg(x, y, *normal));
       ++counts[bin][kOutcomes];
       const float d = map.depth.at<float>(y, x);
       Outcome outcome = kFused;
       if (!(d > 0)) {
         outcome = map.cost.at<float>(y, x) == hos::mvs::kTexturelessCost ? kTexturelessPixel : kUnmatched;
-      } else if (!(distance_to_truth(x, y, R.transpose() * (ray_cam * d - t)) <= tolerance)) {
+      } else if (!(view.distance(x, y, view.on_ray(x, y, d)) <= tolerance)) {
         outcome = kWrong;
       } else {
         ++counts[bin][kRight];
-        if (!fused[i]) outcome = kRight;
+        if (!points || !fused[view.index(x, y)]) outcome = kRight;
       }
       if (outcome != kRight) ++counts[bin][outcome];
-      if (pixels) (*pixels)[i] = outcome;
+      if (pixels) (*pixels)[view.index(x, y)] = outcome;
     }
   }
 }
@@ -236,8 +269,8 @@ int main(int argc, char** argv) {
       const hos::mvs::DepthMap map = hos::mvs::read_depth_map_file(hos::mvs::depth_map_file(depth_maps, image.name));
       const bool drawn = !map_file.empty() && image.name == map_view;
       std::vector<Outcome> pixels(drawn ? map.depth.total() : 0, kOutcomes);
-      count_view(model, image, map, truth, points_file.empty() ? nullptr : &points, tolerance, edge_radius, counts,
-                 drawn ? &pixels : nullptr);
+      count_view(ViewTruth(model, image, map, truth), map, points_file.empty() ? nullptr : &points, tolerance,
+                 edge_radius, counts, drawn ? &pixels : nullptr);
       if (drawn) write_map(map_file, pixels, map.depth.cols, map.depth.rows);
     }
     print_table(counts);
