@@ -63,12 +63,7 @@ INSTANTIATE_TEST_SUITE_P(AllFormats,
                                            PlyFormat::kBinaryBigEndian));
 
 std::string error_of(const std::filesystem::path& path) {
-  try {
-    read_point_cloud_ply(path);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return hos::testing::input_error_of([&] { read_point_cloud_ply(path); });
 }
 
 TEST(PlyIo, BadInputsAreInputErrorsNamingTheFile) {

@@ -11,7 +11,6 @@
 #include <iterator>
 #include <string>
 
-#include "core/error.h"
 #include "tests/support/test_support.h"
 
 namespace hos::mvs {
@@ -35,12 +34,7 @@ bool same_bits(const cv::Mat& a, const cv::Mat& b) {
 
 // The error read_depth_map_file throws for file, or "" when it reads it.
 std::string read_error(const fs::path& file) {
-  try {
-    read_depth_map_file(file);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return hos::testing::input_error_of([&] { read_depth_map_file(file); });
 }
 
 TEST(DepthMapFile, ReadsBackWhatWasWrittenBitForBit) {

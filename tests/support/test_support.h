@@ -5,7 +5,22 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
+
 namespace hos::testing {
+
+// The message of the InputError that read() throws, or "" when it reads
+// without one (a bad-input test checks the message names the file and
+// reason).
+template <class Read>
+std::string input_error_of(Read&& read) {
+  try {
+    read();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
 
 // A fresh empty folder under the system temp dir, removed by the destructor
 // (kept when HOS_KEEP_TEST_DIRS is set, for debugging).
