@@ -29,6 +29,7 @@
 #include <iomanip>
 #include <iostream>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -37,8 +38,11 @@
 #include "bench/mvs/depth_map_calibration.h"
 #include "core/colmap_io.h"
 #include "core/error.h"
+#include "core/option_set.h"
 #include "core/ply_io.h"
 #include "mvs/depth_map_file.h"
+#include "mvs/mvs_options.h"
+#include "mvs/view_selection.h"
 #include "render/depth_buffer.h"
 
 namespace {
@@ -138,6 +142,19 @@ class ViewTruth {
     return false;
   }
 
+  // Whether this view sees p: it projects into the frame onto the true face
+  // whose plane lies within tolerance of it (not behind another surface).
+  bool sees(const Eigen::Vector3d& p, double tolerance) const {
+    const Eigen::Vector3d c = R_ * p + t_;
+    if (c.z() <= 0) return false;
+    const Eigen::Vector3d uv = K_ * c / c.z();
+    const int x = static_cast<int>(std::floor(uv.x())), y = static_cast<int>(std::floor(uv.y()));
+    return x >= 0 && y >= 0 && x < width_ && y < height_ && distance(x, y, p) <= tolerance;
+  }
+
+  // The true point at (x, y) (NaN where no face is seen).
+  const Eigen::Vector3d& point(int x, int y) const { return points_[index(x, y)]; }
+
   // Pixels a fused point lands on within the tolerance of the truth, and
   // their 8 neighbours.
   std::vector<std::uint8_t> fused_pixels(const hos::PointCloud& cloud, double tolerance) const {
@@ -166,15 +183,23 @@ class ViewTruth {
   std::vector<Eigen::Vector3d> points_;  // NaN where no face is seen
 };
 
-// Adds the view's pixels of the true surface to counts and, when pixels is
-// not null, writes each pixel's outcome there (kOutcomes where no true
-// surface is seen).
+// Pixels away from silhouettes by how many of the view's sources see their
+// true point: 0, 1, 2, 3 or more (rows); columns as Counts'.
+constexpr int kSourceRows = 4;
+using SourceCounts = std::array<std::array<long, kOutcomes + 1>, kSourceRows>;
+
+// Adds the view's pixels of the true surface to counts (and those away from
+// silhouettes to by_sources, by how many of sources see them) and, when
+// pixels is not null, writes each pixel's outcome there (kOutcomes where no
+// true surface is seen).
 void count_view(const ViewTruth& view,
+                const std::vector<const ViewTruth*>& sources,
                 const hos::mvs::DepthMap& map,
                 const hos::PointCloud* points,
                 double tolerance,
                 int edge_radius,
                 Counts& counts,
+                SourceCounts& by_sources,
                 std::vector<Outcome>* pixels) {
   const std::vector<std::uint8_t> fused = view.fused_pixels(points ? *points : hos::PointCloud{}, tolerance);
   for (int y = 0; y < view.height(); ++y) {
@@ -197,6 +222,13 @@ void count_view(const ViewTruth& view,
       }
       if (outcome != kRight) ++counts[bin][outcome];
       if (pixels) (*pixels)[view.index(x, y)] = outcome;
+      if (bin == kNearSilhouette) continue;
+      int seeing = 0;
+      for (const ViewTruth* source : sources) seeing += source->sees(view.point(x, y), tolerance) ? 1 : 0;
+      auto& row = by_sources[std::min(seeing, kSourceRows - 1)];
+      ++row[kOutcomes];
+      if (outcome == kFused) ++row[kRight];
+      ++row[outcome];
     }
   }
 }
@@ -219,16 +251,20 @@ void print_row(const std::string& label, const std::array<long, kOutcomes + 1>& 
   std::cout << "\n";
 }
 
+void print_header(const std::string& rows) {
+  std::cout << "| " << rows << " | share of pixels |";
+  for (const char* name : kOutcomeNames) std::cout << ' ' << name << " |";
+  std::cout << "\n|---|---|";
+  for (int k = 0; k < kOutcomes; ++k) std::cout << "---|";
+  std::cout << "\n" << std::fixed << std::setprecision(3);
+}
+
 void print_table(const Counts& counts) {
   std::array<long, kOutcomes + 1> all{};
   for (const auto& row : counts) {
     for (int k = 0; k <= kOutcomes; ++k) all[k] += row[k];
   }
-  std::cout << "| incidence (deg) | share of pixels |";
-  for (const char* name : kOutcomeNames) std::cout << ' ' << name << " |";
-  std::cout << "\n|---|---|";
-  for (int k = 0; k < kOutcomes; ++k) std::cout << "---|";
-  std::cout << "\n" << std::fixed << std::setprecision(3);
+  print_header("incidence (deg)");
   for (int b = 0; b < kBins; ++b) {
     print_row(std::to_string(static_cast<int>(kIncidenceEdgesDeg[b])) + "-" +
                   std::to_string(static_cast<int>(kIncidenceEdgesDeg[b + 1])),
@@ -236,6 +272,16 @@ void print_table(const Counts& counts) {
   }
   print_row("near a silhouette", counts[kNearSilhouette], all[kOutcomes]);
   print_row("all", all, all[kOutcomes]);
+}
+
+void print_source_table(const SourceCounts& counts) {
+  long total = 0;
+  for (const auto& row : counts) total += row[kOutcomes];
+  std::cout << "\n";
+  print_header("sources that see the point");
+  for (int r = 0; r < kSourceRows; ++r) {
+    print_row(std::to_string(r) + (r + 1 == kSourceRows ? " or more" : ""), counts[r], total);
+  }
 }
 
 }  // namespace
@@ -255,8 +301,22 @@ int main(int argc, char** argv) {
   std::string map_view, map_file;
   app.add_option("--map-view", map_view, "the view --map draws");
   app.add_option("--map", map_file, "a PPM of --map-view's pixels by outcome");
+  std::vector<std::string> assignments;
+  app.add_option("--set", assignments, "stage.key=value as hos-mvs took it (other stages' keys are ignored)");
   CLI11_PARSE(app, argc, argv);
   try {
+    // The source views hos-mvs chose, from the same mvs options.
+    hos::mvs::MvsOptions mvs_options;
+    hos::OptionSet mvs_set("mvs");
+    hos::mvs::register_options(mvs_set, mvs_options);
+    for (const std::string& assignment : assignments) {
+      const std::size_t dot = assignment.find('.'), equals = assignment.find('=');
+      if (dot == std::string::npos || equals == std::string::npos || dot > equals) {
+        throw hos::ConfigError("--set", assignment + ": expected stage.key=value");
+      }
+      if (assignment.substr(0, dot) != "mvs") continue;
+      mvs_set.apply_assignment(assignment.substr(dot + 1, equals - dot - 1), assignment.substr(equals + 1));
+    }
     const hos::SparseModel model = hos::read_colmap_model(model_dir);
     const hos::TriangleMesh truth = hos::read_mesh_ply(truth_file);
     Eigen::AlignedBox3f box;
@@ -264,16 +324,29 @@ int main(int argc, char** argv) {
     const double tolerance = tolerance_fraction * box.diagonal().norm();
     hos::PointCloud points;
     if (!points_file.empty()) points = hos::read_point_cloud_ply(points_file);
-    Counts counts{};
+    // Every view's maps and true surface first: each view's sources need
+    // theirs.
+    std::map<int, hos::mvs::DepthMap> maps;
+    std::map<int, ViewTruth> views;
     for (const auto& [id, image] : model.images) {
-      const hos::mvs::DepthMap map = hos::mvs::read_depth_map_file(hos::mvs::depth_map_file(depth_maps, image.name));
+      maps[id] = hos::mvs::read_depth_map_file(hos::mvs::depth_map_file(depth_maps, image.name));
+      views.try_emplace(id, model, image, maps[id], truth);
+    }
+    const std::vector<std::vector<int>> sources = hos::mvs::select_source_views(model, mvs_options);
+    Counts counts{};
+    SourceCounts by_sources{};
+    std::size_t v = 0;
+    for (const auto& [id, image] : model.images) {
+      std::vector<const ViewTruth*> source_views;
+      for (int s : sources[v++]) source_views.push_back(&views.at(s));
       const bool drawn = !map_file.empty() && image.name == map_view;
-      std::vector<Outcome> pixels(drawn ? map.depth.total() : 0, kOutcomes);
-      count_view(ViewTruth(model, image, map, truth), map, points_file.empty() ? nullptr : &points, tolerance,
-                 edge_radius, counts, drawn ? &pixels : nullptr);
-      if (drawn) write_map(map_file, pixels, map.depth.cols, map.depth.rows);
+      std::vector<Outcome> pixels(drawn ? maps[id].depth.total() : 0, kOutcomes);
+      count_view(views.at(id), source_views, maps[id], points_file.empty() ? nullptr : &points, tolerance, edge_radius,
+                 counts, by_sources, drawn ? &pixels : nullptr);
+      if (drawn) write_map(map_file, pixels, maps[id].depth.cols, maps[id].depth.rows);
     }
     print_table(counts);
+    print_source_table(by_sources);
   } catch (const std::exception& e) {
     std::cerr << "hos-mvs-depth-loss: " << e.what() << "\n";
     return 3;

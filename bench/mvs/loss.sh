@@ -13,7 +13,8 @@
 # training view's pixels of the true surface by the angle at which the view
 # sees it (pixels near a silhouette in a row of their own): no depth
 # (textureless or unmatched), a wrong depth, or a right one, and of those the
-# ones a fused point lands on.
+# ones a fused point lands on; a third sorts the pixels away from silhouettes
+# by how many of the view's source views see their true point.
 #   bench/mvs/loss.sh [--views 24] [--width 640] [--height 480] [--scene default] [--hanging-object]
 #                     [--ground-plane] [--bin DIR] [--keep DIR] [--set stage.key=value]...
 # --bin: folder of the hos-* binaries to measure (default this build's); hos-synth and hos-eval come from
@@ -123,4 +124,4 @@ PY
 echo
 echo "Training views' pixels of the true surface, by incidence angle (shares of each row's pixels):"
 "$bin/hos-mvs-depth-loss" --model "$work/scene/sparse" --depth-maps "$work/depth" --truth "$work/scene/gt_mesh.ply" \
-  --points "$work/points.ply"
+  --points "$work/points.ply" "${mvs_sets[@]}"
