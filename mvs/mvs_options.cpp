@@ -13,6 +13,39 @@ void MvsOptions::validate() const {
   }
 }
 
+namespace {
+
+// Geometric consistency and fusion.
+void register_fusion_options(OptionSet& set, MvsOptions& o) {
+  set.add("min_consistent_views", o.min_consistent_views, "views that must agree for a point to survive", 1, 32);
+  set.add("two_view_max_cost", o.two_view_max_cost,
+          "also keep points one other view confirms when both pixels' cost (1 - NCC) is at most "
+          "this (0 = never)",
+          0.0, 2.0);
+  set.add("two_view_max_views_without_depth", o.two_view_max_views_without_depth,
+          "two-view points: other views covering the point that may have no depth there", 0, 1024);
+  set.add("two_view_veto_max_incidence_deg", o.two_view_veto_max_incidence_deg,
+          "two-view points: a covering view without depth counts only if it sees the point's surface at "
+          "most this far from head-on (degrees; 180 = every covering view)",
+          0.0, 180.0);
+  set.add("max_depth_error", o.max_depth_error, "relative depth difference to agree", 1e-4, 0.5);
+  set.add("max_normal_error_deg", o.max_normal_error_deg, "normal angle difference to agree (degrees)", 1.0, 90.0);
+  set.add("max_reprojection_error_px", o.max_reprojection_error_px,
+          "forward-backward reprojection error to agree (pixels)", 0.1, 20.0);
+  set.add("fusion_spacing_px", o.fusion_spacing_px,
+          "with finer levels, a fused point claims the pixels within this radius in the views "
+          "that saw it (0 = every pixel)",
+          0, 16);
+  set.add("fusion_max_views", o.fusion_max_views,
+          "fusion checks a view's depths against this many views sharing the most sparse points with "
+          "it (0 = all)",
+          0, 100000);
+  set.add("fusion_memory_mb", o.fusion_memory_mb,
+          "depth maps fusion holds in memory (MB); the rest wait in a temporary folder (0 = no limit)", 0, 1 << 24);
+}
+
+}  // namespace
+
 void register_options(OptionSet& set, MvsOptions& o) {
   set.add_choice("backend", o.backend, {"cpu", "colmap"},
                  "cpu: hos PatchMatch; colmap: COLMAP's patch_match_stereo (needs CUDA)");
@@ -54,6 +87,10 @@ void register_options(OptionSet& set, MvsOptions& o) {
           "min_triangulation_angle_deg, so neighbours win over wide baselines that see the surface "
           "foreshortened differently (0 = no falloff)",
           0.0, 90.0);
+  set.add("source_view_covered_weight", o.source_view_covered_weight,
+          "sources are chosen one at a time; a sparse point of the reference that best_k sources chosen "
+          "before see counts this much toward the next (1 = rank by shared points alone)",
+          0.01, 1.0);
   set.add("planar_prior", o.planar_prior,
           "before the coarse level's last sweep, unconfident pixels also try the plane of the triangle of "
           "confident pixels they lie in");
@@ -63,31 +100,7 @@ void register_options(OptionSet& set, MvsOptions& o) {
   set.add("max_cost", o.max_cost, "largest accepted matching cost (1 - NCC)", 0.0, 2.0);
   set.add("min_texture_std", o.min_texture_std, "window intensity std below which a pixel is textureless", 0.0, 1.0);
   set.add("sigma_color", o.sigma_color, "bilateral weight intensity scale", 1e-3, 10.0);
-  set.add("min_consistent_views", o.min_consistent_views, "views that must agree for a point to survive", 1, 32);
-  set.add("two_view_max_cost", o.two_view_max_cost,
-          "also keep points one other view confirms when both pixels' cost (1 - NCC) is at most "
-          "this (0 = never)",
-          0.0, 2.0);
-  set.add("two_view_max_views_without_depth", o.two_view_max_views_without_depth,
-          "two-view points: other views covering the point that may have no depth there", 0, 1024);
-  set.add("two_view_veto_max_incidence_deg", o.two_view_veto_max_incidence_deg,
-          "two-view points: a covering view without depth counts only if it sees the point's surface at "
-          "most this far from head-on (degrees; 180 = every covering view)",
-          0.0, 180.0);
-  set.add("max_depth_error", o.max_depth_error, "relative depth difference to agree", 1e-4, 0.5);
-  set.add("max_normal_error_deg", o.max_normal_error_deg, "normal angle difference to agree (degrees)", 1.0, 90.0);
-  set.add("max_reprojection_error_px", o.max_reprojection_error_px,
-          "forward-backward reprojection error to agree (pixels)", 0.1, 20.0);
-  set.add("fusion_spacing_px", o.fusion_spacing_px,
-          "with finer levels, a fused point claims the pixels within this radius in the views "
-          "that saw it (0 = every pixel)",
-          0, 16);
-  set.add("fusion_max_views", o.fusion_max_views,
-          "fusion checks a view's depths against this many views sharing the most sparse points with "
-          "it (0 = all)",
-          0, 100000);
-  set.add("fusion_memory_mb", o.fusion_memory_mb,
-          "depth maps fusion holds in memory (MB); the rest wait in a temporary folder (0 = no limit)", 0, 1 << 24);
+  register_fusion_options(set, o);
   set.add("threads", o.threads, "OpenMP threads (0 = all cores)", 0, 1024);
   set.add_flag("--max-image-size", "max_image_size");
 }

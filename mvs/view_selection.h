@@ -10,11 +10,14 @@
 namespace hos::mvs {
 
 // For each image id of the model (in map order), up to num_source_views
-// other image ids, best first. A source scores by the sparse points both
-// views see, each weighted by how well its triangulation angle suits stereo
-// (zero below the minimum angle, rising to 1 at 5x it, then falling off as a
-// Gaussian of width source_view_angle_falloff_deg); without
-// shared points, by the angle between the viewing directions and the
+// other image ids, in the order chosen. A source scores by the sparse points
+// both views see, each weighted by how well its triangulation angle suits
+// stereo (zero below the minimum angle, rising to 1 at 5x it, then falling
+// off as a Gaussian of width source_view_angle_falloff_deg). Sources are
+// chosen one at a time, the best-scoring first; a point that best_k chosen
+// sources already see counts source_view_covered_weight toward the next, so
+// the reference's frame is covered by best_k sources where views see it.
+// Without shared points, by the angle between the viewing directions and the
 // baseline. Views that share nothing usable get no sources.
 std::vector<std::vector<int>> select_source_views(const SparseModel& model, const MvsOptions& options);
 

@@ -6,6 +6,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <set>
+#include <tuple>
+#include <vector>
 
 #include "tests/mvs/synthetic_workspace.h"
 
@@ -82,6 +84,46 @@ TEST(ViewSelection, NeighbourBeatsAWideBaselineThatSharesMorePoints) {
   EXPECT_EQ(select_source_views(model, options)[0], std::vector<int>{2});
   options.source_view_angle_falloff_deg = 0.0;
   EXPECT_EQ(select_source_views(model, options)[0], std::vector<int>{3});
+}
+
+// Three views see the same 100 points of the reference's left half; a
+// fourth, at as good an angle, sees only the 40 of its right half. Ranked by
+// shared points (covered weight 1) it is left out; at the default weight
+// (0.05), points that best_k (2) chosen sources already see count little,
+// and it comes in third (5 against its 40).
+TEST(ViewSelection, AViewOfWhatTheChosenOnesMissComesInWhenCoveredPointsCountLess) {
+  SparseModel model;
+  model.cameras[1] = Camera::pinhole(1, 100, 100, 100, 100, 50, 50);
+  const Eigen::Vector3d y = Eigen::Vector3d::UnitY(), x = Eigen::Vector3d::UnitX();
+  for (const auto& [id, axis, degrees] :
+       {std::tuple{1, y, 0.0}, {2, y, 15.0}, {3, y, -15.0}, {4, x, 15.0}, {5, x, -15.0}}) {
+    ImageRecord image;
+    image.id = id;
+    image.camera_id = 1;
+    image.name = std::to_string(id);
+    // Looking at the origin from 5 units away, turned about the axis.
+    image.cam_from_world_rotation = Eigen::Quaterniond(Eigen::AngleAxisd(-degrees * M_PI / 180.0, axis));
+    image.cam_from_world_translation = Eigen::Vector3d(0, 0, 5);
+    model.images[id] = image;
+  }
+  for (int k = 0; k < 140; ++k) {
+    Point3D p;
+    p.id = k;
+    const bool left = k < 100;
+    p.xyz = Eigen::Vector3d(left ? -0.001 * (k + 1) : 0.001 * (k - 99), 0, 0);
+    p.track =
+        left ? std::vector<TrackElement>{{1, 0}, {2, 0}, {3, 0}, {4, 0}} : std::vector<TrackElement>{{1, 0}, {5, 0}};
+    model.points[k] = p;
+  }
+  MvsOptions options;
+  options.num_source_views = 3;
+  const std::vector<int> covering = select_source_views(model, options)[0];
+  options.source_view_covered_weight = 1.0;
+  std::vector<int> ranked = select_source_views(model, options)[0];
+  std::sort(ranked.begin(), ranked.end());
+  EXPECT_EQ(ranked, (std::vector<int>{2, 3, 4}));
+  ASSERT_EQ(covering.size(), 3u);
+  EXPECT_EQ(covering.back(), 5);
 }
 
 TEST(ViewSelection, FusionChecksEveryOtherViewUpToItsLimit) {
