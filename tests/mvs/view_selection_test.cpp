@@ -88,9 +88,9 @@ TEST(ViewSelection, NeighbourBeatsAWideBaselineThatSharesMorePoints) {
 
 // Three views see the same 100 points of the reference's left half; a
 // fourth, at as good an angle, sees only the 40 of its right half. Ranked by
-// shared points (covered weight 1) it is left out; at the default weight
-// (0.05), points that best_k (2) chosen sources already see count little,
-// and it comes in third (5 against its 40).
+// shared points (covered weight 1, the default) it is left out; at 0.05,
+// points that best_k (2) chosen sources already see count little, and it
+// comes in third (5 against its 40).
 TEST(ViewSelection, AViewOfWhatTheChosenOnesMissComesInWhenCoveredPointsCountLess) {
   SparseModel model;
   model.cameras[1] = Camera::pinhole(1, 100, 100, 100, 100, 50, 50);
@@ -117,9 +117,9 @@ TEST(ViewSelection, AViewOfWhatTheChosenOnesMissComesInWhenCoveredPointsCountLes
   }
   MvsOptions options;
   options.num_source_views = 3;
-  const std::vector<int> covering = select_source_views(model, options)[0];
-  options.source_view_covered_weight = 1.0;
   std::vector<int> ranked = select_source_views(model, options)[0];
+  options.source_view_covered_weight = 0.05;
+  const std::vector<int> covering = select_source_views(model, options)[0];
   std::sort(ranked.begin(), ranked.end());
   EXPECT_EQ(ranked, (std::vector<int>{2, 3, 4}));
   ASSERT_EQ(covering.size(), 3u);
