@@ -35,6 +35,7 @@
 #include <utility>
 #include <vector>
 
+#include "apps/stage_main.h"
 #include "bench/mvs/depth_map_calibration.h"
 #include "core/colmap_io.h"
 #include "core/error.h"
@@ -301,22 +302,15 @@ int main(int argc, char** argv) {
   std::string map_view, map_file;
   app.add_option("--map-view", map_view, "the view --map draws");
   app.add_option("--map", map_file, "a PPM of --map-view's pixels by outcome");
-  std::vector<std::string> assignments;
-  app.add_option("--set", assignments, "stage.key=value as hos-mvs took it (other stages' keys are ignored)");
+  hos::apps::CommonStageFlags mvs_flags;
+  app.add_option("--set", mvs_flags.assignments, "mvs.key=value as hos-mvs took it (the source views)");
   CLI11_PARSE(app, argc, argv);
   try {
     // The source views hos-mvs chose, from the same mvs options.
     hos::mvs::MvsOptions mvs_options;
     hos::OptionSet mvs_set("mvs");
     hos::mvs::register_options(mvs_set, mvs_options);
-    for (const std::string& assignment : assignments) {
-      const std::size_t dot = assignment.find('.'), equals = assignment.find('=');
-      if (dot == std::string::npos || equals == std::string::npos || dot > equals) {
-        throw hos::ConfigError("--set", assignment + ": expected stage.key=value");
-      }
-      if (assignment.substr(0, dot) != "mvs") continue;
-      mvs_set.apply_assignment(assignment.substr(dot + 1, equals - dot - 1), assignment.substr(equals + 1));
-    }
+    hos::apps::apply_config_and_overrides(mvs_set, mvs_flags);
     const hos::SparseModel model = hos::read_colmap_model(model_dir);
     const hos::TriangleMesh truth = hos::read_mesh_ply(truth_file);
     Eigen::AlignedBox3f box;
